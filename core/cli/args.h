@@ -1,0 +1,31 @@
+/* Command-line parsing for `firmament render`: one options struct, filled by getopt_long.  Value
+ * syntax is checked here (a number where a number is expected); physical ranges are checked by the
+ * library, which names the field, and options_flag_for() turns that field back into the flag. */
+#ifndef FM_CLI_ARGS_H
+#define FM_CLI_ARGS_H
+
+#include "firmament/firmament.h"
+
+#include <stddef.h>
+
+typedef enum progress_mode { PROGRESS_AUTO, PROGRESS_TTY, PROGRESS_JSON, PROGRESS_NONE } progress_mode;
+
+typedef struct options {
+    fm_sky_params sky;
+    fm_render_params render;
+    const char *output;      /* EXR path */
+    const char *sidecar;     /* JSON path, or NULL for the default (output with .json) */
+    progress_mode progress;
+} options;
+
+typedef enum parse_result { PARSE_RUN, PARSE_EXIT_OK, PARSE_ERROR } parse_result;
+
+/* Parses argv (after the subcommand).  On PARSE_ERROR, msg holds one line. */
+parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_t msg_size);
+
+/* "--sun-elevation" for the library field "sun_elevation_deg", or NULL. */
+const char *options_flag_for(const char *field);
+
+void options_print_usage(void);
+
+#endif

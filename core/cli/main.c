@@ -1,0 +1,154 @@
+/* The firmament executable: parse, render, write, exit.  The only place that prints or exits.
+ * Exit codes: 0 ok, 1 runtime failure, 2 bad usage or input, 128 + signal when interrupted. */
+#define _POSIX_C_SOURCE 200809L
+#include "args.h"
+#include "report.h"
+
+#include "firmament/firmament.h"
+
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { EXIT_RUNTIME = 1, EXIT_USAGE = 2 };
+
+/* Set by SIGINT/SIGTERM/SIGHUP to the signal number; the library polls it and stops. */
+static atomic_int cancel_signal;
+
+static void on_signal(int sig)
+{
+    atomic_store(&cancel_signal, sig);
+}
+
+static void install_signal_handlers(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGHUP, &sa, NULL);
+}
+
+/* The sidecar's default path: the output with its .exr extension (if any) replaced by .json. */
+static char *default_sidecar(const char *output)
+{
+    size_t n = strlen(output);
+    const char *slash = strrchr(output, '/');
+    const char *dot = strrchr(output, '.');
+    if (dot && (!slash || dot > slash) && dot != output && dot[-1] != '/')
+        n = (size_t)(dot - output);
+    char *s = malloc(n + 6);
+    if (s) {
+        memcpy(s, output, n);
+        memcpy(s + n, ".json", 6);
+    }
+    return s;
+}
+
+/* One line naming the problem; for a parameter, the command-line flag that set it. */
+static void report_library_error(const fm_error *err)
+{
+    const char *flag = err->parameter[0] ? options_flag_for(err->parameter) : NULL;
+    size_t plen = strlen(err->parameter);
+    if (flag && strncmp(err->message, err->parameter, plen) == 0 && err->message[plen] == ':')
+        report_error("%s%s", flag, err->message + plen);
+    else
+        report_error("%s", err->message);
+}
+
+static int exit_code_for(fm_status s)
+{
+    if (s == FM_ERR_CANCELLED) {
+        int sig = atomic_load(&cancel_signal);
+        return 128 + (sig ? sig : SIGINT);
+    }
+    return s == FM_ERR_INVALID_ARGUMENT ? EXIT_USAGE : EXIT_RUNTIME;
+}
+
+static int run_render(int argc, char **argv)
+{
+    options opt;
+    char msg[512];
+    switch (options_parse(argc, argv, &opt, msg, sizeof msg)) {
+    case PARSE_EXIT_OK:
+        return 0;
+    case PARSE_ERROR:
+        report_error("%s", msg);
+        return EXIT_USAGE;
+    case PARSE_RUN:
+        break;
+    }
+    char *sidecar = opt.sidecar ? NULL : default_sidecar(opt.output);
+    const char *sidecar_path = opt.sidecar ? opt.sidecar : sidecar;
+    if (!sidecar_path) {
+        report_error("out of memory");
+        return EXIT_RUNTIME;
+    }
+
+    fm_error err = {0};
+    fm_sky *sky = NULL;
+    fm_output *out = NULL;
+    fm_image *img = NULL;
+    int code = 0;
+    reporter rep;
+    reporter_init(&rep, opt.progress);
+    opt.render.progress = reporter_progress;
+    opt.render.progress_user = &rep;
+    opt.render.cancel = &cancel_signal;
+    install_signal_handlers();
+
+    fm_status s;
+    if ((s = fm_sky_create(&opt.sky, &sky, &err))) {
+        report_library_error(&err);
+        code = exit_code_for(s);
+        goto done;
+    }
+    /* Fail on an unwritable path now, not after the render. */
+    if ((s = fm_output_open(opt.output, sidecar_path, &out, &err))) {
+        report_library_error(&err);
+        code = s == FM_ERR_IO ? EXIT_USAGE : exit_code_for(s);
+        goto done;
+    }
+    if ((s = fm_render(sky, &opt.render, &img, &err)) ||
+        (img->content == FM_IMAGE_XYZ && (s = fm_image_to_rec709(img, &err))) ||
+        (s = fm_output_commit(out, sky, &opt.render, img, &cancel_signal, &err))) {
+        reporter_finish_line(&rep);
+        if (s == FM_ERR_CANCELLED)
+            report_error("interrupted; nothing was written");
+        else
+            report_library_error(&err);
+        code = exit_code_for(s);
+        goto done;
+    }
+    reporter_done(&rep, opt.output, sidecar_path);
+done:
+    fm_output_close(out); /* removes temporary files left by a failure */
+    fm_image_destroy(img);
+    fm_sky_destroy(sky);
+    free(sidecar);
+    return code;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        report_error("no command (try: firmament render, or firmament --help)");
+        return EXIT_USAGE;
+    }
+    const char *cmd = argv[1];
+    if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
+        options_print_usage();
+        return 0;
+    }
+    if (strcmp(cmd, "--version") == 0) {
+        printf("firmament %s\n", FIRMAMENT_VERSION);
+        return 0;
+    }
+    if (strcmp(cmd, "render") == 0)
+        return run_render(argc - 1, argv + 1);
+    report_error("unknown command '%s' (try: firmament render, or firmament --help)", cmd);
+    return EXIT_USAGE;
+}

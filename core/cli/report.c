@@ -1,0 +1,97 @@
+#define _POSIX_C_SOURCE 200809L
+#include "report.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+void reporter_init(reporter *r, progress_mode mode)
+{
+    if (mode == PROGRESS_AUTO)
+        mode = isatty(STDERR_FILENO) ? PROGRESS_TTY : PROGRESS_NONE;
+    r->mode = mode;
+    r->last_fraction = -1.0;
+    r->last_time = 0.0;
+    r->start_time = now_seconds();
+    r->last_stage = NULL;
+}
+
+/* JSON string contents: our stage names and paths need only quote and backslash escaping,
+ * control characters are dropped. */
+static void print_json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; s++) {
+        if (*s == '"' || *s == '\\')
+            fputc('\\', f);
+        if ((unsigned char)*s >= 0x20)
+            fputc(*s, f);
+    }
+    fputc('"', f);
+}
+
+void reporter_progress(void *user, double fraction, const char *stage)
+{
+    reporter *r = user;
+    double t = now_seconds();
+    int new_stage = !r->last_stage || strcmp(stage, r->last_stage) != 0;
+    if (!new_stage && fraction < 1.0 && (fraction - r->last_fraction < 0.005 || t - r->last_time < 0.1))
+        return;
+    r->last_fraction = fraction;
+    r->last_time = t;
+    r->last_stage = stage;
+    if (r->mode == PROGRESS_TTY) {
+        int width = 30, filled = (int)(fraction * width + 0.5);
+        fprintf(stderr, "\r[%.*s%*s] %3d%% %-22s", filled, "##############################", width - filled, "",
+                (int)(fraction * 100.0 + 0.5), stage);
+        fflush(stderr);
+    } else if (r->mode == PROGRESS_JSON) {
+        printf("{\"event\": \"progress\", \"fraction\": %.4f, \"stage\": ", fraction);
+        print_json_string(stdout, stage);
+        printf("}\n");
+        fflush(stdout);
+    }
+}
+
+void reporter_finish_line(reporter *r)
+{
+    if (r->mode == PROGRESS_TTY && r->last_stage) {
+        fputc('\n', stderr);
+        r->last_stage = NULL;
+    }
+}
+
+void reporter_done(reporter *r, const char *output, const char *sidecar)
+{
+    double seconds = now_seconds() - r->start_time;
+    reporter_finish_line(r);
+    if (r->mode == PROGRESS_JSON) {
+        printf("{\"event\": \"done\", \"output\": ");
+        print_json_string(stdout, output);
+        printf(", \"sidecar\": ");
+        print_json_string(stdout, sidecar);
+        printf(", \"seconds\": %.3f}\n", seconds);
+        fflush(stdout);
+    } else if (r->mode == PROGRESS_TTY) {
+        fprintf(stderr, "wrote %s and %s in %.1f s\n", output, sidecar, seconds);
+    }
+}
+
+void report_error(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("firmament: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}

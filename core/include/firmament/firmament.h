@@ -1,0 +1,162 @@
+/* firmament: a physically based, spectral sky generator.
+ *
+ * The library path-traces sunlight through a spherical, horizontally homogeneous atmosphere
+ * (U.S. Standard Atmosphere 1976 molecules, ozone; aerosols come as further constituents) and
+ * returns the sky's radiance as seen from one observer.
+ *
+ * Usage:
+ *     fm_sky_params sp = fm_sky_params_default();      sp.sun_elevation_deg = 10;
+ *     fm_sky *sky;  fm_error err;
+ *     if (fm_sky_create(&sp, &sky, &err) != FM_OK) { puts(err.message); ... }
+ *     fm_render_params rp = fm_render_params_default();  rp.width = 1024;
+ *     fm_output *out;
+ *     fm_output_open("sky.exr", "sky.json", &out, &err);  (fails early on an unwritable path)
+ *     fm_image *img;
+ *     fm_render(sky, &rp, &img, &err);                    (CIE XYZ or spectral radiance)
+ *     fm_image_to_rec709(img, &err);
+ *     fm_output_commit(out, sky, &rp, img, NULL, &err);
+ *     fm_output_close(out);  fm_image_destroy(img);  fm_sky_destroy(sky);
+ *
+ * Conventions (ARCHITECTURE.md section 4): right-handed axes, +Z up, +Y north, +X east; azimuth from
+ * north toward east.  Radiance is spectral radiance in W m^-2 sr^-1 nm^-1; colour images hold
+ * CIE-weighted radiance (Y * 683 = luminance in cd/m^2).  Equirectangular maps use Blender's
+ * Environment Texture layout: column u = 0.25 + azimuth/360, top row = zenith.
+ *
+ * Errors: every function that can fail returns an fm_status and fills an fm_error with one line
+ * naming the problem.  The library never prints and never exits.
+ */
+#ifndef FIRMAMENT_H
+#define FIRMAMENT_H
+
+#include <stdatomic.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum fm_status {
+    FM_OK = 0,
+    FM_ERR_INVALID_ARGUMENT, /* a parameter outside its physical or practical range */
+    FM_ERR_IO,               /* a file could not be created, written or read */
+    FM_ERR_OUT_OF_MEMORY,
+    FM_ERR_CANCELLED,        /* the caller's cancel flag was raised */
+    FM_ERR_INTERNAL
+} fm_status;
+
+typedef struct fm_error {
+    fm_status status;
+    char parameter[48]; /* the offending fm_sky_params / fm_render_params field, or "" */
+    char message[512];  /* one line; for a parameter it starts with "<field>: " */
+} fm_error;
+
+/* Name of a status code, e.g. "invalid argument". */
+const char *fm_status_name(fm_status status);
+
+/* ---------------------------------------------------------------------------------------------
+ * The sky: atmosphere, sun and observer.  Immutable once created; shared by render threads. */
+
+typedef struct fm_sky_params {
+    double sun_elevation_deg;     /* of the sun disk's centre above the horizontal, [-90, 90] */
+    double sun_azimuth_deg;       /* from north toward east, [-360, 360] */
+    double observer_altitude_m;   /* above the ground, [0, 100000] (the top of the atmosphere) */
+    double ground_albedo;         /* Lambertian reflectance, [0, 1] */
+    double ozone_column_du;       /* total ozone column, [0, 1000] Dobson units; 0 disables ozone */
+    double earth_sun_distance_au; /* scales solar irradiance (1/d^2) and disk size (1/d), [0.95, 1.05] */
+    double wavelength_nm;         /* 0: colour render over 380-780 nm; else one wavelength in [300, 1000] */
+} fm_sky_params;
+
+fm_sky_params fm_sky_params_default(void);
+
+typedef struct fm_sky fm_sky;
+
+fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err);
+void fm_sky_destroy(fm_sky *sky); /* accepts NULL */
+const fm_sky_params *fm_sky_get_params(const fm_sky *sky);
+
+/* Direct sunlight at the observer, integrated over the visible part of the limb-darkened disk and
+ * attenuated along each line of sight.  For a colour sky the three values are CIE X, Y, Z of the
+ * irradiance (W m^-2, Y * 683 = lux); for a monochromatic sky [0] is the spectral irradiance in
+ * W m^-2 nm^-1 and [1], [2] are 0. */
+typedef struct fm_sun_light {
+    double direction[3];          /* unit vector toward the disk's centre, map axes (+X east, +Y north, +Z up) */
+    double angular_radius_deg;    /* of the disk at the given Earth-Sun distance */
+    double normal_irradiance[3];  /* on a surface facing the sun */
+    double horizontal_irradiance[3]; /* on a horizontal surface */
+} fm_sun_light;
+
+void fm_sky_sun_light(const fm_sky *sky, fm_sun_light *out);
+
+/* ---------------------------------------------------------------------------------------------
+ * Rendering. */
+
+typedef enum fm_quality {
+    FM_QUALITY_PREVIEW = 0,  /* fast path, coarse: seconds */
+    FM_QUALITY_FINAL,        /* fast path, converged: the default */
+    FM_QUALITY_REFERENCE     /* per-pixel path tracing, no tables of radiance: slow, for validation */
+} fm_quality;
+
+/* Called from the rendering thread that owns the call, never concurrently. */
+typedef void (*fm_progress_fn)(void *user, double fraction, const char *stage);
+
+typedef struct fm_render_params {
+    int width;                /* equirectangular width in pixels, even, [8, 16384]; height = width/2 */
+    fm_quality quality;
+    uint64_t seed;            /* same seed and thread count: bit-identical output */
+    int threads;              /* worker threads, [0, 256]; 0 = one per online core */
+    int sun_disk;             /* nonzero: the sun disk is part of the map */
+    double sample_scale;      /* multiplies every sample count of the quality level, (0, 1024] */
+    int reference_samples;    /* reference quality: paths per pixel; 0 = default */
+    fm_progress_fn progress;  /* may be NULL */
+    void *progress_user;
+    const atomic_int *cancel; /* may be NULL; when it becomes nonzero the render stops early */
+} fm_render_params;
+
+fm_render_params fm_render_params_default(void);
+
+typedef enum fm_image_content {
+    FM_IMAGE_XYZ = 0,          /* 3 channels, CIE 1931 XYZ of spectral radiance (Y * 683 = cd/m^2) */
+    FM_IMAGE_RGB_REC709,       /* 3 channels, linear Rec.709 / sRGB primaries, D65, same scale */
+    FM_IMAGE_SPECTRAL_RADIANCE /* 1 channel, W m^-2 sr^-1 nm^-1 at the sky's single wavelength */
+} fm_image_content;
+
+typedef struct fm_image {
+    int width, height, channels;
+    fm_image_content content;
+    float *pixels;        /* row-major, top row first, channels interleaved */
+    float *sun_disk;      /* the disk's share of `pixels` (same layout) or NULL when none was drawn */
+    float *std_error;     /* reference quality only: standard error of each pixel's XYZ (or spectral)
+                           * value, left in XYZ by fm_image_to_rec709; else NULL */
+} fm_image;
+
+/* Renders the equirectangular map.  The result holds XYZ (colour skies) or spectral radiance. */
+fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image **out, fm_error *err);
+void fm_image_destroy(fm_image *image); /* accepts NULL */
+
+/* Converts an XYZ image to linear Rec.709 in place (the fixed sRGB/D65 matrix, no adaptation). */
+fm_status fm_image_to_rec709(fm_image *image, fm_error *err);
+
+/* Illuminance-like integral of the sky part (sun disk excluded) over the upper hemisphere seen by a
+ * horizontal surface: sum of L cos(zenith) dOmega per channel, in the image's units. */
+void fm_image_diffuse_horizontal(const fm_image *image, double out[3]);
+
+/* ---------------------------------------------------------------------------------------------
+ * Output files.  Both files are written to temporary names in their directories and renamed into
+ * place only when complete, so a failure or cancellation never leaves a partial file and never
+ * replaces an existing one. */
+
+typedef struct fm_output fm_output;
+
+/* Checks that both paths can be created (before a long render) and reserves temporary files. */
+fm_status fm_output_open(const char *exr_path, const char *json_path, fm_output **out, fm_error *err);
+/* Writes the EXR (32-bit float) and the JSON sidecar into the temporary files, then renames both. */
+fm_status fm_output_commit(fm_output *output, const fm_sky *sky, const fm_render_params *params,
+                           const fm_image *image, const atomic_int *cancel, fm_error *err);
+/* Removes any temporary file left and frees the handle (accepts NULL). */
+void fm_output_close(fm_output *output);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* FIRMAMENT_H */

@@ -1,0 +1,109 @@
+#include "atmosphere/atmosphere.h"
+
+#include "atmosphere/ozone.h"
+#include "atmosphere/rayleigh.h"
+#include "atmosphere/standard_atmosphere.h"
+#include "base/status.h"
+#include "base/units.h"
+
+#include <math.h>
+#include <string.h>
+
+static double molecules_density(void *ctx, double altitude_m)
+{
+    return us76_number_density(altitude_m);
+}
+
+static double ozone_density(void *ctx, double altitude_m)
+{
+    return *(const double *)ctx * ozone_number_density_per_du(altitude_m);
+}
+
+/* Shell boundaries (km): fine where the density changes fastest, around the ozone layer and at the
+ * altitudes where aerosol layers usually end. */
+static const double shell_altitude_km[] = {0, 0.5, 1, 1.5, 2, 2.5, 3, 4, 5, 6, 7, 8, 10, 12, 14, 16, 18, 20,
+                                           22, 24, 26, 28, 30, 33, 36, 40, 45, 50, 60, 70, 80, 100};
+
+fm_status atmosphere_init_clear_sky(atmosphere *atm, const spectral_grid *grid, double ozone_column_du,
+                                    double ground_albedo, fm_error *err)
+{
+    memset(atm, 0, sizeof *atm);
+    atm->bottom_radius_m = FM_EARTH_RADIUS_M;
+    atm->top_radius_m = FM_EARTH_RADIUS_M + FM_ATMOSPHERE_HEIGHT_M;
+    atm->grid = *grid;
+    for (int k = 0; k < grid->count; k++)
+        atm->ground_albedo[k] = ground_albedo;
+
+    species *mol = &atm->species[atm->species_count++];
+    mol->name = "molecules";
+    mol->phase = PHASE_RAYLEIGH;
+    for (int k = 0; k < grid->count; k++) {
+        mol->sigma_s[k] = rayleigh_cross_section_m2(grid->lambda_nm[k]);
+        mol->phase_param[k] = rayleigh_gamma(grid->lambda_nm[k]);
+    }
+    if (profile_sample(&mol->profile, molecules_density, NULL, FM_ATMOSPHERE_HEIGHT_M, FM_PROFILE_SPACING_M))
+        goto oom;
+    atm->scattering_count = 1;
+
+    if (ozone_column_du > 0.0) {
+        species *o3 = &atm->species[atm->species_count++];
+        o3->name = "ozone";
+        o3->phase = PHASE_NONE;
+        double t_eff = ozone_effective_temperature_k();
+        for (int k = 0; k < grid->count; k++)
+            o3->sigma_a[k] = ozone_cross_section_m2(grid->lambda_nm[k], t_eff);
+        if (profile_sample(&o3->profile, ozone_density, &ozone_column_du, FM_ATMOSPHERE_HEIGHT_M,
+                           FM_PROFILE_SPACING_M))
+            goto oom;
+    }
+    atmosphere_update_majorants(atm);
+    return FM_OK;
+oom:
+    atmosphere_free(atm);
+    return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory while building the atmosphere");
+}
+
+void atmosphere_free(atmosphere *atm)
+{
+    for (int c = 0; c < atm->species_count; c++)
+        profile_free(&atm->species[c].profile);
+    atm->species_count = 0;
+}
+
+void atmosphere_update_majorants(atmosphere *atm)
+{
+    int n = (int)(sizeof shell_altitude_km / sizeof shell_altitude_km[0]) - 1;
+    atm->shell_count = n;
+    for (int i = 0; i <= n; i++)
+        atm->shell_radius[i] = atm->bottom_radius_m + shell_altitude_km[i] * FM_KM;
+    atm->shell_radius[n] = atm->top_radius_m;
+    for (int i = 0; i < n; i++) {
+        double z0 = atm->shell_radius[i] - atm->bottom_radius_m;
+        double z1 = atm->shell_radius[i + 1] - atm->bottom_radius_m;
+        double nmax[FM_MAX_SPECIES] = {0};
+        for (int c = 0; c < atm->species_count; c++)
+            nmax[c] = profile_max(&atm->species[c].profile, z0, z1);
+        for (int k = 0; k < atm->grid.count; k++) {
+            double s = 0.0;
+            for (int c = 0; c < atm->species_count; c++)
+                s += (atm->species[c].sigma_s[k] + atm->species[c].sigma_a[k]) * nmax[c];
+            /* a little headroom against rounding in the interpolation */
+            atm->shell_majorant[i][k] = s * (1.0 + 1e-9);
+        }
+    }
+}
+
+void atmosphere_coefficients(const atmosphere *atm, double r, double *sigma_s, double *sigma_t)
+{
+    double n[FM_MAX_SPECIES];
+    atmosphere_densities(atm, r, n);
+    for (int k = 0; k < atm->grid.count; k++) {
+        double s = 0.0, t = 0.0;
+        for (int c = 0; c < atm->species_count; c++) {
+            s += atm->species[c].sigma_s[k] * n[c];
+            t += (atm->species[c].sigma_s[k] + atm->species[c].sigma_a[k]) * n[c];
+        }
+        sigma_s[k] = s;
+        sigma_t[k] = t;
+    }
+}

@@ -1,0 +1,75 @@
+/* The atmosphere as the transport code sees it: a spherical shell between the ground and the top,
+ * holding constituents ("species").  Each species is a number-density profile times per-wavelength
+ * cross sections and a phase function, so a new constituent (aerosols, a custom gas) is a new
+ * species, not a change to any estimator.
+ *
+ * Notation: r = distance from the planet's centre, mu = cosine of a direction's zenith angle at that
+ * point, sigma_s / sigma_a / sigma_t = scattering / absorption / extinction (m^-1 for coefficients,
+ * m^2 for cross sections), index k runs over the spectral grid. */
+#ifndef FM_ATMOSPHERE_ATMOSPHERE_H
+#define FM_ATMOSPHERE_ATMOSPHERE_H
+
+#include "atmosphere/profile.h"
+#include "spectrum/spectral_grid.h"
+
+#define FM_MAX_SPECIES 8
+#define FM_MAX_SHELLS 40
+
+typedef enum phase_kind {
+    PHASE_NONE = 0, /* pure absorber */
+    PHASE_RAYLEIGH  /* parameter: gamma = rho / (2 - rho) */
+} phase_kind;
+
+typedef struct species {
+    const char *name;
+    density_profile profile;
+    double sigma_s[FM_MAX_WAVELENGTHS]; /* m^2 per particle */
+    double sigma_a[FM_MAX_WAVELENGTHS];
+    phase_kind phase;
+    double phase_param[FM_MAX_WAVELENGTHS];
+} species;
+
+typedef struct atmosphere {
+    double bottom_radius_m, top_radius_m;
+    spectral_grid grid;                       /* solar irradiance already scaled to the date's distance */
+    double ground_albedo[FM_MAX_WAVELENGTHS];
+    int species_count;
+    species species[FM_MAX_SPECIES];
+    int scattering_count;                     /* species with a phase function come first */
+
+    /* Delta-tracking majorants: shell i spans [shell_radius[i], shell_radius[i+1]]; for every grid
+     * wavelength k, shell_majorant[i][k] >= sigma_t(r, lambda_k) for all r in the shell. */
+    int shell_count;
+    double shell_radius[FM_MAX_SHELLS + 1];
+    double shell_majorant[FM_MAX_SHELLS][FM_MAX_WAVELENGTHS];
+} atmosphere;
+
+/* Builds molecules (U.S. Standard 1976 + Rayleigh after Bucholtz) and ozone (if column > 0). */
+fm_status atmosphere_init_clear_sky(atmosphere *atm, const spectral_grid *grid, double ozone_column_du,
+                                    double ground_albedo, fm_error *err);
+void atmosphere_free(atmosphere *atm);
+
+/* Computes the majorant shells; call after the species are final. */
+void atmosphere_update_majorants(atmosphere *atm);
+
+/* Number densities of every species at radius r. */
+static inline void atmosphere_densities(const atmosphere *atm, double r, double *n)
+{
+    double z = r - atm->bottom_radius_m;
+    for (int c = 0; c < atm->species_count; c++)
+        n[c] = profile_density(&atm->species[c].profile, z);
+}
+
+/* Coefficients at radius r for every grid wavelength (m^-1). */
+void atmosphere_coefficients(const atmosphere *atm, double r, double *sigma_s, double *sigma_t);
+
+/* Optical depth for grid wavelength k of a set of species columns (particles m^-2). */
+static inline double atmosphere_optical_depth(const atmosphere *atm, const double *columns, int k)
+{
+    double tau = 0.0;
+    for (int c = 0; c < atm->species_count; c++)
+        tau += (atm->species[c].sigma_s[k] + atm->species[c].sigma_a[k]) * columns[c];
+    return tau;
+}
+
+#endif

@@ -1,0 +1,269 @@
+#include "atmosphere/optical_depth.h"
+
+#include "base/quadrature.h"
+#include "base/status.h"
+#include "base/threads.h"
+#include "base/units.h"
+#include "base/vec.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+double ray_distance_to_top(const atmosphere *atm, double r, double mu)
+{
+    double rt = atm->top_radius_m;
+    double disc = r * r * (mu * mu - 1.0) + rt * rt;
+    return fmax(0.0, -r * mu + safe_sqrt(disc));
+}
+
+int ray_hits_ground(const atmosphere *atm, double r, double mu)
+{
+    double rb = atm->bottom_radius_m;
+    return mu < 0.0 && r * r * (mu * mu - 1.0) + rb * rb >= 0.0;
+}
+
+double ray_distance_to_ground(const atmosphere *atm, double r, double mu)
+{
+    double rb = atm->bottom_radius_m;
+    double disc = r * r * (mu * mu - 1.0) + rb * rb;
+    return fmax(0.0, -r * mu - safe_sqrt(disc));
+}
+
+double ray_distance_to_boundary(const atmosphere *atm, double r, double mu, int *hits_ground)
+{
+    int g = ray_hits_ground(atm, r, mu);
+    if (hits_ground)
+        *hits_ground = g;
+    return g ? ray_distance_to_ground(atm, r, mu) : ray_distance_to_top(atm, r, mu);
+}
+
+double horizon_mu(const atmosphere *atm, double r)
+{
+    double ratio = atm->bottom_radius_m / fmax(r, atm->bottom_radius_m);
+    return -safe_sqrt(1.0 - ratio * ratio);
+}
+
+/* Antiderivative in s of r(s) = sqrt(p^2 + s^2): (s r + p^2 asinh(s / p)) / 2. */
+static double integral_r_ds(double p, double s)
+{
+    double r = sqrt(p * p + s * s);
+    return 0.5 * (s * r + (p > 0.0 ? p * p * asinh(s / p) : 0.0));
+}
+
+/* Integral of the profile over a piece [sa, sb] of the ray that stays inside one grid cell, where
+ * the density is exactly linear in r: n = a + b r. */
+static double cell_piece(const density_profile *prof, double rb, double p, double sa, double sb)
+{
+    double sm = 0.5 * (sa + sb);
+    double z = sqrt(p * p + sm * sm) - rb;
+    int cell = (int)floor(z / prof->dz_m);
+    double a, b;
+    if (cell < 0) {
+        a = prof->n[0], b = 0.0;
+    } else if (cell >= prof->count - 1) {
+        return 0.0;
+    } else {
+        double r0 = rb + cell * prof->dz_m;
+        b = (prof->n[cell + 1] - prof->n[cell]) / prof->dz_m;
+        a = prof->n[cell] - b * r0;
+    }
+    return a * (sb - sa) + b * (integral_r_ds(p, sb) - integral_r_ds(p, sa));
+}
+
+void column_exact(const atmosphere *atm, double r, double mu, double t_max, double *columns)
+{
+    const double rb = atm->bottom_radius_m;
+    double p2 = fmax(0.0, r * r * (1.0 - mu * mu));
+    double p = sqrt(p2);
+    double s0 = r * mu, s1 = s0 + t_max;
+    for (int c = 0; c < atm->species_count; c++) {
+        const density_profile *prof = &atm->species[c].profile;
+        double dz = prof->dz_m, total = 0.0;
+        /* Inbound side (s < 0): the radius falls, so cell boundaries are met from the top down. */
+        if (s0 < 0.0) {
+            double end = fmin(s1, 0.0);
+            double r_start = sqrt(p2 + s0 * s0), r_end = sqrt(p2 + end * end);
+            double prev = s0;
+            for (long i = (long)floor((r_start - rb) / dz); i >= 0 && rb + i * dz > r_end; i--) {
+                double ri = rb + i * dz;
+                if (ri >= r_start)
+                    continue;
+                double sc = -sqrt(fmax(0.0, ri * ri - p2));
+                if (sc <= prev || sc >= end)
+                    continue;
+                total += cell_piece(prof, rb, p, prev, sc);
+                prev = sc;
+            }
+            total += cell_piece(prof, rb, p, prev, end);
+        }
+        /* Outbound side (s >= 0): the radius grows. */
+        if (s1 > 0.0) {
+            double start = fmax(s0, 0.0);
+            double r_start = sqrt(p2 + start * start), r_end = sqrt(p2 + s1 * s1);
+            double prev = start;
+            for (long i = (long)ceil((r_start - rb) / dz); rb + i * dz < r_end; i++) {
+                double ri = rb + i * dz;
+                if (ri <= r_start)
+                    continue;
+                double sc = sqrt(fmax(0.0, ri * ri - p2));
+                if (sc <= prev || sc >= s1)
+                    continue;
+                total += cell_piece(prof, rb, p, prev, sc);
+                prev = sc;
+            }
+            total += cell_piece(prof, rb, p, prev, s1);
+        }
+        columns[c] = total;
+    }
+}
+
+static const double breakpoint_altitude_km[] = {0.25, 0.5, 1, 1.5, 2, 2.5, 3, 4, 5, 6, 7, 8, 9, 10, 12, 14,
+                                                16, 18, 20, 22, 24, 26, 28, 30, 33, 36, 40, 45, 50, 55, 60,
+                                                70, 80, 90};
+#define N_BREAKPOINTS ((int)(sizeof breakpoint_altitude_km / sizeof breakpoint_altitude_km[0]))
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+int ray_pieces(const atmosphere *atm, double r, double mu, double t_max, double *s, int max_count)
+{
+    double p2 = fmax(0.0, r * r * (1.0 - mu * mu));
+    double s0 = r * mu, s1 = s0 + t_max;
+    int n = 0;
+    s[n++] = s0;
+    if (s0 < 0.0 && s1 > 0.0)
+        s[n++] = 0.0;
+    for (int i = 0; i < N_BREAKPOINTS && n + 2 < max_count; i++) {
+        double rb = atm->bottom_radius_m + breakpoint_altitude_km[i] * FM_KM;
+        double d = rb * rb - p2;
+        if (d <= 0.0)
+            continue;
+        double sc = sqrt(d);
+        if (-sc > s0 && -sc < s1)
+            s[n++] = -sc;
+        if (sc > s0 && sc < s1 && n + 1 < max_count)
+            s[n++] = sc;
+    }
+    s[n++] = s1;
+    qsort(s, (size_t)n, sizeof *s, cmp_double);
+    return n;
+}
+
+#define COLUMN_GAUSS_POINTS 8
+#define MAX_PIECES (2 * N_BREAKPOINTS + 4)
+
+void column_quadrature(const atmosphere *atm, double r, double mu, double t_max, double *columns)
+{
+    const gauss_rule *rule = gauss_legendre_cached(COLUMN_GAUSS_POINTS);
+    double s[MAX_PIECES];
+    int n = ray_pieces(atm, r, mu, t_max, s, MAX_PIECES);
+    double p2 = fmax(0.0, r * r * (1.0 - mu * mu));
+    for (int c = 0; c < atm->species_count; c++)
+        columns[c] = 0.0;
+    double dens[FM_MAX_SPECIES];
+    for (int i = 0; i + 1 < n; i++) {
+        double half = 0.5 * (s[i + 1] - s[i]), mid = 0.5 * (s[i + 1] + s[i]);
+        if (half <= 0.0)
+            continue;
+        for (int g = 0; g < rule->n; g++) {
+            double sg = mid + half * rule->x[g];
+            atmosphere_densities(atm, sqrt(p2 + sg * sg), dens);
+            for (int c = 0; c < atm->species_count; c++)
+                columns[c] += half * rule->w[g] * dens[c];
+        }
+    }
+}
+
+/* ---- table ---------------------------------------------------------------------------------- */
+
+/* Bruneton's mapping: x_r = rho / H with rho = sqrt(r^2 - rb^2), H = sqrt(rt^2 - rb^2); for rays
+ * that do not hit the ground, x_mu = (d - d_min) / (d_max - d_min) with d the distance to the top,
+ * d_min = rt - r, d_max = rho + H. */
+static void table_coordinates(const atmosphere *atm, double r, double mu, double *xr, double *xmu)
+{
+    double rb = atm->bottom_radius_m, rt = atm->top_radius_m;
+    double H = sqrt(rt * rt - rb * rb);
+    double rho = safe_sqrt(r * r - rb * rb);
+    double d = ray_distance_to_top(atm, r, mu);
+    double d_min = rt - r, d_max = rho + H;
+    *xr = rho / H;
+    *xmu = d_max > d_min ? (d - d_min) / (d_max - d_min) : 0.0;
+}
+
+static void table_ray(const atmosphere *atm, double xr, double xmu, double *r, double *mu)
+{
+    double rb = atm->bottom_radius_m, rt = atm->top_radius_m;
+    double H = sqrt(rt * rt - rb * rb);
+    double rho = H * xr;
+    *r = sqrt(rho * rho + rb * rb);
+    double d_min = rt - *r, d_max = rho + H;
+    double d = d_min + xmu * (d_max - d_min);
+    *mu = d == 0.0 ? 1.0 : clamp_cosine((H * H - rho * rho - d * d) / (2.0 * *r * d));
+}
+
+typedef struct table_job {
+    column_table *table;
+    const atmosphere *atm;
+} table_job;
+
+static void table_rows(void *ctx, int64_t begin, int64_t end, int thread)
+{
+    table_job *job = ctx;
+    column_table *t = job->table;
+    double col[FM_MAX_SPECIES];
+    for (int64_t i = begin; i < end; i++) {
+        int ir = (int)(i / t->n_mu), imu = (int)(i % t->n_mu);
+        double r, mu;
+        table_ray(job->atm, (double)ir / (t->n_r - 1), (double)imu / (t->n_mu - 1), &r, &mu);
+        column_quadrature(job->atm, r, mu, ray_distance_to_top(job->atm, r, mu), col);
+        for (int c = 0; c < t->species; c++)
+            t->columns[i * t->species + c] = (float)col[c];
+    }
+}
+
+fm_status column_table_build(column_table *table, const atmosphere *atm, int n_r, int n_mu, int threads,
+                             fm_error *err)
+{
+    table->n_r = n_r;
+    table->n_mu = n_mu;
+    table->species = atm->species_count;
+    table->columns = malloc(sizeof(float) * (size_t)n_r * (size_t)n_mu * (size_t)atm->species_count);
+    if (!table->columns)
+        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the transmittance table");
+    table_job job = {table, atm};
+    parallel_for(threads, (int64_t)n_r * n_mu, 64, table_rows, &job, NULL, NULL);
+    return FM_OK;
+}
+
+void column_table_free(column_table *table)
+{
+    free(table->columns);
+    table->columns = NULL;
+}
+
+int column_table_lookup(const column_table *table, const atmosphere *atm, double r, double mu, double *columns)
+{
+    if (ray_hits_ground(atm, r, mu))
+        return 0;
+    double xr, xmu;
+    table_coordinates(atm, fmin(fmax(r, atm->bottom_radius_m), atm->top_radius_m), mu, &xr, &xmu);
+    double fr = fmin(fmax(xr, 0.0), 1.0) * (table->n_r - 1);
+    double fm = fmin(fmax(xmu, 0.0), 1.0) * (table->n_mu - 1);
+    int ir = (int)fr, im = (int)fm;
+    if (ir > table->n_r - 2)
+        ir = table->n_r - 2;
+    if (im > table->n_mu - 2)
+        im = table->n_mu - 2;
+    double tr = fr - ir, tm = fm - im;
+    const int S = table->species;
+    const float *c00 = &table->columns[((size_t)ir * table->n_mu + im) * S];
+    const float *c01 = c00 + S;
+    const float *c10 = c00 + (size_t)table->n_mu * S;
+    const float *c11 = c10 + S;
+    for (int c = 0; c < S; c++)
+        columns[c] = (1 - tr) * ((1 - tm) * c00[c] + tm * c01[c]) + tr * ((1 - tm) * c10[c] + tm * c11[c]);
+    return 1;
+}

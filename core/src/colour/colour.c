@@ -1,0 +1,43 @@
+#include "colour/colour.h"
+
+#include <pthread.h>
+
+const double fm_rec709_to_xyz[3][3] = {
+    {0.4124564, 0.3575761, 0.1804375},
+    {0.2126729, 0.7151522, 0.0721750},
+    {0.0193339, 0.1191920, 0.9503041},
+};
+
+const float fm_rec709_chromaticities[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
+
+static double xyz_to_rec709[3][3];
+static pthread_once_t inverse_once = PTHREAD_ONCE_INIT;
+
+/* The inverse is computed from the forward matrix so the round trip is exact to rounding. */
+static void compute_inverse(void)
+{
+    const double (*m)[3] = fm_rec709_to_xyz;
+    double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                 m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                 m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            /* cofactor of m[j][i] */
+            int r0 = (j + 1) % 3, r1 = (j + 2) % 3, c0 = (i + 1) % 3, c1 = (i + 2) % 3;
+            xyz_to_rec709[i][j] = (m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]) / det;
+        }
+    }
+}
+
+void colour_xyz_to_rec709(const double xyz[3], double rgb[3])
+{
+    pthread_once(&inverse_once, compute_inverse);
+    for (int i = 0; i < 3; i++)
+        rgb[i] = xyz_to_rec709[i][0] * xyz[0] + xyz_to_rec709[i][1] * xyz[1] + xyz_to_rec709[i][2] * xyz[2];
+}
+
+void colour_rec709_to_xyz(const double rgb[3], double xyz[3])
+{
+    for (int i = 0; i < 3; i++)
+        xyz[i] = fm_rec709_to_xyz[i][0] * rgb[0] + fm_rec709_to_xyz[i][1] * rgb[1] + fm_rec709_to_xyz[i][2] * rgb[2];
+}

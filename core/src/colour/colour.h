@@ -1,0 +1,16 @@
+/* Colour: CIE XYZ to linear Rec.709 (sRGB primaries, D65 white) with the plain matrix that
+ * Blender's OpenColorIO configuration uses (srgb_to_xyz.spimtx), no chromatic adaptation, so "XYZ"
+ * means the same in Blender and in firmament.  Sunlight is not white-balanced. */
+#ifndef FM_COLOUR_COLOUR_H
+#define FM_COLOUR_COLOUR_H
+
+/* Rec.709 -> XYZ, rows X, Y, Z (IEC 61966-2-1 / Blender). */
+extern const double fm_rec709_to_xyz[3][3];
+
+void colour_xyz_to_rec709(const double xyz[3], double rgb[3]);
+void colour_rec709_to_xyz(const double rgb[3], double xyz[3]);
+
+/* CIE xy chromaticities of the Rec.709 primaries and D65 white: R, G, B, W as (x, y) pairs. */
+extern const float fm_rec709_chromaticities[8];
+
+#endif

@@ -1,0 +1,84 @@
+/* fm_image: allocation, colour conversion and the hemispherical integral used by the sidecar. */
+#include "base/status.h"
+#include "base/units.h"
+#include "camera/equirect.h"
+#include "colour/colour.h"
+#include "image/image.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+fm_image *image_create(int width, int height, int channels, fm_image_content content, int with_disk, int with_error)
+{
+    fm_image *img = calloc(1, sizeof *img);
+    if (!img)
+        return NULL;
+    size_t n = (size_t)width * (size_t)height * (size_t)channels;
+    img->width = width;
+    img->height = height;
+    img->channels = channels;
+    img->content = content;
+    img->pixels = calloc(n, sizeof(float));
+    img->sun_disk = with_disk ? calloc(n, sizeof(float)) : NULL;
+    img->std_error = with_error ? calloc(n, sizeof(float)) : NULL;
+    if (!img->pixels || (with_disk && !img->sun_disk) || (with_error && !img->std_error)) {
+        fm_image_destroy(img);
+        return NULL;
+    }
+    return img;
+}
+
+void fm_image_destroy(fm_image *image)
+{
+    if (!image)
+        return;
+    free(image->pixels);
+    free(image->sun_disk);
+    free(image->std_error);
+    free(image);
+}
+
+static void convert_buffer(float *buf, size_t pixels)
+{
+    for (size_t i = 0; i < pixels; i++) {
+        double xyz[3] = {buf[3 * i], buf[3 * i + 1], buf[3 * i + 2]}, rgb[3];
+        colour_xyz_to_rec709(xyz, rgb);
+        for (int c = 0; c < 3; c++)
+            buf[3 * i + c] = (float)rgb[c];
+    }
+}
+
+fm_status fm_image_to_rec709(fm_image *image, fm_error *err)
+{
+    if (image->content == FM_IMAGE_RGB_REC709)
+        return FM_OK;
+    if (image->content != FM_IMAGE_XYZ)
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "a monochromatic image has no colour to convert");
+    size_t n = (size_t)image->width * (size_t)image->height;
+    convert_buffer(image->pixels, n);
+    if (image->sun_disk)
+        convert_buffer(image->sun_disk, n);
+    /* The standard error of a linear combination is not a linear combination of standard errors;
+     * it stays in XYZ, as documented for fm_image. */
+    image->content = FM_IMAGE_RGB_REC709;
+    return FM_OK;
+}
+
+void fm_image_diffuse_horizontal(const fm_image *image, double out[3])
+{
+    const int W = image->width, H = image->height, C = image->channels;
+    out[0] = out[1] = out[2] = 0.0;
+    for (int y = 0; y < H / 2; y++) { /* the upper half: elevation > 0 */
+        double omega = equirect_pixel_solid_angle(W, H, y);
+        double top = FM_PI * (0.5 - (double)y / H), bottom = FM_PI * (0.5 - (double)(y + 1) / H);
+        /* mean of sin(elevation) over the row's solid angle: cos(zenith) weighting */
+        double cos_mean = 0.5 * (sin(top) + sin(bottom));
+        for (int x = 0; x < W; x++) {
+            size_t i = ((size_t)y * W + x) * C;
+            for (int c = 0; c < C && c < 3; c++) {
+                double v = image->pixels[i + c] - (image->sun_disk ? image->sun_disk[i + c] : 0.0f);
+                out[c] += v * omega * cos_mean;
+            }
+        }
+    }
+}

@@ -1,0 +1,13 @@
+/* OpenEXR output through OpenEXR's C API (OpenEXRCore): scanline, ZIP, 32-bit float (the sun disk
+ * exceeds half-float range), chromaticities of the colour space, envmap = latlong, whiteLuminance
+ * (683 cd/m^2 for RGB = 1), and every metadata entry as a typed "firmament.<group>.<key>" attribute.
+ * The file is written to the given path as is; output.c chooses a temporary path and renames. */
+#ifndef FM_IMAGE_IMAGE_EXR_H
+#define FM_IMAGE_IMAGE_EXR_H
+
+#include "image/metadata.h"
+
+fm_status image_write_exr(const char *path, const fm_image *img, const metadata *meta, const atomic_int *cancel,
+                          fm_error *err);
+
+#endif

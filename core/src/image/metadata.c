@@ -1,0 +1,117 @@
+#include "image/metadata.h"
+
+#include "base/units.h"
+#include "colour/colour.h"
+
+#include <stdio.h>
+#include <string.h>
+
+static meta_entry *add(metadata *m, const char *group, const char *key, meta_type type)
+{
+    meta_entry *e = &m->e[m->count < FM_META_MAX ? m->count++ : FM_META_MAX - 1];
+    memset(e, 0, sizeof *e);
+    e->group = group;
+    e->key = key;
+    e->type = type;
+    return e;
+}
+
+static void add_double(metadata *m, const char *group, const char *key, double v)
+{
+    add(m, group, key, META_DOUBLE)->v[0] = v;
+}
+
+static void add_int(metadata *m, const char *group, const char *key, int v)
+{
+    add(m, group, key, META_INT)->v[0] = v;
+}
+
+static void add_string(metadata *m, const char *group, const char *key, const char *s)
+{
+    add(m, group, key, META_STRING)->s = s;
+}
+
+static void add_vec3(metadata *m, const char *group, const char *key, const double v[3])
+{
+    meta_entry *e = add(m, group, key, META_VEC3);
+    memcpy(e->v, v, sizeof e->v);
+}
+
+static const char *quality_name(fm_quality q)
+{
+    return q == FM_QUALITY_PREVIEW ? "preview" : (q == FM_QUALITY_REFERENCE ? "reference" : "final");
+}
+
+void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *params, const fm_image *img,
+                      const char *exr_path)
+{
+    memset(m, 0, sizeof *m);
+    const fm_sky_params *sp = fm_sky_get_params(sky);
+    const int colour = img->content != FM_IMAGE_SPECTRAL_RADIANCE;
+    const char *slash = strrchr(exr_path, '/');
+    snprintf(m->out_name, sizeof m->out_name, "%s", slash ? slash + 1 : exr_path);
+    snprintf(m->seed_text, sizeof m->seed_text, "%llu", (unsigned long long)params->seed);
+
+    add_string(m, "", "version", FIRMAMENT_VERSION);
+    add_string(m, "image", "file", m->out_name);
+    add_int(m, "image", "width", img->width);
+    add_int(m, "image", "height", img->height);
+    add_string(m, "image", "projection", "equirectangular");
+    add_string(m, "image", "layout",
+               "Blender Environment Texture: column u = 0.25 + azimuth/360 (north at u = 0.25, east at the centre), "
+               "top row = zenith; axes +X east, +Y north, +Z up");
+    add_double(m, "image", "azimuth_at_center_deg", 90.0);
+    if (colour) {
+        add_string(m, "image", "colorspace", "Linear Rec.709 (sRGB primaries, D65 white)");
+        add_string(m, "image", "units", "CIE-weighted radiance, W m^-2 sr^-1 (Y x 683 = luminance in cd/m^2)");
+    } else {
+        add_string(m, "image", "colorspace", "none (spectral radiance)");
+        add_string(m, "image", "units", "spectral radiance, W m^-2 sr^-1 nm^-1");
+    }
+    add_int(m, "image", "contains_sun_disk", params->sun_disk ? 1 : 0);
+
+    add_double(m, "parameters", "sun_elevation_deg", sp->sun_elevation_deg);
+    add_double(m, "parameters", "sun_azimuth_deg", sp->sun_azimuth_deg);
+    add_double(m, "parameters", "observer_altitude_m", sp->observer_altitude_m);
+    add_double(m, "parameters", "ground_albedo", sp->ground_albedo);
+    add_double(m, "parameters", "ozone_column_du", sp->ozone_column_du);
+    add_double(m, "parameters", "earth_sun_distance_au", sp->earth_sun_distance_au);
+    if (!colour)
+        add_double(m, "parameters", "wavelength_nm", sp->wavelength_nm);
+    add_string(m, "parameters", "quality", quality_name(params->quality));
+    add_string(m, "parameters", "seed", m->seed_text);
+    add_double(m, "parameters", "sample_scale", params->sample_scale);
+    add_string(m, "parameters", "atmosphere", "U.S. Standard Atmosphere 1976 molecules (Bucholtz Rayleigh), "
+                                              "ozone (Bogumil 2003 cross sections, AFGL U.S. Standard profile)");
+
+    fm_sun_light sun;
+    fm_sky_sun_light(sky, &sun);
+    double diffuse[3];
+    fm_image_diffuse_horizontal(img, diffuse);
+    add_vec3(m, "sun", "direction", sun.direction);
+    add_double(m, "sun", "elevation_deg", sp->sun_elevation_deg);
+    add_double(m, "sun", "azimuth_deg", sp->sun_azimuth_deg);
+    add_double(m, "sun", "angular_diameter_deg", 2.0 * sun.angular_radius_deg);
+    if (colour) {
+        double rgb[3], diffuse_xyz[3];
+        colour_xyz_to_rec709(sun.normal_irradiance, rgb);
+        add_vec3(m, "sun", "direct_normal_irradiance_rgb", rgb);
+        add_double(m, "sun", "direct_normal_illuminance_lux", FM_LUMINOUS_EFFICACY * sun.normal_irradiance[1]);
+        add_double(m, "sun", "direct_horizontal_illuminance_lux", FM_LUMINOUS_EFFICACY * sun.horizontal_irradiance[1]);
+        if (img->content == FM_IMAGE_RGB_REC709)
+            colour_rec709_to_xyz(diffuse, diffuse_xyz);
+        else
+            memcpy(diffuse_xyz, diffuse, sizeof diffuse_xyz);
+        double diffuse_rgb[3];
+        colour_xyz_to_rec709(diffuse_xyz, diffuse_rgb);
+        add_vec3(m, "sky", "diffuse_horizontal_irradiance_rgb", diffuse_rgb);
+        add_double(m, "sky", "diffuse_horizontal_illuminance_lux", FM_LUMINOUS_EFFICACY * diffuse_xyz[1]);
+        add_double(m, "sky", "global_horizontal_illuminance_lux",
+                   FM_LUMINOUS_EFFICACY * (diffuse_xyz[1] + sun.horizontal_irradiance[1]));
+    } else {
+        add_double(m, "sun", "direct_normal_spectral_irradiance", sun.normal_irradiance[0]);
+        add_double(m, "sun", "direct_horizontal_spectral_irradiance", sun.horizontal_irradiance[0]);
+        add_double(m, "sky", "diffuse_horizontal_spectral_irradiance", diffuse[0]);
+        add_double(m, "sky", "global_horizontal_spectral_irradiance", diffuse[0] + sun.horizontal_irradiance[0]);
+    }
+}

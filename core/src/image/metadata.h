@@ -1,0 +1,31 @@
+/* The numbers that describe a rendered map, gathered once and written both as typed EXR header
+ * attributes (image_exr.c) and into the JSON sidecar (sidecar.c). */
+#ifndef FM_IMAGE_METADATA_H
+#define FM_IMAGE_METADATA_H
+
+#include "firmament/firmament.h"
+
+#define FM_META_MAX 48
+
+typedef enum meta_type { META_DOUBLE, META_INT, META_STRING, META_VEC3 } meta_type;
+
+typedef struct meta_entry {
+    const char *group; /* "parameters", "image", "sun" or "sky" */
+    const char *key;
+    meta_type type;
+    double v[3];
+    const char *s;
+} meta_entry;
+
+typedef struct metadata {
+    int count;
+    meta_entry e[FM_META_MAX];
+    char seed_text[24];
+    char out_name[256];
+} metadata;
+
+/* Gathers parameters and derived quantities (direct sunlight, diffuse horizontal illuminance). */
+void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *params, const fm_image *img,
+                      const char *exr_path);
+
+#endif

@@ -1,0 +1,127 @@
+/* fm_output: the EXR and its sidecar reach their final names together, complete, or not at all.
+ * Both are written to temporary files beside their destinations (same directory, so rename() is
+ * atomic) and renamed only after both are complete. */
+#define _POSIX_C_SOURCE 200809L
+#include "base/status.h"
+#include "image/image_exr.h"
+#include "image/sidecar.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+struct fm_output {
+    char *exr_path, *json_path;
+    char *exr_tmp, *json_tmp; /* NULL once renamed or removed */
+};
+
+/* Creates "<dir>/.<name>.XXXXXX" and returns its path (malloc'd), or NULL with err filled. */
+static char *reserve_temp(const char *path, fm_error *err)
+{
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+        fm_fail(err, FM_ERR_IO, "cannot write '%s': it is a directory", path);
+        return NULL;
+    }
+    const char *slash = strrchr(path, '/');
+    size_t dir_len = slash ? (size_t)(slash - path + 1) : 0;
+    size_t n = strlen(path) + 16;
+    char *tmp = malloc(n);
+    if (!tmp) {
+        fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
+        return NULL;
+    }
+    snprintf(tmp, n, "%.*s.%s.XXXXXX", (int)dir_len, path, path + dir_len);
+    int fd = mkstemp(tmp);
+    if (fd < 0) {
+        fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
+        free(tmp);
+        return NULL;
+    }
+    /* mkstemp creates 0600; give the file the usual permissions for a new file */
+    mode_t mask = umask(0);
+    umask(mask);
+    fchmod(fd, 0666 & ~mask);
+    close(fd);
+    return tmp;
+}
+
+static char *copy_string(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *c = malloc(n);
+    if (c)
+        memcpy(c, s, n);
+    return c;
+}
+
+fm_status fm_output_open(const char *exr_path, const char *json_path, fm_output **out, fm_error *err)
+{
+    *out = NULL;
+    if (!exr_path || !exr_path[0])
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the output path is empty");
+    if (!json_path || !json_path[0])
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the sidecar path is empty");
+    if (strcmp(exr_path, json_path) == 0)
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the image and its sidecar would both be '%s'", exr_path);
+    fm_output *o = calloc(1, sizeof *o);
+    if (!o)
+        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
+    o->exr_path = copy_string(exr_path);
+    o->json_path = copy_string(json_path);
+    if (!o->exr_path || !o->json_path) {
+        fm_output_close(o);
+        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
+    }
+    if (!(o->exr_tmp = reserve_temp(exr_path, err)) || !(o->json_tmp = reserve_temp(json_path, err))) {
+        fm_output_close(o);
+        return err ? err->status : FM_ERR_IO;
+    }
+    *out = o;
+    return FM_OK;
+}
+
+fm_status fm_output_commit(fm_output *o, const fm_sky *sky, const fm_render_params *params, const fm_image *image,
+                           const atomic_int *cancel, fm_error *err)
+{
+    if (!o->exr_tmp || !o->json_tmp)
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "output already committed");
+    metadata meta;
+    metadata_collect(&meta, sky, params, image, o->exr_path);
+    fm_status s = image_write_exr(o->exr_tmp, image, &meta, cancel, err);
+    if (!s)
+        s = sidecar_write(o->json_tmp, &meta, err);
+    if (!s && cancel && atomic_load(cancel))
+        s = fm_fail(err, FM_ERR_CANCELLED, "cancelled before the files were complete");
+    if (s)
+        return s; /* the temporary files are removed by fm_output_close */
+    /* Past this point nothing checks for cancellation: both renames happen. */
+    if (rename(o->exr_tmp, o->exr_path) != 0)
+        return fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", o->exr_path, strerror(errno));
+    free(o->exr_tmp);
+    o->exr_tmp = NULL;
+    if (rename(o->json_tmp, o->json_path) != 0)
+        return fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", o->json_path, strerror(errno));
+    free(o->json_tmp);
+    o->json_tmp = NULL;
+    return FM_OK;
+}
+
+void fm_output_close(fm_output *o)
+{
+    if (!o)
+        return;
+    if (o->exr_tmp)
+        unlink(o->exr_tmp);
+    if (o->json_tmp)
+        unlink(o->json_tmp);
+    free(o->exr_tmp);
+    free(o->json_tmp);
+    free(o->exr_path);
+    free(o->json_path);
+    free(o);
+}

@@ -1,0 +1,26 @@
+/* The internal state behind fm_sky: everything that depends on the sky parameters but not on the
+ * image, built once and shared read-only by all render threads. */
+#ifndef FM_SKY_H
+#define FM_SKY_H
+
+#include "atmosphere/atmosphere.h"
+#include "atmosphere/optical_depth.h"
+#include "firmament/firmament.h"
+#include "sun/sun_disk.h"
+#include "transport/path.h"
+#include "transport/sun_irradiance.h"
+
+struct fm_sky {
+    fm_sky_params params;
+    atmosphere atm;
+    sun_disk sun;
+    column_table columns;
+    sun_irradiance sun_table;
+    vec3 sun_dir;      /* toward the sun's centre; at the observer the Earth-centred frame is the map frame */
+    vec3 observer;     /* Earth-centred position (0, 0, R + altitude) */
+};
+
+/* A path context for the sky with the given order range. */
+path_context sky_path_context(const fm_sky *sky, int min_order, int max_order);
+
+#endif

@@ -1,0 +1,52 @@
+#include "spectrum/spectral_grid.h"
+
+#include "data/tables.h"
+#include "spectrum/solar.h"
+
+#include <math.h>
+#include <string.h>
+
+void spectral_grid_visible(spectral_grid *grid)
+{
+    memset(grid, 0, sizeof *grid);
+    grid->colour = 1;
+    const double h = FM_VISIBLE_STEP_NM;
+    int count = (int)lround((FM_VISIBLE_LAST_NM - FM_VISIBLE_FIRST_NM) / h) + 1;
+    grid->count = count;
+    for (int k = 0; k < count; k++) {
+        double c = FM_VISIBLE_FIRST_NM + h * k;
+        grid->lambda_nm[k] = c;
+        grid->solar_irradiance[k] = solar_irradiance_hat_mean(c, h);
+        /* integral over the CIE table (1 nm trapezoid) of xyz * E * hat_k */
+        double acc[3] = {0, 0, 0};
+        for (int i = 0; i < FM_CIE_COUNT; i++) {
+            double l = FM_CIE_FIRST_NM + i;
+            double hat = 1.0 - fabs(l - c) / h;
+            if (hat <= 0.0)
+                continue;
+            double w = (i == 0 || i == FM_CIE_COUNT - 1) ? 0.5 : 1.0;
+            double e = solar_irradiance_at(l);
+            for (int j = 0; j < 3; j++)
+                acc[j] += w * fm_cie1931_xyz_1nm[i][j] * e * hat;
+        }
+        for (int j = 0; j < 3; j++)
+            grid->xyz_weight[k][j] = acc[j] / grid->solar_irradiance[k];
+    }
+}
+
+void spectral_grid_single(spectral_grid *grid, double lambda_nm)
+{
+    memset(grid, 0, sizeof *grid);
+    grid->count = 1;
+    grid->colour = 0;
+    grid->lambda_nm[0] = lambda_nm;
+    grid->solar_irradiance[0] = solar_irradiance_at(lambda_nm);
+}
+
+void spectral_grid_to_xyz(const spectral_grid *grid, const double *values, double xyz[3])
+{
+    xyz[0] = xyz[1] = xyz[2] = 0.0;
+    for (int k = 0; k < grid->count; k++)
+        for (int j = 0; j < 3; j++)
+            xyz[j] += values[k] * grid->xyz_weight[k][j];
+}

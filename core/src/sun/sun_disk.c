@@ -1,0 +1,84 @@
+#include "sun/sun_disk.h"
+
+#include "base/quadrature.h"
+#include "base/units.h"
+#include "data/tables.h"
+
+#include <math.h>
+
+void sun_limb_darkening_coefficients(double lambda_nm, double a[6])
+{
+    const int n = FM_LIMB_DARKENING_COUNT;
+    const double (*t)[8] = fm_limb_darkening_neckel_labs;
+    if (lambda_nm <= t[0][0]) {
+        for (int m = 0; m < 6; m++)
+            a[m] = t[0][1 + m];
+        return;
+    }
+    if (lambda_nm >= t[n - 1][0]) {
+        for (int m = 0; m < 6; m++)
+            a[m] = t[n - 1][1 + m];
+        return;
+    }
+    int i = 0;
+    while (i < n - 2 && t[i + 1][0] <= lambda_nm)
+        i++;
+    double f = (lambda_nm - t[i][0]) / (t[i + 1][0] - t[i][0]);
+    for (int m = 0; m < 6; m++)
+        a[m] = t[i][1 + m] * (1.0 - f) + t[i + 1][1 + m] * f;
+}
+
+/* integral of cos^n over [-pi/2, pi/2] and of (1 - t^2)^(m/2) over [-1, 1] */
+static double cos_power_integral(int n) { return sqrt(FM_PI) * tgamma(0.5 * (n + 1)) / tgamma(0.5 * n + 1.0); }
+static double chord_factor(int m) { return sqrt(FM_PI) * tgamma(0.5 * m + 1.0) / tgamma(0.5 * m + 1.5); }
+
+void sun_disk_init(sun_disk *sun, const spectral_grid *grid, double earth_sun_distance_au)
+{
+    double d = earth_sun_distance_au * FM_ASTRONOMICAL_UNIT_M;
+    sun->angular_radius = asin(FM_SUN_RADIUS_M / d);
+    sun->solid_angle = 2.0 * FM_PI * (1.0 - cos(sun->angular_radius));
+    for (int m = 0; m < 6; m++)
+        sun->chord_b[m] = chord_factor(m);
+    for (int k = 0; k < grid->count; k++) {
+        double *a = sun->ld[k];
+        sun_limb_darkening_coefficients(grid->lambda_nm[k], a);
+        /* normalise so I(centre) = 1 exactly (the published rows sum to 1 within rounding) */
+        double s = a[0] + a[1] + a[2] + a[3] + a[4] + a[5];
+        for (int m = 0; m < 6; m++)
+            a[m] /= s;
+        double mean = 0.0, norm = 0.0;
+        for (int m = 0; m < 6; m++) {
+            mean += 2.0 * a[m] / (m + 2);
+            norm += a[m] * sun->chord_b[m] * cos_power_integral(m + 2);
+        }
+        sun->ld_mean[k] = mean;
+        sun->chord_norm[k] = norm;
+    }
+}
+
+void sun_chord_rule_above(const sun_disk *sun, int wavelengths, double delta_min, sun_chord_rule *rule)
+{
+    double rho = sun->angular_radius;
+    double lo = delta_min <= -rho ? -0.5 * FM_PI : (delta_min >= rho ? 0.5 * FM_PI : asin(delta_min / rho));
+    double hi = 0.5 * FM_PI;
+    if (hi - lo <= 0.0) {
+        rule->n = 0;
+        return;
+    }
+    const gauss_rule *g = gauss_legendre_cached(FM_SUN_CHORD_POINTS);
+    double half = 0.5 * (hi - lo), mid = 0.5 * (hi + lo);
+    rule->n = g->n;
+    for (int j = 0; j < g->n; j++) {
+        double phi = mid + half * g->x[j];
+        double c = cos(phi);
+        rule->delta[j] = rho * sin(phi);
+        for (int k = 0; k < wavelengths; k++) {
+            double chord = 0.0, cp = c * c; /* cos^(m+2) */
+            for (int m = 0; m < 6; m++) {
+                chord += sun->ld[k][m] * sun->chord_b[m] * cp;
+                cp *= c;
+            }
+            rule->weight[j][k] = half * g->w[j] * chord / sun->chord_norm[k];
+        }
+    }
+}

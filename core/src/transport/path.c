@@ -1,0 +1,228 @@
+#include "transport/path.h"
+
+#include "phase/phase_rayleigh.h"
+#include "transport/free_flight.h"
+
+#include <math.h>
+#include <stddef.h>
+
+void medium_phase(const atmosphere *atm, const double *n, double cos_theta, double *p, double *sigma_s)
+{
+    const int K = atm->grid.count;
+    for (int k = 0; k < K; k++) {
+        double num = 0.0, den = 0.0;
+        for (int c = 0; c < atm->scattering_count; c++) {
+            const species *sp = &atm->species[c];
+            double s = sp->sigma_s[k] * n[c];
+            double pc = 0.0;
+            switch (sp->phase) {
+            case PHASE_RAYLEIGH:
+                pc = phase_rayleigh_eval(cos_theta, sp->phase_param[k]);
+                break;
+            case PHASE_NONE:
+                break;
+            }
+            num += s * pc;
+            den += s;
+        }
+        p[k] = den > 0.0 ? num / den : 0.0;
+        if (sigma_s)
+            sigma_s[k] = den;
+    }
+}
+
+/* cos_theta sampled from the phase function of species c at grid wavelength k. */
+static double sample_species_phase(const species *sp, int k, double u)
+{
+    switch (sp->phase) {
+    case PHASE_RAYLEIGH:
+        return phase_rayleigh_sample(u, sp->phase_param[k]);
+    case PHASE_NONE:
+        break;
+    }
+    return 2.0 * u - 1.0;
+}
+
+static vec3 rotate_direction(vec3 d, double cos_theta, double phi)
+{
+    frame f = frame_from_normal(d);
+    double sin_theta = safe_sqrt(1.0 - cos_theta * cos_theta);
+    return v3_normalize(frame_to_world(&f, v3(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta)));
+}
+
+static double average(const double *q, int K)
+{
+    double s = 0.0;
+    for (int k = 0; k < K; k++)
+        s += q[k];
+    return s / K;
+}
+
+/* Russian roulette on the largest spectral weight; returns 0 if the path dies. */
+static int roulette(double *W, const double *q, const double *w, int K, int order, rng *r)
+{
+    double avg = average(q, K), m = 0.0;
+    for (int k = 0; k < K; k++)
+        m = fmax(m, q[k] * w[k]);
+    m *= *W / avg;
+    double survive = fmin(m, order > 8 ? 0.95 : 1.0);
+    if (survive >= 1.0)
+        return 1;
+    if (!(survive > 0.0) || rng_uniform(r) >= survive)
+        return 0;
+    *W /= survive;
+    return 1;
+}
+
+static void renormalise(double *q, int K)
+{
+    double m = 0.0;
+    for (int k = 0; k < K; k++)
+        m = fmax(m, q[k]);
+    if (m > 1e100 || (m < 1e-100 && m > 0.0))
+        for (int k = 0; k < K; k++)
+            q[k] /= m;
+}
+
+void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L)
+{
+    const atmosphere *atm = ctx->atm;
+    const int K = atm->grid.count, h = hero;
+    const double *E0 = atm->grid.solar_irradiance;
+    double q[FM_MAX_WAVELENGTHS], w[FM_MAX_WAVELENGTHS];
+    double sig_s[FM_MAX_WAVELENGTHS], sig_t[FM_MAX_WAVELENGTHS], tbar[FM_MAX_WAVELENGTHS];
+    double phase[FM_MAX_WAVELENGTHS], depth[FM_MAX_WAVELENGTHS], force[FM_MAX_WAVELENGTHS];
+    double n[FM_MAX_SPECIES];
+    for (int k = 0; k < K; k++)
+        q[k] = w[k] = 1.0;
+    double W = 1.0;
+    int order = 0;
+    vec3 pos = origin, d = dir;
+
+    for (;;) {
+        ray_segment seg;
+        ray_segment_init(&seg, atm, pos, d);
+        double t = 0.0, tau;
+        if (ctx->force_escapes && !seg.hits_ground) {
+            /* Forced collision: the first tentative collision is drawn inside the segment.  Each
+             * wavelength's technique would do the same with its own probability F_k of colliding:
+             * weight f/p = F_k, and F_k enters that technique's pdf. */
+            free_flight_majorant_depth(atm, &seg, 0.0, seg.t_end, depth);
+            if (!(depth[h] > 1e-12))
+                return;
+            for (int k = 0; k < K; k++)
+                force[k] = -expm1(-depth[k]);
+            for (int k = 0; k < K; k++) {
+                w[k] *= force[k];
+                q[k] *= force[h] / force[k];
+            }
+            tau = -log1p(-rng_uniform(r) * force[h]);
+        } else {
+            tau = -log1p(-rng_uniform(r));
+        }
+
+        /* Delta tracking until a real event or the end of the segment.  The pdf of a flight for
+         * wavelength k is exp(-depth_k) times the probability of the event that ends it. */
+        int scattered = 0;
+        for (;;) {
+            int shell;
+            int collided = free_flight_advance(atm, &seg, t, tau, h, &t, depth, &shell);
+            for (int k = 0; k < K; k++)
+                q[k] *= exp(depth[h] - depth[k]);
+            if (!collided)
+                break; /* reached the ground or the top */
+            double rad = ray_segment_radius(&seg, t);
+            atmosphere_densities(atm, rad, n);
+            for (int k = 0; k < K; k++) {
+                double s = 0.0, tt = 0.0;
+                for (int c = 0; c < atm->species_count; c++) {
+                    s += atm->species[c].sigma_s[k] * n[c];
+                    tt += (atm->species[c].sigma_s[k] + atm->species[c].sigma_a[k]) * n[c];
+                }
+                sig_s[k] = s;
+                sig_t[k] = tt;
+            }
+            const double *maj = atm->shell_majorant[shell];
+            double u = rng_uniform(r) * maj[h];
+            if (u < sig_s[h]) {
+                for (int k = 0; k < K; k++)
+                    q[k] *= sig_s[k] / sig_s[h];
+                scattered = 1;
+                break;
+            }
+            if (u < sig_t[h])
+                return; /* absorbed */
+            double null_h = maj[h] - sig_t[h];
+            for (int k = 0; k < K; k++)
+                q[k] *= fmax(maj[k] - sig_t[k], 0.0) / null_h;
+            renormalise(q, K);
+            tau = -log1p(-rng_uniform(r));
+        }
+
+        if (scattered) {
+            vec3 x = v3_madd(seg.origin, seg.dir, t);
+            double rad = v3_length(x);
+            order++;
+            if (order >= ctx->min_order) {
+                double mu_s = v3_dot(x, ctx->sun_dir) / rad;
+                sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, rad, mu_s, tbar, NULL);
+                medium_phase(atm, n, v3_dot(d, ctx->sun_dir), phase, NULL);
+                double scale = W / average(q, K);
+                for (int k = 0; k < K; k++)
+                    L[k] += scale * q[k] * w[k] * phase[k] * E0[k] * tbar[k];
+            }
+            if (ctx->max_order > 0 && order >= ctx->max_order)
+                return;
+            /* Choose the scattering species in proportion to its sigma_s at the hero wavelength. */
+            double pick = rng_uniform(r) * sig_s[h];
+            int c = 0;
+            while (c < atm->scattering_count - 1) {
+                pick -= atm->species[c].sigma_s[h] * n[c];
+                if (pick < 0.0)
+                    break;
+                c++;
+            }
+            double cos_theta = sample_species_phase(&atm->species[c], h, rng_uniform(r));
+            vec3 nd = rotate_direction(d, cos_theta, 2.0 * FM_PI * rng_uniform(r));
+            medium_phase(atm, n, cos_theta, phase, NULL);
+            for (int k = 0; k < K; k++)
+                q[k] *= phase[k] / phase[h];
+            renormalise(q, K);
+            pos = x;
+            d = nd;
+        } else if (seg.hits_ground) {
+            vec3 x = v3_madd(seg.origin, seg.dir, seg.t_end);
+            double rad = v3_length(x);
+            vec3 normal = v3_scale(x, 1.0 / rad);
+            order++;
+            if (order >= ctx->min_order) {
+                double mu_s = v3_dot(normal, ctx->sun_dir);
+                double *thor = phase; /* reuse: horizontal transmittance */
+                sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, atm->bottom_radius_m, mu_s, tbar, thor);
+                double scale = W / average(q, K);
+                for (int k = 0; k < K; k++)
+                    L[k] += scale * q[k] * w[k] * atm->ground_albedo[k] / FM_PI * E0[k] * thor[k];
+            }
+            if (ctx->max_order > 0 && order >= ctx->max_order)
+                return;
+            double any = 0.0;
+            for (int k = 0; k < K; k++) {
+                w[k] *= atm->ground_albedo[k];
+                any += w[k];
+            }
+            if (!(any > 0.0))
+                return;
+            /* cosine-weighted direction about the normal: weight albedo (f cos / pdf) */
+            double u1 = rng_uniform(r), u2 = rng_uniform(r);
+            double sr = sqrt(u1), phi = 2.0 * FM_PI * u2;
+            frame f = frame_from_normal(normal);
+            /* u1 < 1, so the new direction points strictly upward and leaves the ground */
+            d = v3_normalize(frame_to_world(&f, v3(sr * cos(phi), sr * sin(phi), sqrt(1.0 - u1))));
+            pos = v3_scale(normal, atm->bottom_radius_m);
+        } else {
+            return; /* left the atmosphere */
+        }
+        if (!roulette(&W, q, w, K, order, r))
+            return;
+    }
+}

@@ -1,0 +1,42 @@
+/* The reference estimator: spectral volumetric path tracing from the observer.
+ *
+ * Every path carries all K wavelengths of the spectral grid.  One of them, the hero, drives the
+ * random decisions (free flights by delta tracking, scatter / absorb / null events, choice of
+ * scattering species and direction); the others are weighted by one-sample spectral MIS with the
+ * balance heuristic over all K hero choices (the path pdf of wavelength k relative to the hero's is
+ * carried in q[k]), so a strongly wavelength-dependent medium gives no colour noise.
+ *
+ * At every scattering vertex and at the ground, next-event estimation adds direct sunlight from the
+ * precomputed disk-integrated transmittance table (sun_irradiance.h); directions sampled by the phase
+ * function never count the sun, so it is never counted twice.  Ground: Lambertian, bounced with
+ * cosine sampling (weight = albedo).  Russian roulette ends paths: every order of scattering is
+ * included.  Segments that would leave the atmosphere are optionally forced to collide (weight
+ * 1 - exp(-majorant depth)), which keeps thin-air paths useful without bias.
+ *
+ * Orders: the order of a contribution is the number of interactions (air scattering or ground
+ * reflection) on the path, including the vertex where the sun is connected.  Contributions outside
+ * [min_order, max_order] are not counted (max_order 0 = unlimited): order 1 is single scattering. */
+#ifndef FM_TRANSPORT_PATH_H
+#define FM_TRANSPORT_PATH_H
+
+#include "base/rng.h"
+#include "base/vec.h"
+#include "transport/sun_irradiance.h"
+
+typedef struct path_context {
+    const atmosphere *atm;
+    const sun_disk *sun;
+    const sun_irradiance *sun_table;
+    vec3 sun_dir;       /* unit vector toward the sun's centre (Earth-centred frame) */
+    int min_order, max_order;
+    int force_escapes;  /* force collisions on segments that would leave through the top */
+} path_context;
+
+/* Adds one path's radiance estimate (W m^-2 sr^-1 nm^-1, per grid wavelength) to L. */
+void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L);
+
+/* Mixture phase function sigma_s-weighted over species at densities n: fills p[k] for every grid
+ * wavelength (returns the scattering coefficients in sigma_s[k]). */
+void medium_phase(const atmosphere *atm, const double *n, double cos_theta, double *p, double *sigma_s);
+
+#endif

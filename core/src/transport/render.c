@@ -1,0 +1,337 @@
+#include "transport/render.h"
+
+#include "base/rng.h"
+#include "base/status.h"
+#include "base/threads.h"
+#include "base/units.h"
+#include "camera/equirect.h"
+#include "image/image.h"
+#include "sky.h"
+#include "transport/single_scatter.h"
+#include "transport/sky_grid.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+quality_settings render_quality_settings(fm_quality quality, double scale)
+{
+    quality_settings q;
+    switch (quality) {
+    case FM_QUALITY_PREVIEW:
+        q = (quality_settings){64, 32, 48, 12, 8, 12, 512, 2, 64};
+        break;
+    case FM_QUALITY_REFERENCE:
+    case FM_QUALITY_FINAL:
+    default:
+        q = (quality_settings){128, 64, 96, 20, 12, 16, 2048, 3, 1024};
+        break;
+    }
+    q.ms_paths = (int)fmax(1.0, round(q.ms_paths * scale));
+    q.reference_paths = (int)fmax(1.0, round(q.reference_paths * scale));
+    return q;
+}
+
+/* Seeds: every random stream is (seed, item, sample) with disjoint item ranges per use, and the
+ * wavelength set mixed into the seed so renders at different wavelengths draw independent numbers. */
+#define ITEM_MS_NODE 0x100000000ull
+#define ITEM_PIXEL 0x200000000ull
+
+typedef struct render_job {
+    const fm_sky *sky;
+    const fm_render_params *params;
+    quality_settings q;
+    uint64_t seed;
+    int channels;
+    sky_grid ss, ms;
+    fm_image *img;
+} render_job;
+
+/* Spectral radiance (K values) -> image channels. */
+static void to_channels(const atmosphere *atm, const double *L, float *out)
+{
+    if (atm->grid.colour) {
+        double xyz[3];
+        spectral_grid_to_xyz(&atm->grid, L, xyz);
+        out[0] = (float)xyz[0];
+        out[1] = (float)xyz[1];
+        out[2] = (float)xyz[2];
+    } else {
+        out[0] = (float)L[0];
+    }
+}
+
+static vec3 view_direction(const fm_sky *sky, double elevation, double rel_azimuth)
+{
+    return direction_from_elevation_azimuth(elevation, sky->params.sun_azimuth_deg * FM_DEG + rel_azimuth);
+}
+
+static void ss_nodes(void *ctx, int64_t begin, int64_t end, int thread)
+{
+    render_job *job = ctx;
+    const fm_sky *sky = job->sky;
+    path_context pc = sky_path_context(sky, 1, 1);
+    for (int64_t i = begin; i < end; i++) {
+        double e, phi, L[FM_MAX_WAVELENGTHS] = {0};
+        sky_grid_node_angles(&job->ss, (int)i, &e, &phi);
+        single_scatter_radiance(&pc, sky->observer, view_direction(sky, e, phi), L);
+        to_channels(&sky->atm, L, &job->ss.values[i * job->channels]);
+    }
+}
+
+static void ms_nodes(void *ctx, int64_t begin, int64_t end, int thread)
+{
+    render_job *job = ctx;
+    const fm_sky *sky = job->sky;
+    const int K = sky->atm.grid.count;
+    path_context pc = sky_path_context(sky, 2, 0);
+    for (int64_t i = begin; i < end; i++) {
+        double e, phi, L[FM_MAX_WAVELENGTHS] = {0};
+        sky_grid_node_angles(&job->ms, (int)i, &e, &phi);
+        vec3 d = view_direction(sky, e, phi);
+        int offset = (int)(mix64(job->seed ^ (uint64_t)i) % (uint64_t)K);
+        for (int p = 0; p < job->q.ms_paths; p++) {
+            rng r = rng_for(job->seed, ITEM_MS_NODE + (uint64_t)i, (uint64_t)p);
+            path_trace(&pc, sky->observer, d, (p + offset) % K, &r, L);
+        }
+        for (int k = 0; k < K; k++)
+            L[k] /= job->q.ms_paths;
+        to_channels(&sky->atm, L, &job->ms.values[i * job->channels]);
+    }
+}
+
+static double relative_azimuth(const fm_sky *sky, double azimuth)
+{
+    double phi = fmod(azimuth - sky->params.sun_azimuth_deg * FM_DEG, 2.0 * FM_PI);
+    if (phi < 0.0)
+        phi += 2.0 * FM_PI;
+    return phi > FM_PI ? 2.0 * FM_PI - phi : phi;
+}
+
+static void fast_rows(void *ctx, int64_t begin, int64_t end, int thread)
+{
+    render_job *job = ctx;
+    fm_image *img = job->img;
+    const int W = img->width, H = img->height, C = job->channels, n = job->q.subpixels;
+    for (int64_t y = begin; y < end; y++) {
+        for (int x = 0; x < W; x++) {
+            float acc[3] = {0, 0, 0}, v[3];
+            for (int sy = 0; sy < n; sy++) {
+                for (int sx = 0; sx < n; sx++) {
+                    double e, a;
+                    equirect_angles(W, H, x + (sx + 0.5) / n, (double)y + (sy + 0.5) / n, &e, &a);
+                    double phi = relative_azimuth(job->sky, a);
+                    sky_grid_lookup(&job->ss, e, phi, v);
+                    for (int c = 0; c < C; c++)
+                        acc[c] += v[c];
+                    sky_grid_lookup(&job->ms, e, phi, v);
+                    for (int c = 0; c < C; c++)
+                        acc[c] += v[c];
+                }
+            }
+            float *px = &img->pixels[((size_t)y * W + x) * C];
+            for (int c = 0; c < C; c++)
+                px[c] = acc[c] / (float)(n * n);
+        }
+    }
+}
+
+static void reference_rows(void *ctx, int64_t begin, int64_t end, int thread)
+{
+    render_job *job = ctx;
+    const fm_sky *sky = job->sky;
+    fm_image *img = job->img;
+    const int W = img->width, H = img->height, C = job->channels, K = sky->atm.grid.count;
+    const int N = job->q.reference_paths;
+    path_context pc = sky_path_context(sky, 1, 0);
+    for (int64_t y = begin; y < end; y++) {
+        for (int x = 0; x < W; x++) {
+            uint64_t item = ITEM_PIXEL + (uint64_t)y * W + x;
+            int offset = (int)(mix64(job->seed ^ item) % (uint64_t)K);
+            double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
+            for (int p = 0; p < N; p++) {
+                rng r = rng_for(job->seed, item, (uint64_t)p);
+                double jx = rng_uniform(&r), jy = rng_uniform(&r);
+                vec3 d = equirect_direction(W, H, x + jx, y + jy);
+                double L[FM_MAX_WAVELENGTHS] = {0};
+                path_trace(&pc, sky->observer, d, (p + offset) % K, &r, L);
+                float v[3];
+                to_channels(&sky->atm, L, v);
+                for (int c = 0; c < C; c++) {
+                    sum[c] += v[c];
+                    sum2[c] += (double)v[c] * v[c];
+                }
+            }
+            size_t i = ((size_t)y * W + x) * C;
+            for (int c = 0; c < C; c++) {
+                double mean = sum[c] / N;
+                double var = N > 1 ? fmax(0.0, (sum2[c] - N * mean * mean) / (N - 1)) : 0.0;
+                img->pixels[i + c] = (float)mean;
+                img->std_error[i + c] = (float)sqrt(var / N);
+            }
+        }
+    }
+}
+
+/* The sun disk, integrated over each pixel's footprint: a regular grid of points over the disk
+ * (finer than the pixels), each carrying its limb-darkened, attenuated share of the disk's
+ * irradiance into the pixel that contains it, divided by that pixel's solid angle.  The disk's
+ * energy in the map is thereby exact at any resolution. */
+static fm_status render_sun_disk(const fm_sky *sky, fm_image *img)
+{
+    const atmosphere *atm = &sky->atm;
+    const sun_disk *sun = &sky->sun;
+    const int K = atm->grid.count, W = img->width, H = img->height, C = img->channels;
+    double pixel_angle = 2.0 * FM_PI / W;
+    int n = (int)ceil(2.0 * sun->angular_radius / pixel_angle * 8.0);
+    if (n < 32)
+        n = 32;
+    if (n > 2048)
+        n = 2048;
+    /* limb-darkening weights per wavelength, normalised to sum to 1 over the disk's points */
+    double norm[FM_MAX_WAVELENGTHS] = {0};
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++) {
+            double x = (i + 0.5) / n * 2.0 - 1.0, y = (j + 0.5) / n * 2.0 - 1.0;
+            double rr = x * x + y * y;
+            if (rr >= 1.0)
+                continue;
+            for (int k = 0; k < K; k++)
+                norm[k] += sun_limb_darkening(sun, k, sqrt(1.0 - rr));
+        }
+    frame f = frame_from_normal(sky->sun_dir);
+    double robs = v3_length(sky->observer);
+    double col[FM_MAX_SPECIES], L[FM_MAX_WAVELENGTHS];
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++) {
+            double x = (i + 0.5) / n * 2.0 - 1.0, y = (j + 0.5) / n * 2.0 - 1.0;
+            double rr = x * x + y * y;
+            if (rr >= 1.0)
+                continue;
+            double a = sun->angular_radius;
+            vec3 d = v3_normalize(frame_to_world(&f, v3(tan(a) * x, tan(a) * y, 1.0)));
+            double mu = d.z; /* the observer's zenith is +Z */
+            if (ray_hits_ground(atm, robs, mu))
+                continue;
+            column_quadrature(atm, robs, mu, ray_distance_to_top(atm, robs, mu), col);
+            int px, py;
+            if (!equirect_pixel(W, H, d, &px, &py))
+                continue;
+            double inv_omega = 1.0 / equirect_pixel_solid_angle(W, H, py);
+            double mu2 = sqrt(1.0 - rr);
+            for (int k = 0; k < K; k++)
+                L[k] = atm->grid.solar_irradiance[k] * sun_limb_darkening(sun, k, mu2) / norm[k] *
+                       exp(-atmosphere_optical_depth(atm, col, k)) * inv_omega;
+            float v[3];
+            to_channels(atm, L, v);
+            size_t idx = ((size_t)py * W + px) * C;
+            for (int c = 0; c < C; c++)
+                img->sun_disk[idx + c] += v[c];
+        }
+    size_t total = (size_t)W * H * C;
+    for (size_t i = 0; i < total; i++)
+        img->pixels[i] += img->sun_disk[i];
+    return FM_OK;
+}
+
+static fm_status validate(const fm_render_params *p, fm_error *err)
+{
+    if (p->width < 8 || p->width > 16384)
+        return fm_fail_parameter(err, "width", "%d is outside [8, 16384] pixels", p->width);
+    if (p->width % 2)
+        return fm_fail_parameter(err, "width", "%d is odd (the height is width / 2)", p->width);
+    if (p->quality < FM_QUALITY_PREVIEW || p->quality > FM_QUALITY_REFERENCE)
+        return fm_fail_parameter(err, "quality", "unknown level %d", (int)p->quality);
+    if (p->threads < 0 || p->threads > 256)
+        return fm_fail_parameter(err, "threads", "%d is outside [0, 256]", p->threads);
+    if (!(p->sample_scale > 0.0) || p->sample_scale > 1024.0)
+        return fm_fail_parameter(err, "sample_scale", "%g is outside (0, 1024]", p->sample_scale);
+    if (p->reference_samples < 0 || p->reference_samples > 1 << 24)
+        return fm_fail_parameter(err, "reference_samples", "%d is outside [0, 16777216]", p->reference_samples);
+    return FM_OK;
+}
+
+fm_render_params fm_render_params_default(void)
+{
+    return (fm_render_params){
+        .width = 2048,
+        .quality = FM_QUALITY_FINAL,
+        .seed = 0,
+        .threads = 0,
+        .sun_disk = 1,
+        .sample_scale = 1.0,
+        .reference_samples = 0,
+    };
+}
+
+static void report(const fm_render_params *p, double fraction, const char *stage)
+{
+    if (p->progress)
+        p->progress(p->progress_user, fraction, stage);
+}
+
+fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image **out, fm_error *err)
+{
+    *out = NULL;
+    fm_status s = validate(params, err);
+    if (s)
+        return s;
+    const atmosphere *atm = &sky->atm;
+    render_job job = {.sky = sky, .params = params};
+    job.q = render_quality_settings(params->quality, params->sample_scale);
+    if (params->quality == FM_QUALITY_REFERENCE && params->reference_samples > 0)
+        job.q.reference_paths = params->reference_samples;
+    job.channels = atm->grid.colour ? 3 : 1;
+    /* the wavelengths are part of the seed: different wavelengths, independent random numbers */
+    job.seed = params->seed;
+    for (int k = 0; k < atm->grid.count; k++)
+        job.seed = mix64(job.seed ^ (uint64_t)llround(atm->grid.lambda_nm[k] * 1000.0));
+    const int W = params->width, H = params->width / 2;
+    const int reference = params->quality == FM_QUALITY_REFERENCE;
+    job.img = image_create(W, H, job.channels, atm->grid.colour ? FM_IMAGE_XYZ : FM_IMAGE_SPECTRAL_RADIANCE,
+                           params->sun_disk, reference);
+    if (!job.img)
+        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for a %d x %d image", W, H);
+
+    double horizon = asin(horizon_mu(atm, v3_length(sky->observer))); /* elevation, <= 0 */
+    if (reference) {
+        parallel_progress pr = {params->progress, params->progress_user, "path tracing", 0.0, 0.98};
+        s = parallel_for(params->threads, H, 1, reference_rows, &job, params->cancel, &pr);
+    } else {
+        const quality_settings *q = &job.q;
+        if (sky_grid_init(&job.ss, horizon, q->ss_rows_sky, q->ss_rows_ground, q->ss_cols, job.channels) ||
+            sky_grid_init(&job.ms, horizon, q->ms_rows_sky, q->ms_rows_ground, q->ms_cols, job.channels)) {
+            s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the radiance tables");
+            goto done;
+        }
+        parallel_progress pss = {params->progress, params->progress_user, "single scattering", 0.0, 0.15};
+        parallel_progress pms = {params->progress, params->progress_user, "multiple scattering", 0.15, 0.75};
+        parallel_progress ppx = {params->progress, params->progress_user, "pixels", 0.9, 0.08};
+        report(params, 0.0, "single scattering");
+        if (!(s = parallel_for(params->threads, sky_grid_nodes(&job.ss), 8, ss_nodes, &job, params->cancel, &pss)) &&
+            !(s = parallel_for(params->threads, sky_grid_nodes(&job.ms), 1, ms_nodes, &job, params->cancel, &pms)))
+            s = parallel_for(params->threads, H, 4, fast_rows, &job, params->cancel, &ppx);
+    }
+    if (s == FM_ERR_CANCELLED) {
+        s = fm_fail(err, FM_ERR_CANCELLED, "render cancelled");
+        goto done;
+    }
+    if (s) {
+        s = fm_fail(err, s, "render failed: %s", fm_status_name(s));
+        goto done;
+    }
+    if (params->sun_disk) {
+        report(params, 0.98, "sun disk");
+        render_sun_disk(sky, job.img);
+    }
+    report(params, 1.0, "done");
+done:
+    sky_grid_free(&job.ss);
+    sky_grid_free(&job.ms);
+    if (s) {
+        fm_image_destroy(job.img);
+        return s;
+    }
+    *out = job.img;
+    return FM_OK;
+}

@@ -1,0 +1,76 @@
+#include "transport/sky_grid.h"
+
+#include "base/units.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/* Nodes sit this far (rad) inside their domain, so the horizon rows look just above the horizon
+ * (grazing, reaching space) and just below it (reaching the ground), never exactly along it. */
+#define HORIZON_GAP 1e-7
+
+fm_status sky_grid_init(sky_grid *g, double horizon_elevation, int rows_sky, int rows_ground, int cols,
+                        int channels)
+{
+    g->horizon_elevation = horizon_elevation;
+    g->rows_sky = rows_sky;
+    g->rows_ground = rows_ground;
+    g->cols = cols;
+    g->channels = channels;
+    g->values = calloc((size_t)sky_grid_nodes(g) * (size_t)channels, sizeof(float));
+    return g->values ? FM_OK : FM_ERR_OUT_OF_MEMORY;
+}
+
+void sky_grid_free(sky_grid *g)
+{
+    free(g->values);
+    g->values = NULL;
+}
+
+static double sky_span(const sky_grid *g) { return 0.5 * FM_PI - g->horizon_elevation - HORIZON_GAP; }
+static double ground_span(const sky_grid *g) { return 0.5 * FM_PI + g->horizon_elevation - HORIZON_GAP; }
+
+void sky_grid_node_angles(const sky_grid *g, int index, double *elevation, double *rel_azimuth)
+{
+    int row = index / g->cols, col = index % g->cols;
+    *rel_azimuth = FM_PI * col / (g->cols - 1);
+    if (row < g->rows_sky) {
+        double u = (double)row / (g->rows_sky - 1);
+        *elevation = g->horizon_elevation + HORIZON_GAP + sky_span(g) * u * u;
+    } else {
+        double u = (double)(row - g->rows_sky) / (g->rows_ground - 1);
+        *elevation = g->horizon_elevation - HORIZON_GAP - ground_span(g) * u * u;
+    }
+}
+
+void sky_grid_lookup(const sky_grid *g, double elevation, double rel_azimuth, float *out)
+{
+    double u;
+    int first, rows;
+    if (elevation > g->horizon_elevation) {
+        u = sqrt(fmax(0.0, elevation - g->horizon_elevation - HORIZON_GAP) / sky_span(g));
+        first = 0;
+        rows = g->rows_sky;
+    } else {
+        u = sqrt(fmax(0.0, g->horizon_elevation - HORIZON_GAP - elevation) / ground_span(g));
+        first = g->rows_sky;
+        rows = g->rows_ground;
+    }
+    double fr = fmin(u, 1.0) * (rows - 1);
+    int r0 = (int)fr;
+    if (r0 > rows - 2)
+        r0 = rows - 2;
+    double tr = fr - r0;
+    double fc = fmin(fmax(rel_azimuth / FM_PI, 0.0), 1.0) * (g->cols - 1);
+    int c0 = (int)fc;
+    if (c0 > g->cols - 2)
+        c0 = g->cols - 2;
+    double tc = fc - c0;
+    const int C = g->channels;
+    const float *v00 = &g->values[((size_t)(first + r0) * g->cols + c0) * C];
+    const float *v01 = v00 + C;
+    const float *v10 = v00 + (size_t)g->cols * C;
+    const float *v11 = v10 + C;
+    for (int c = 0; c < C; c++)
+        out[c] = (float)((1 - tr) * ((1 - tc) * v00[c] + tc * v01[c]) + tr * ((1 - tc) * v10[c] + tc * v11[c]));
+}

@@ -1,0 +1,34 @@
+/* The fast path's radiance table over view directions.
+ *
+ * Seen from one point of a horizontally homogeneous atmosphere, radiance depends only on the view
+ * elevation e and the azimuth relative to the sun phi, and is symmetric about the sun's vertical
+ * plane: phi in [0, pi] suffices.  The table has two domains that meet at the horizon elevation e_h
+ * (below 0 for an observer above the ground), where radiance jumps from sky to ground:
+ *     sky rows:    e = e_h + (pi/2 - e_h) u^2,  u = row / (rows_sky - 1)     (row 0 at the horizon)
+ *     ground rows: e = e_h - (pi/2 + e_h) u^2,  u = row / (rows_ground - 1)
+ * so rows crowd where radiance changes fastest; columns are uniform in phi.  Lookups interpolate
+ * bilinearly in (u, phi) within the domain of the direction. */
+#ifndef FM_TRANSPORT_SKY_GRID_H
+#define FM_TRANSPORT_SKY_GRID_H
+
+#include "firmament/firmament.h"
+
+typedef struct sky_grid {
+    double horizon_elevation; /* rad */
+    int rows_sky, rows_ground, cols, channels;
+    float *values;            /* [rows_sky + rows_ground][cols][channels], sky rows first */
+} sky_grid;
+
+fm_status sky_grid_init(sky_grid *g, double horizon_elevation, int rows_sky, int rows_ground, int cols,
+                        int channels);
+void sky_grid_free(sky_grid *g);
+
+static inline int sky_grid_nodes(const sky_grid *g) { return (g->rows_sky + g->rows_ground) * g->cols; }
+
+/* View elevation and relative azimuth (rad) of node `index` (row-major over all rows). */
+void sky_grid_node_angles(const sky_grid *g, int index, double *elevation, double *rel_azimuth);
+
+/* Interpolated value at (elevation, relative azimuth in [0, pi]). */
+void sky_grid_lookup(const sky_grid *g, double elevation, double rel_azimuth, float *out);
+
+#endif

@@ -1,0 +1,169 @@
+#include "transport/sun_irradiance.h"
+
+#include "base/status.h"
+#include "base/threads.h"
+#include "base/units.h"
+#include "base/vec.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+static double mu_low(const atmosphere *atm, const sun_disk *sun, double r)
+{
+    double theta_h = acos(horizon_mu(atm, r));
+    return cos(fmin(FM_PI, theta_h + sun->angular_radius));
+}
+
+void sun_transmittance_direct(const atmosphere *atm, const column_table *columns, const sun_disk *sun,
+                              double r, double mu_s, double *normal, double *horizontal)
+{
+    const int K = atm->grid.count;
+    for (int k = 0; k < K; k++) {
+        normal[k] = 0.0;
+        if (horizontal)
+            horizontal[k] = 0.0;
+    }
+    double theta_s = acos(clamp_cosine(mu_s));
+    double theta_h = acos(horizon_mu(atm, r));
+    sun_chord_rule rule;
+    sun_chord_rule_above(sun, K, theta_s - theta_h, &rule);
+    double col[FM_MAX_SPECIES];
+    for (int j = 0; j < rule.n; j++) {
+        double mu_j = cos(theta_s - rule.delta[j]);
+        if (!column_table_lookup(columns, atm, r, mu_j, col))
+            continue;
+        for (int k = 0; k < K; k++) {
+            double t = rule.weight[j][k] * exp(-atmosphere_optical_depth(atm, col, k));
+            normal[k] += t;
+            if (horizontal)
+                horizontal[k] += t * mu_j;
+        }
+    }
+}
+
+static double table_radius(const atmosphere *atm, double xr)
+{
+    double rb = atm->bottom_radius_m, rt = atm->top_radius_m;
+    double rho = sqrt(rt * rt - rb * rb) * xr;
+    return sqrt(rho * rho + rb * rb);
+}
+
+static double table_xr(const atmosphere *atm, double r)
+{
+    double rb = atm->bottom_radius_m, rt = atm->top_radius_m;
+    return safe_sqrt(r * r - rb * rb) / sqrt(rt * rt - rb * rb);
+}
+
+/* The tables hold the effective optical depth -ln(Tbar), which is far smoother than Tbar itself
+ * (exponentials of steep functions near the horizon); depths beyond MAX_DEPTH mean darkness. */
+#define MAX_DEPTH 200.0
+
+static double to_depth(double t)
+{
+    return t > exp(-MAX_DEPTH) ? -log(t) : MAX_DEPTH;
+}
+
+static double from_depth(double d)
+{
+    return d >= MAX_DEPTH ? 0.0 : exp(-d);
+}
+
+typedef struct build_job {
+    sun_irradiance *table;
+    const atmosphere *atm;
+    const column_table *columns;
+    const sun_disk *sun;
+} build_job;
+
+static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
+{
+    build_job *job = ctx;
+    sun_irradiance *t = job->table;
+    double normal[FM_MAX_WAVELENGTHS], horizontal[FM_MAX_WAVELENGTHS];
+    for (int64_t i = begin; i < end; i++) {
+        int ir = (int)(i / t->n_mu), imu = (int)(i % t->n_mu);
+        double r = table_radius(job->atm, (double)ir / (t->n_r - 1));
+        double lo = mu_low(job->atm, job->sun, r);
+        double x = (double)imu / (t->n_mu - 1);
+        double mu_s = lo + (1.0 - lo) * x * x;
+        sun_transmittance_direct(job->atm, job->columns, job->sun, r, mu_s, normal, horizontal);
+        for (int k = 0; k < t->count; k++) {
+            t->normal[i * t->count + k] = (float)to_depth(normal[k]);
+            t->horizontal[i * t->count + k] = (float)to_depth(horizontal[k]);
+        }
+    }
+}
+
+fm_status sun_irradiance_build(sun_irradiance *table, const atmosphere *atm, const column_table *columns,
+                               const sun_disk *sun, int n_r, int n_mu, int threads, fm_error *err)
+{
+    table->n_r = n_r;
+    table->n_mu = n_mu;
+    table->count = atm->grid.count;
+    size_t n = (size_t)n_r * (size_t)n_mu * (size_t)table->count;
+    table->normal = malloc(n * sizeof(float));
+    table->horizontal = malloc(n * sizeof(float));
+    if (!table->normal || !table->horizontal) {
+        sun_irradiance_free(table);
+        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the sun irradiance table");
+    }
+    build_job job = {table, atm, columns, sun};
+    parallel_for(threads, (int64_t)n_r * n_mu, 32, build_rows, &job, NULL, NULL);
+    return FM_OK;
+}
+
+void sun_irradiance_free(sun_irradiance *table)
+{
+    free(table->normal);
+    free(table->horizontal);
+    table->normal = table->horizontal = NULL;
+}
+
+void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
+                           double mu_s, double *normal, double *horizontal)
+{
+    const int K = table->count;
+    double fr = fmin(fmax(table_xr(atm, r), 0.0), 1.0) * (table->n_r - 1);
+    int ir = (int)fr;
+    if (ir > table->n_r - 2)
+        ir = table->n_r - 2;
+    double tr = fr - ir;
+    /* the mu mapping depends on the row's radius: locate mu_s in each of the two rows */
+    double w[4];
+    size_t idx[4];
+    int dark = 0;
+    for (int row = 0; row < 2; row++) {
+        double rr = table_radius(atm, (double)(ir + row) / (table->n_r - 1));
+        double lo = mu_low(atm, sun, rr);
+        double x = mu_s <= lo ? 0.0 : sqrt((mu_s - lo) / (1.0 - lo));
+        double fm = fmin(x, 1.0) * (table->n_mu - 1);
+        int im = (int)fm;
+        if (im > table->n_mu - 2)
+            im = table->n_mu - 2;
+        double tm = mu_s <= lo ? -1.0 : fm - im; /* below the lowest node: fully set */
+        if (tm < 0.0)
+            dark = 1;
+        double wr = row == 0 ? 1.0 - tr : tr;
+        idx[2 * row] = ((size_t)(ir + row) * table->n_mu + im) * K;
+        idx[2 * row + 1] = idx[2 * row] + K;
+        if (tm < 0.0) {
+            w[2 * row] = w[2 * row + 1] = 0.0;
+        } else {
+            w[2 * row] = wr * (1.0 - tm);
+            w[2 * row + 1] = wr * tm;
+        }
+    }
+    for (int k = 0; k < K; k++) {
+        if (dark) {
+            normal[k] = 0.0;
+            if (horizontal)
+                horizontal[k] = 0.0;
+            continue;
+        }
+        normal[k] = from_depth(w[0] * table->normal[idx[0] + k] + w[1] * table->normal[idx[1] + k] +
+                               w[2] * table->normal[idx[2] + k] + w[3] * table->normal[idx[3] + k]);
+        if (horizontal)
+            horizontal[k] = from_depth(w[0] * table->horizontal[idx[0] + k] + w[1] * table->horizontal[idx[1] + k] +
+                                       w[2] * table->horizontal[idx[2] + k] + w[3] * table->horizontal[idx[3] + k]);
+    }
+}

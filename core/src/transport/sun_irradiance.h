@@ -1,0 +1,37 @@
+/* Direct sunlight inside the atmosphere, precomputed once per render.
+ *
+ * At a point at radius r, with the sun's centre at zenith cosine mu_s, the disk-averaged
+ * transmittance for grid wavelength k is
+ *     Tbar_k(r, mu_s) = sum_j w_jk exp(-tau_k(r, mu_j)),
+ * the chord quadrature of sun/sun_disk.h over the part of the disk above the horizon (the Earth's
+ * occlusion gives the penumbra at sunset), tau_k from the column table.  The direct irradiance on a
+ * surface facing the sun is E0_k Tbar_k; on a horizontal surface the same with each chord weighted
+ * by its own cosine.  Tables are over (x_r, x_mu) with x_r as in the column table and
+ *     mu_s = mu_lo(r) + (1 - mu_lo(r)) x_mu^2,  mu_lo = cos(theta_horizon(r) + sun radius),
+ * which packs nodes where the sun sets for that altitude. */
+#ifndef FM_TRANSPORT_SUN_IRRADIANCE_H
+#define FM_TRANSPORT_SUN_IRRADIANCE_H
+
+#include "atmosphere/atmosphere.h"
+#include "atmosphere/optical_depth.h"
+#include "sun/sun_disk.h"
+
+typedef struct sun_irradiance {
+    int n_r, n_mu, count;
+    float *normal;     /* [i_r][i_mu][k] Tbar_k */
+    float *horizontal; /* [i_r][i_mu][k] the same times the cosine to the local zenith */
+} sun_irradiance;
+
+/* Evaluates Tbar (and its horizontal counterpart) directly with the given columns source. */
+void sun_transmittance_direct(const atmosphere *atm, const column_table *columns, const sun_disk *sun,
+                              double r, double mu_s, double *normal, double *horizontal);
+
+fm_status sun_irradiance_build(sun_irradiance *table, const atmosphere *atm, const column_table *columns,
+                               const sun_disk *sun, int n_r, int n_mu, int threads, fm_error *err);
+void sun_irradiance_free(sun_irradiance *table);
+
+/* Bilinear lookup of Tbar_k(r, mu_s) for all k; horizontal may be NULL. */
+void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
+                           double mu_s, double *normal, double *horizontal);
+
+#endif
