@@ -122,8 +122,8 @@ void fm_sky_sun_light(const fm_sky *sky, fm_sun_light *out)
     const int K = atm->grid.count;
     double normal[FM_MAX_WAVELENGTHS], horizontal[FM_MAX_WAVELENGTHS];
     double r = v3_length(sky->observer);
-    /* direct evaluation (not the table): this is a single, reported number */
-    sun_transmittance_direct(atm, &sky->columns, &sky->sun, r, sky->sun_dir.z, normal, horizontal);
+    /* a single reported number: integrate every chord's optical depth, no table */
+    sun_transmittance_direct(atm, NULL, &sky->sun, r, sky->sun_dir.z, normal, horizontal);
     out->direction[0] = sky->sun_dir.x;
     out->direction[1] = sky->sun_dir.y;
     out->direction[2] = sky->sun_dir.z;

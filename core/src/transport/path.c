@@ -121,7 +121,7 @@ void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r
             tau = -log1p(-rng_uniform(r));
         }
 
-        /* Delta tracking until a real event or the end of the segment.  The pdf of a flight for
+        /* Delta tracking until a scattering or the end of the segment.  The pdf of a flight for
          * wavelength k is exp(-depth_k) times the probability of the event that ends it. */
         int scattered = 0;
         for (;;) {
@@ -143,18 +143,22 @@ void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r
                 sig_t[k] = tt;
             }
             const double *maj = atm->shell_majorant[shell];
-            double u = rng_uniform(r) * maj[h];
-            if (u < sig_s[h]) {
+            if (rng_uniform(r) * maj[h] < sig_s[h]) {
                 for (int k = 0; k < K; k++)
                     q[k] *= sig_s[k] / sig_s[h];
                 scattered = 1;
                 break;
             }
-            if (u < sig_t[h])
-                return; /* absorbed */
-            double null_h = maj[h] - sig_t[h];
-            for (int k = 0; k < K; k++)
-                q[k] *= fmax(maj[k] - sig_t[k], 0.0) / null_h;
+            /* Not a scattering: absorption and null collisions continue together, chosen with
+             * probability (majorant - sigma_s) / majorant; the surviving fraction
+             * (majorant - sigma_t) / (majorant - sigma_s) is a weight, not a coin flip, so
+             * absorbing layers (ozone, soot) cost no paths. */
+            double cont_h = maj[h] - sig_s[h];
+            for (int k = 0; k < K; k++) {
+                double cont = maj[k] - sig_s[k];
+                w[k] *= cont > 0.0 ? fmax(maj[k] - sig_t[k], 0.0) / cont : 0.0;
+                q[k] *= cont / cont_h;
+            }
             renormalise(q, K);
             tau = -log1p(-rng_uniform(r));
         }

@@ -1,5 +1,6 @@
 #include "transport/render.h"
 
+#include "atmosphere/optical_depth.h"
 #include "base/rng.h"
 #include "base/status.h"
 #include "base/threads.h"
@@ -174,60 +175,81 @@ static void reference_rows(void *ctx, int64_t begin, int64_t end, int thread)
 }
 
 /* The sun disk, integrated over each pixel's footprint: a regular grid of points over the disk
- * (finer than the pixels), each carrying its limb-darkened, attenuated share of the disk's
+ * (much finer than the pixels), each carrying its limb-darkened, attenuated share of the disk's
  * irradiance into the pixel that contains it, divided by that pixel's solid angle.  The disk's
- * energy in the map is thereby exact at any resolution. */
+ * energy in the map is thereby exact at any resolution, and a horizon cutting the disk is resolved
+ * to a fraction of a percent.  Seen from the observer, the optical depth toward a point of the disk
+ * depends only on its elevation: it is tabulated across the disk first. */
+#define DISK_DEPTH_SAMPLES 257
+
 static fm_status render_sun_disk(const fm_sky *sky, fm_image *img)
 {
     const atmosphere *atm = &sky->atm;
     const sun_disk *sun = &sky->sun;
     const int K = atm->grid.count, W = img->width, H = img->height, C = img->channels;
-    double pixel_angle = 2.0 * FM_PI / W;
-    int n = (int)ceil(2.0 * sun->angular_radius / pixel_angle * 8.0);
-    if (n < 32)
-        n = 32;
-    if (n > 2048)
-        n = 2048;
+    const double a = sun->angular_radius;
+    int n = (int)ceil(2.0 * a / (2.0 * FM_PI / W) * 8.0);
+    n = n < 256 ? 256 : (n > 2048 ? 2048 : n);
+
+    /* optical depth (every wavelength) versus the cosine of the zenith angle across the disk */
+    double robs = v3_length(sky->observer);
+    double e0 = asin(clamp_cosine(sky->sun_dir.z));
+    double mu_lo = sin(e0 - 1.01 * a), mu_hi = sin(fmin(e0 + 1.01 * a, 0.5 * FM_PI));
+    double *depth = malloc(sizeof(double) * DISK_DEPTH_SAMPLES * (size_t)K);
+    if (!depth)
+        return FM_ERR_OUT_OF_MEMORY;
+    double col[FM_MAX_SPECIES];
+    for (int i = 0; i < DISK_DEPTH_SAMPLES; i++) {
+        double mu = mu_lo + (mu_hi - mu_lo) * i / (DISK_DEPTH_SAMPLES - 1);
+        int blocked = ray_hits_ground(atm, robs, mu);
+        if (!blocked)
+            column_quadrature(atm, robs, mu, ray_distance_to_top(atm, robs, mu), col);
+        for (int k = 0; k < K; k++)
+            depth[i * K + k] = blocked ? INFINITY : atmosphere_optical_depth(atm, col, k);
+    }
+
     /* limb-darkening weights per wavelength, normalised to sum to 1 over the disk's points */
     double norm[FM_MAX_WAVELENGTHS] = {0};
     for (int j = 0; j < n; j++)
         for (int i = 0; i < n; i++) {
-            double x = (i + 0.5) / n * 2.0 - 1.0, y = (j + 0.5) / n * 2.0 - 1.0;
-            double rr = x * x + y * y;
-            if (rr >= 1.0)
-                continue;
-            for (int k = 0; k < K; k++)
-                norm[k] += sun_limb_darkening(sun, k, sqrt(1.0 - rr));
+            double x = (i + 0.5) / n * 2.0 - 1.0, y = (j + 0.5) / n * 2.0 - 1.0, rr = x * x + y * y;
+            if (rr < 1.0)
+                for (int k = 0; k < K; k++)
+                    norm[k] += sun_limb_darkening(sun, k, sqrt(1.0 - rr));
         }
     frame f = frame_from_normal(sky->sun_dir);
-    double robs = v3_length(sky->observer);
-    double col[FM_MAX_SPECIES], L[FM_MAX_WAVELENGTHS];
+    double L[FM_MAX_WAVELENGTHS];
     for (int j = 0; j < n; j++)
         for (int i = 0; i < n; i++) {
-            double x = (i + 0.5) / n * 2.0 - 1.0, y = (j + 0.5) / n * 2.0 - 1.0;
-            double rr = x * x + y * y;
+            double x = (i + 0.5) / n * 2.0 - 1.0, y = (j + 0.5) / n * 2.0 - 1.0, rr = x * x + y * y;
             if (rr >= 1.0)
                 continue;
-            double a = sun->angular_radius;
             vec3 d = v3_normalize(frame_to_world(&f, v3(tan(a) * x, tan(a) * y, 1.0)));
-            double mu = d.z; /* the observer's zenith is +Z */
-            if (ray_hits_ground(atm, robs, mu))
+            if (ray_hits_ground(atm, robs, d.z)) /* the observer's zenith is +Z */
                 continue;
-            column_quadrature(atm, robs, mu, ray_distance_to_top(atm, robs, mu), col);
             int px, py;
             if (!equirect_pixel(W, H, d, &px, &py))
                 continue;
+            double fd = (d.z - mu_lo) / (mu_hi - mu_lo) * (DISK_DEPTH_SAMPLES - 1);
+            int id = (int)fd;
+            id = id < 0 ? 0 : (id > DISK_DEPTH_SAMPLES - 2 ? DISK_DEPTH_SAMPLES - 2 : id);
+            double td = fd - id;
             double inv_omega = 1.0 / equirect_pixel_solid_angle(W, H, py);
             double mu2 = sqrt(1.0 - rr);
-            for (int k = 0; k < K; k++)
-                L[k] = atm->grid.solar_irradiance[k] * sun_limb_darkening(sun, k, mu2) / norm[k] *
-                       exp(-atmosphere_optical_depth(atm, col, k)) * inv_omega;
+            for (int k = 0; k < K; k++) {
+                double d0 = depth[id * K + k], d1 = depth[(id + 1) * K + k];
+                /* next to the horizon one sample may be blocked: use the visible neighbour */
+                double dk = isinf(d0) ? d1 : (isinf(d1) ? d0 : d0 + (d1 - d0) * td);
+                L[k] = atm->grid.solar_irradiance[k] * sun_limb_darkening(sun, k, mu2) / norm[k] * exp(-dk) *
+                       inv_omega;
+            }
             float v[3];
             to_channels(atm, L, v);
             size_t idx = ((size_t)py * W + px) * C;
             for (int c = 0; c < C; c++)
                 img->sun_disk[idx + c] += v[c];
         }
+    free(depth);
     size_t total = (size_t)W * H * C;
     for (size_t i = 0; i < total; i++)
         img->pixels[i] += img->sun_disk[i];
@@ -322,7 +344,10 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     }
     if (params->sun_disk) {
         report(params, 0.98, "sun disk");
-        render_sun_disk(sky, job.img);
+        if (render_sun_disk(sky, job.img)) {
+            s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the sun disk");
+            goto done;
+        }
     }
     report(params, 1.0, "done");
 done:

@@ -30,8 +30,14 @@ void sun_transmittance_direct(const atmosphere *atm, const column_table *columns
     double col[FM_MAX_SPECIES];
     for (int j = 0; j < rule.n; j++) {
         double mu_j = cos(theta_s - rule.delta[j]);
-        if (!column_table_lookup(columns, atm, r, mu_j, col))
-            continue;
+        if (columns) {
+            if (!column_table_lookup(columns, atm, r, mu_j, col))
+                continue;
+        } else {
+            if (ray_hits_ground(atm, r, mu_j))
+                continue;
+            column_quadrature(atm, r, mu_j, ray_distance_to_top(atm, r, mu_j), col);
+        }
         for (int k = 0; k < K; k++) {
             double t = rule.weight[j][k] * exp(-atmosphere_optical_depth(atm, col, k));
             normal[k] += t;

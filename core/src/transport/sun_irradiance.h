@@ -22,7 +22,8 @@ typedef struct sun_irradiance {
     float *horizontal; /* [i_r][i_mu][k] the same times the cosine to the local zenith */
 } sun_irradiance;
 
-/* Evaluates Tbar (and its horizontal counterpart) directly with the given columns source. */
+/* Evaluates Tbar (and its horizontal counterpart, may be NULL) directly: optical depths from the
+ * column table, or integrated along each ray when columns is NULL (slower, for one-off values). */
 void sun_transmittance_direct(const atmosphere *atm, const column_table *columns, const sun_disk *sun,
                               double r, double mu_s, double *normal, double *horizontal);
 

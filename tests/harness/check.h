@@ -1,0 +1,39 @@
+/* Test helpers on top of cmocka: tolerance checks that print the numbers when they fail, and
+ * shortcuts for building skies and rendering small maps. */
+#ifndef FM_TEST_CHECK_H
+#define FM_TEST_CHECK_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "firmament/firmament.h"
+#include "sky.h"
+
+/* |actual - expected| <= rel_tol * |expected| */
+#define check_rel(actual, expected, rel_tol, what) \
+    check_rel_impl((actual), (expected), (rel_tol), (what), __FILE__, __LINE__)
+/* |actual - expected| <= abs_tol */
+#define check_abs(actual, expected, abs_tol, what) \
+    check_abs_impl((actual), (expected), (abs_tol), (what), __FILE__, __LINE__)
+
+void check_rel_impl(double actual, double expected, double rel_tol, const char *what, const char *file, int line);
+void check_abs_impl(double actual, double expected, double abs_tol, const char *what, const char *file, int line);
+
+/* A sky from parameters; fails the test on error. */
+fm_sky *test_sky(const fm_sky_params *params);
+
+/* Default sky parameters with the sun at the given elevation, monochromatic if lambda_nm > 0. */
+fm_sky_params test_params(double sun_elevation_deg, double lambda_nm);
+
+/* Renders a map (fails the test on error). */
+fm_image *test_render(const fm_sky *sky, int width, fm_quality quality, int threads, uint64_t seed, int samples,
+                      double sample_scale, int with_disk);
+
+/* CIE Y of pixel (x, y) of an XYZ image, or the value of a monochromatic one. */
+double test_pixel_y(const fm_image *img, int x, int y);
+
+#endif

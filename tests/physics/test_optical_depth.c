@@ -1,0 +1,141 @@
+/* Optical depth along rays: ray geometry, the closed form against an independent fine quadrature,
+ * the fast quadrature and the tables against the closed form. */
+#include "check.h"
+
+#include "atmosphere/optical_depth.h"
+#include "base/rng.h"
+#include "base/units.h"
+#include "transport/free_flight.h"
+
+#include <math.h>
+
+static fm_sky *sky;
+
+static int setup(void **state)
+{
+    fm_sky_params p = test_params(10.0, 0.0);
+    fm_error err;
+    return fm_sky_create(&p, &sky, &err) == FM_OK ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    fm_sky_destroy(sky);
+    return 0;
+}
+
+static void ray_geometry(void **state)
+{
+    const atmosphere *a = &sky->atm;
+    double R = a->bottom_radius_m, H = FM_ATMOSPHERE_HEIGHT_M;
+    check_rel(ray_distance_to_top(a, R, 1.0), H, 1e-12, "vertical distance to the top");
+    check_rel(ray_distance_to_top(a, R, 0.0), sqrt((R + H) * (R + H) - R * R), 1e-12, "horizontal");
+    assert_false(ray_hits_ground(a, R, 0.0));
+    assert_true(ray_hits_ground(a, R + 1000.0, -0.5));
+    /* from 10 km, the horizon is at mu = -sqrt(1 - (R/r)^2) */
+    double r = R + 10000.0, mh = horizon_mu(a, r);
+    assert_true(ray_hits_ground(a, r, mh - 1e-6));
+    assert_false(ray_hits_ground(a, r, mh + 1e-6));
+    check_rel(ray_distance_to_ground(a, r, -1.0), 10000.0, 1e-9, "straight down");
+}
+
+/* Independent check: Simpson's rule with many points on the density evaluated pointwise. */
+static double simpson_column(const atmosphere *a, int c, double r, double mu, double t_max, int n)
+{
+    double h = t_max / n, sum = 0.0;
+    for (int i = 0; i <= n; i++) {
+        double t = i * h;
+        double rr = sqrt(r * r + t * t + 2.0 * r * mu * t);
+        double w = (i == 0 || i == n) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+        sum += w * profile_density(&a->species[c].profile, rr - a->bottom_radius_m);
+    }
+    return sum * h / 3.0;
+}
+
+static void closed_form_matches_fine_quadrature(void **state)
+{
+    const atmosphere *a = &sky->atm;
+    const double R = a->bottom_radius_m;
+    const double cases[][2] = {{0, 1}, {0, 0.3}, {0, 0.0}, {2000, -0.01}, {15000, -0.05}, {40000, 0.7}};
+    for (int i = 0; i < 6; i++) {
+        double r = R + cases[i][0], mu = cases[i][1];
+        double t = ray_distance_to_boundary(a, r, mu, NULL);
+        double exact[FM_MAX_SPECIES], quad[FM_MAX_SPECIES];
+        column_exact(a, r, mu, t, exact);
+        column_quadrature(a, r, mu, t, quad);
+        for (int c = 0; c < a->species_count; c++) {
+            double simpson = simpson_column(a, c, r, mu, t, 400000);
+            check_rel(exact[c], simpson, 2e-6, "closed form vs Simpson");
+            check_rel(quad[c], exact[c], 5e-5, "Gauss-Legendre pieces vs closed form");
+        }
+    }
+}
+
+/* The transmittance tables are used for sunlight; check optical depth where it matters. */
+static void column_table_accuracy(void **state)
+{
+    const atmosphere *a = &sky->atm;
+    rng r = rng_for(1, 2, 3);
+    double worst = 0.0;
+    for (int i = 0; i < 3000; i++) {
+        double z = 100000.0 * pow(rng_uniform(&r), 2.0), rr = a->bottom_radius_m + z;
+        double mh = horizon_mu(a, rr), mu = mh + (1.0 - mh) * pow(rng_uniform(&r), 2.0);
+        double tab[FM_MAX_SPECIES], exact[FM_MAX_SPECIES];
+        if (!column_table_lookup(&sky->columns, a, rr, mu, tab))
+            continue;
+        column_exact(a, rr, mu, ray_distance_to_top(a, rr, mu), exact);
+        double tau_exact = atmosphere_optical_depth(a, exact, 0); /* 380 nm: the thickest */
+        double tau_tab = atmosphere_optical_depth(a, tab, 0);
+        double err = fabs(tau_tab - tau_exact) / fmax(1.0, tau_exact); /* absolute below 1, relative above */
+        worst = fmax(worst, err);
+    }
+    check_abs(worst, 0.0, 2e-3, "column table: worst optical-depth error at 380 nm");
+}
+
+static void sun_table_accuracy(void **state)
+{
+    const atmosphere *a = &sky->atm;
+    rng r = rng_for(4, 5, 6);
+    double worst = 0.0, worst_day = 0.0;
+    double tab[FM_MAX_WAVELENGTHS], direct[FM_MAX_WAVELENGTHS];
+    for (int i = 0; i < 3000; i++) {
+        double z = 100000.0 * pow(rng_uniform(&r), 2.0), rr = a->bottom_radius_m + z;
+        double mu = -0.2 + 1.2 * pow(rng_uniform(&r), 2.0);
+        sun_irradiance_lookup(&sky->sun_table, a, &sky->sun, rr, mu, tab, NULL);
+        sun_transmittance_direct(a, &sky->columns, &sky->sun, rr, mu, direct, NULL);
+        for (int k = 0; k < a->grid.count; k++) {
+            worst = fmax(worst, fabs(tab[k] - direct[k]));
+            if (mu > 0.05) /* the sun more than ~3 degrees above the local horizontal */
+                worst_day = fmax(worst_day, fabs(tab[k] / direct[k] - 1.0));
+        }
+    }
+    check_abs(worst, 0.0, 6e-3, "sun table: worst absolute transmittance error (twilight included)");
+    check_abs(worst_day, 0.0, 1e-3, "sun table: worst relative error with the sun above 3 degrees");
+}
+
+/* Delta tracking's majorant bounds the extinction everywhere, for every wavelength. */
+static void majorants_bound_the_medium(void **state)
+{
+    const atmosphere *a = &sky->atm;
+    double ss[FM_MAX_WAVELENGTHS], st[FM_MAX_WAVELENGTHS];
+    for (double z = 0.0; z < FM_ATMOSPHERE_HEIGHT_M; z += 37.0) {
+        double rr = a->bottom_radius_m + z;
+        atmosphere_coefficients(a, rr, ss, st);
+        int s = atmosphere_shell_of(a, rr);
+        for (int k = 0; k < a->grid.count; k++)
+            if (st[k] > a->shell_majorant[s][k])
+                fail_msg("z=%g k=%d: sigma_t %g > majorant %g", z, k, st[k], a->shell_majorant[s][k]);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(ray_geometry),
+        cmocka_unit_test(closed_form_matches_fine_quadrature),
+        cmocka_unit_test(column_table_accuracy),
+        cmocka_unit_test(sun_table_accuracy),
+        cmocka_unit_test(majorants_bound_the_medium),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
