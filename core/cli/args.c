@@ -85,6 +85,7 @@ const char *options_flag_for(const char *field)
 void options_print_usage(void)
 {
     fputs("usage: firmament render [options] [-o OUT.exr]\n"
+          "       firmament compare IMAGE.exr REFERENCE.exr [--exclude-sun DEG] [--json]\n"
           "       firmament --help | --version\n"
           "\n"
           "Renders the clear sky seen from one place as an equirectangular OpenEXR map (Blender's\n"
@@ -108,7 +109,8 @@ void options_print_usage(void)
           "  --no-sun-disk          leave the sun disk out of the map (its aureole stays)\n"
           "Quality:\n"
           "  --quality LEVEL        preview | final | reference (default final)\n"
-          "  --samples N            reference quality: paths per pixel (default 1024)\n"
+          "  --samples N            reference quality: paths per pixel (default 256; slow by design,\n"
+          "                         about 3 us of one core per colour path)\n"
           "  --sample-scale X       multiply every sample count of the quality level, (0, 1024]\n"
           "  --seed N               random seed, [0, 2^53] (default 0): same seed and threads, same bits\n"
           "  --threads N            worker threads, [0, 256]; 0 = all cores (default 0)\n"

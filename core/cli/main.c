@@ -132,6 +132,65 @@ done:
     return code;
 }
 
+/* firmament compare A.exr REF.exr [--exclude-sun DEG] [--json]: relative luminance error of A
+ * against the reference REF. */
+static int run_compare(int argc, char **argv)
+{
+    const char *paths[2] = {NULL, NULL};
+    double exclude = 0.0;
+    int n = 0, json = 0;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--exclude-sun") == 0 && i + 1 < argc) {
+            char *end;
+            exclude = strtod(argv[++i], &end);
+            if (*end || !(exclude >= 0.0 && exclude <= 180.0)) {
+                report_error("--exclude-sun: '%s' is not an angle in [0, 180] degrees", argv[i]);
+                return EXIT_USAGE;
+            }
+        } else if (strcmp(argv[i], "--json") == 0) {
+            json = 1;
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            report_error("compare: unknown option '%s'", argv[i]);
+            return EXIT_USAGE;
+        } else if (n < 2) {
+            paths[n++] = argv[i];
+        } else {
+            report_error("compare: unexpected argument '%s'", argv[i]);
+            return EXIT_USAGE;
+        }
+    }
+    if (n != 2) {
+        report_error("usage: firmament compare IMAGE.exr REFERENCE.exr [--exclude-sun DEG] [--json]");
+        return EXIT_USAGE;
+    }
+    fm_image *a = NULL, *b = NULL;
+    fm_error err = {0};
+    fm_comparison c;
+    int code = 0;
+    if (fm_image_read_exr(paths[0], &a, &err) || fm_image_read_exr(paths[1], &b, &err)) {
+        report_error("%s", err.message);
+        code = EXIT_USAGE;
+    } else if (fm_image_compare(a, b, exclude, &c, &err)) {
+        report_error("%s", err.message);
+        code = EXIT_USAGE;
+    } else if (json) {
+        printf("{\"pixels\": %ld, \"rms\": %.6g, \"p99\": %.6g, \"mean\": %.6g, \"max\": %.6g, "
+               "\"chromaticity\": %.6g}\n",
+               c.pixels, c.rms, c.p99, c.mean, c.max, c.chromaticity);
+    } else {
+        printf("pixels        %ld\n"
+               "rms relative  %.4f %%\n"
+               "p99 relative  %.4f %%\n"
+               "mean (bias)   %+.4f %%\n"
+               "max relative  %.4f %%\n"
+               "chromaticity  %.2e (mean |delta xy|)\n",
+               c.pixels, 100.0 * c.rms, 100.0 * c.p99, 100.0 * c.mean, 100.0 * c.max, c.chromaticity);
+    }
+    fm_image_destroy(a);
+    fm_image_destroy(b);
+    return code;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -149,6 +208,8 @@ int main(int argc, char **argv)
     }
     if (strcmp(cmd, "render") == 0)
         return run_render(argc - 1, argv + 1);
+    if (strcmp(cmd, "compare") == 0)
+        return run_compare(argc - 1, argv + 1);
     report_error("unknown command '%s' (try: firmament render, or firmament --help)", cmd);
     return EXIT_USAGE;
 }

@@ -2,6 +2,7 @@
 #include "report.h"
 
 #include <stdarg.h>
+#include <sys/resource.h>
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
@@ -70,6 +71,13 @@ void reporter_finish_line(reporter *r)
     }
 }
 
+/* Peak resident memory of this process in MiB (Linux reports ru_maxrss in KiB). */
+static double peak_memory_mib(void)
+{
+    struct rusage ru;
+    return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss / 1024.0 : 0.0;
+}
+
 void reporter_done(reporter *r, const char *output, const char *sidecar)
 {
     double seconds = now_seconds() - r->start_time;
@@ -79,7 +87,7 @@ void reporter_done(reporter *r, const char *output, const char *sidecar)
         print_json_string(stdout, output);
         printf(", \"sidecar\": ");
         print_json_string(stdout, sidecar);
-        printf(", \"seconds\": %.3f}\n", seconds);
+        printf(", \"seconds\": %.3f, \"peak_memory_mib\": %.1f}\n", seconds, peak_memory_mib());
         fflush(stdout);
     } else if (r->mode == PROGRESS_TTY) {
         fprintf(stderr, "wrote %s and %s in %.1f s\n", output, sidecar, seconds);

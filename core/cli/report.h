@@ -1,7 +1,7 @@
 /* What the executable prints: one-line errors on stderr, and progress as a bar on stderr (tty) or
  * as JSON lines on stdout for programs such as the Blender add-on:
  *     {"event": "progress", "fraction": 0.42, "stage": "multiple scattering"}
- *     {"event": "done", "output": "sky.exr", "sidecar": "sky.json", "seconds": 3.1} */
+ *     {"event": "done", "output": "sky.exr", "sidecar": "sky.json", "seconds": 3.1, "peak_memory_mib": 90} */
 #ifndef FM_CLI_REPORT_H
 #define FM_CLI_REPORT_H
 

@@ -59,6 +59,8 @@ path_context sky_path_context(const fm_sky *sky, int min_order, int max_order)
         .min_order = min_order,
         .max_order = max_order,
         .force_escapes = 1,
+        .skip_ground_first = 0,
+        .ground_diffuse = NULL,
     };
 }
 

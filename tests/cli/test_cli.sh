@@ -1,2 +1,124 @@
-#!/bin/sh
-exit 0
+#!/usr/bin/env bash
+# The firmament executable's behaviour: exit codes, one-line messages naming the problem, outputs
+# written completely or not at all (errors, SIGINT, SIGTERM), progress lines, `compare`.
+# Usage: test_cli.sh path/to/firmament
+set -u
+FM=$1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+checks=0
+
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+ok() { checks=$((checks + 1)); }
+
+# no file of any kind left in $work/out (a clean directory per case)
+expect_empty_dir() {
+    local left
+    left=$(ls -A "$work/out")
+    if [ -n "$left" ]; then fail "$1: files left behind: $left"; else ok; fi
+}
+
+# expect_usage_error "description" args...: exit 2, exactly one stderr line starting "firmament:"
+expect_usage_error() {
+    local what=$1
+    shift
+    rm -rf "$work/out" && mkdir -p "$work/out"
+    (cd "$work/out" && "$FM" "$@" >"$work/stdout" 2>"$work/stderr")
+    local rc=$?
+    local lines
+    lines=$(wc -l <"$work/stderr")
+    if [ $rc -ne 2 ]; then fail "$what: exit $rc, expected 2"; else ok; fi
+    if [ "$lines" -ne 1 ] || ! grep -q '^firmament: ' "$work/stderr"; then
+        fail "$what: expected one 'firmament:' line on stderr, got: $(cat "$work/stderr")"
+    else ok; fi
+    expect_empty_dir "$what"
+}
+
+# --- help and version -------------------------------------------------------------------------
+"$FM" --help >"$work/help" 2>&1 && grep -q -- '--sun-elevation' "$work/help" && ok || fail "--help"
+"$FM" render --help >"$work/help" 2>&1 && grep -q -- '--wavelength' "$work/help" && ok || fail "render --help"
+"$FM" --version | grep -Eq '^firmament [0-9]+\.[0-9]+\.[0-9]+$' && ok || fail "--version"
+
+# --- bad input: exit 2, one line, nothing written ----------------------------------------------
+expect_usage_error "no command"
+expect_usage_error "unknown command" fly
+expect_usage_error "elevation above 90" render --sun-elevation 95
+expect_usage_error "elevation below -90" render --sun-elevation -90.5
+expect_usage_error "elevation not a number" render --sun-elevation high
+expect_usage_error "azimuth out of range" render --sun-azimuth 400
+expect_usage_error "negative albedo" render --albedo -0.1
+expect_usage_error "albedo above 1" render --albedo 1.5
+expect_usage_error "negative altitude" render --altitude -3
+expect_usage_error "negative ozone" render --ozone-du -1
+expect_usage_error "width 0" render --width 0
+expect_usage_error "absurd width" render --width 1000000
+expect_usage_error "odd width" render --width 1001
+expect_usage_error "width not an integer" render --width 12.5
+expect_usage_error "wavelength below range" render --wavelength 200
+expect_usage_error "unknown quality" render --quality ultra
+expect_usage_error "unknown progress mode" render --progress loud
+expect_usage_error "negative seed" render --seed -1
+expect_usage_error "threads out of range" render --threads 1000
+expect_usage_error "samples zero" render --samples 0
+expect_usage_error "nan" render --albedo nan
+expect_usage_error "unknown option" render --turbo
+expect_usage_error "missing value" render --width
+expect_usage_error "stray argument" render sky.exr
+expect_usage_error "output directory missing" render --width 16 -o "$work/no/such/dir/sky.exr"
+expect_usage_error "output inside a file" render --width 16 -o /dev/null/sky.exr
+expect_usage_error "output is a directory" render --width 16 -o "$work"
+
+# the message names the option
+rm -rf "$work/out" && mkdir -p "$work/out"
+(cd "$work/out" && "$FM" render --sun-elevation 95 2>"$work/stderr")
+grep -q -- '--sun-elevation' "$work/stderr" && grep -q '95' "$work/stderr" && ok || fail "message names the option: $(cat "$work/stderr")"
+
+# --- a successful render -----------------------------------------------------------------------
+rm -rf "$work/out" && mkdir -p "$work/out"
+if "$FM" render --width 32 --quality preview --progress none -o "$work/out/sky.exr"; then ok; else fail "small render"; fi
+[ -s "$work/out/sky.exr" ] && [ -s "$work/out/sky.json" ] && ok || fail "render wrote sky.exr and sky.json"
+[ "$(ls -A "$work/out" | wc -l)" -eq 2 ] && ok || fail "no temporary file left: $(ls -A "$work/out")"
+[ "$(head -c 4 "$work/out/sky.exr" | od -An -tx1 | tr -d ' ')" = "762f3101" ] && ok || fail "EXR magic number"
+grep -q '"direct_normal_irradiance_rgb"' "$work/out/sky.json" && grep -q '"diffuse_horizontal_illuminance_lux"' "$work/out/sky.json" && ok || fail "sidecar keys"
+# a custom sidecar path, and a name without an extension
+"$FM" render --width 16 --quality preview -o "$work/out/noext" --sidecar "$work/out/meta.json" && [ -s "$work/out/noext" ] && [ -s "$work/out/meta.json" ] && ok || fail "--sidecar"
+"$FM" render --width 16 --quality preview -o "$work/out/plain" && [ -s "$work/out/plain.json" ] && ok || fail "default sidecar without extension"
+
+# JSON progress: one object per line on stdout, ending with "done"
+"$FM" render --width 32 --quality preview --progress json -o "$work/out/p.exr" >"$work/progress" 2>"$work/stderr"
+grep -q '"event": "progress"' "$work/progress" && tail -n 1 "$work/progress" | grep -q '"event": "done"' && ok || fail "json progress: $(tail -n 2 "$work/progress")"
+[ ! -s "$work/stderr" ] && ok || fail "json progress writes nothing to stderr"
+
+# --- compare ------------------------------------------------------------------------------------
+"$FM" compare "$work/out/sky.exr" "$work/out/sky.exr" --exclude-sun 2 --json | grep -q '"rms": 0,' && ok || fail "compare identical maps"
+"$FM" compare "$work/out/sky.exr" "$work/out/noext" >/dev/null 2>"$work/stderr"
+[ $? -eq 2 ] && grep -q 'differ in size' "$work/stderr" && ok || fail "compare different sizes"
+
+# --- interruption: SIGINT and SIGTERM leave nothing, and never replace an existing file ---------
+interrupt() {
+    local sig=$1 expect=$2
+    rm -rf "$work/out" && mkdir -p "$work/out"
+    printf 'previous image' >"$work/out/sky.exr"
+    printf 'previous sidecar' >"$work/out/sky.json"
+    "$FM" render --width 1024 --quality final --progress none -o "$work/out/sky.exr" &
+    local pid=$!
+    # wait until the render has started (its temporary files exist), then interrupt it
+    for _ in $(seq 1 100); do
+        [ "$(ls -A "$work/out" | wc -l)" -gt 2 ] && break
+        sleep 0.05
+    done
+    sleep 0.5
+    kill -"$sig" $pid
+    wait $pid
+    local rc=$?
+    [ $rc -eq "$expect" ] && ok || fail "SIG$sig: exit $rc, expected $expect"
+    [ "$(cat "$work/out/sky.exr")" = "previous image" ] && [ "$(cat "$work/out/sky.json")" = "previous sidecar" ] && ok ||
+        fail "SIG$sig replaced the existing files"
+    [ "$(ls -A "$work/out" | wc -l)" -eq 2 ] && ok || fail "SIG$sig left files: $(ls -A "$work/out")"
+}
+interrupt INT 130
+interrupt TERM 143
+
+echo "$checks checks passed, $failures failed"
+[ $failures -eq 0 ]

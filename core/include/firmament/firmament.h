@@ -125,6 +125,8 @@ typedef struct fm_image {
     fm_image_content content;
     float *pixels;        /* row-major, top row first, channels interleaved */
     float *sun_disk;      /* the disk's share of `pixels` (same layout) or NULL when none was drawn */
+    double sun_direction[3]; /* toward the sun in map axes when known (rendered, or read from the
+                              * firmament.sun.direction attribute), else 0, 0, 0 */
     float *std_error;     /* reference quality only: standard error of each pixel's XYZ (or spectral)
                            * value, left in XYZ by fm_image_to_rec709; else NULL */
 } fm_image;
@@ -139,6 +141,26 @@ fm_status fm_image_to_rec709(fm_image *image, fm_error *err);
 /* Illuminance-like integral of the sky part (sun disk excluded) over the upper hemisphere seen by a
  * horizontal surface: sum of L cos(zenith) dOmega per channel, in the image's units. */
 void fm_image_diffuse_horizontal(const fm_image *image, double out[3]);
+
+/* Reads a scanline EXR with R, G, B (linear Rec.709) or Y channels, float or half (and the sun's
+ * direction from firmament's attributes, when present). */
+fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err);
+
+/* Comparing a map with a reference b of the same size: per-pixel relative error of luminance (CIE Y,
+ * or the value of a one-channel image), e = (Y_a - Y_b) / Y_b over pixels with Y_b > 0. */
+typedef struct fm_comparison {
+    long pixels;         /* compared */
+    double rms;          /* root mean square of e */
+    double p99;          /* 99th percentile of |e| */
+    double mean;         /* mean of e: the bias */
+    double max;          /* largest |e| */
+    double chromaticity; /* mean distance of CIE xy chromaticities (colour images), else 0 */
+} fm_comparison;
+
+/* Pixels within exclude_sun_deg of the reference's sun direction are left out (the disk and its
+ * immediate surroundings); 0 keeps every pixel. */
+fm_status fm_image_compare(const fm_image *a, const fm_image *b, double exclude_sun_deg, fm_comparison *out,
+                           fm_error *err);
 
 /* ---------------------------------------------------------------------------------------------
  * Output files.  Both files are written to temporary names in their directories and renamed into

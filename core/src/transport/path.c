@@ -199,6 +199,8 @@ void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r
             double rad = v3_length(x);
             vec3 normal = v3_scale(x, 1.0 / rad);
             order++;
+            if (order == 1 && ctx->skip_ground_first)
+                return;
             if (order >= ctx->min_order) {
                 double mu_s = v3_dot(normal, ctx->sun_dir);
                 double *thor = phase; /* reuse: horizontal transmittance */

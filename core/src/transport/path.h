@@ -23,6 +23,8 @@
 #include "base/vec.h"
 #include "transport/sun_irradiance.h"
 
+struct ground_irradiance;
+
 typedef struct path_context {
     const atmosphere *atm;
     const sun_disk *sun;
@@ -30,6 +32,10 @@ typedef struct path_context {
     vec3 sun_dir;       /* unit vector toward the sun's centre (Earth-centred frame) */
     int min_order, max_order;
     int force_escapes;  /* force collisions on segments that would leave through the top */
+    /* Fast path: paths whose first interaction is the ground are dropped (path_trace), because
+     * single_scatter_radiance adds the ground's reflection of the tabulated diffuse irradiance. */
+    int skip_ground_first;
+    const struct ground_irradiance *ground_diffuse;
 } path_context;
 
 /* Adds one path's radiance estimate (W m^-2 sr^-1 nm^-1, per grid wavelength) to L. */

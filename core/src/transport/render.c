@@ -8,6 +8,7 @@
 #include "camera/equirect.h"
 #include "image/image.h"
 #include "sky.h"
+#include "transport/ground_irradiance.h"
 #include "transport/single_scatter.h"
 #include "transport/sky_grid.h"
 
@@ -20,15 +21,16 @@ quality_settings render_quality_settings(fm_quality quality, double scale)
     quality_settings q;
     switch (quality) {
     case FM_QUALITY_PREVIEW:
-        q = (quality_settings){64, 32, 48, 12, 8, 12, 512, 2, 64};
+        q = (quality_settings){64, 32, 48, 12, 8, 12, 512, 4096, 2, 64};
         break;
     case FM_QUALITY_REFERENCE:
     case FM_QUALITY_FINAL:
     default:
-        q = (quality_settings){128, 64, 96, 20, 12, 16, 2048, 3, 1024};
+        q = (quality_settings){128, 64, 96, 20, 12, 16, 2048, 16384, 3, 256};
         break;
     }
     q.ms_paths = (int)fmax(1.0, round(q.ms_paths * scale));
+    q.ground_paths = (int)fmax(1.0, round(q.ground_paths * scale));
     q.reference_paths = (int)fmax(1.0, round(q.reference_paths * scale));
     return q;
 }
@@ -45,6 +47,7 @@ typedef struct render_job {
     uint64_t seed;
     int channels;
     sky_grid ss, ms;
+    ground_irradiance ground;
     fm_image *img;
 } render_job;
 
@@ -72,6 +75,7 @@ static void ss_nodes(void *ctx, int64_t begin, int64_t end, int thread)
     render_job *job = ctx;
     const fm_sky *sky = job->sky;
     path_context pc = sky_path_context(sky, 1, 1);
+    pc.ground_diffuse = &job->ground;
     for (int64_t i = begin; i < end; i++) {
         double e, phi, L[FM_MAX_WAVELENGTHS] = {0};
         sky_grid_node_angles(&job->ss, (int)i, &e, &phi);
@@ -86,6 +90,7 @@ static void ms_nodes(void *ctx, int64_t begin, int64_t end, int thread)
     const fm_sky *sky = job->sky;
     const int K = sky->atm.grid.count;
     path_context pc = sky_path_context(sky, 2, 0);
+    pc.skip_ground_first = 1;
     for (int64_t i = begin; i < end; i++) {
         double e, phi, L[FM_MAX_WAVELENGTHS] = {0};
         sky_grid_node_angles(&job->ms, (int)i, &e, &phi);
@@ -109,18 +114,35 @@ static double relative_azimuth(const fm_sky *sky, double azimuth)
     return phi > FM_PI ? 2.0 * FM_PI - phi : phi;
 }
 
+/* Footprint samples per pixel row: the quality's count, but near the horizon, where radiance climbs
+ * steeply toward it (and jumps to the ground), rows are sampled every 0.2 degrees or finer. */
+static int sub_rows(const render_job *job, int y, int H)
+{
+    const double fine = 0.2 * FM_DEG, band_below = 3.0 * FM_DEG, band_above = 10.0 * FM_DEG;
+    double top = FM_PI * (0.5 - (double)y / H), bottom = FM_PI * (0.5 - (double)(y + 1) / H);
+    double h = job->ss.horizon_elevation;
+    int n = job->q.subpixels;
+    if (bottom < h + band_above && top > h - band_below) {
+        int needed = (int)ceil((top - bottom) / fine);
+        if (needed > n)
+            n = needed;
+    }
+    return n;
+}
+
 static void fast_rows(void *ctx, int64_t begin, int64_t end, int thread)
 {
     render_job *job = ctx;
     fm_image *img = job->img;
     const int W = img->width, H = img->height, C = job->channels, n = job->q.subpixels;
     for (int64_t y = begin; y < end; y++) {
+        const int ny = sub_rows(job, (int)y, H);
         for (int x = 0; x < W; x++) {
             float acc[3] = {0, 0, 0}, v[3];
-            for (int sy = 0; sy < n; sy++) {
+            for (int sy = 0; sy < ny; sy++) {
                 for (int sx = 0; sx < n; sx++) {
                     double e, a;
-                    equirect_angles(W, H, x + (sx + 0.5) / n, (double)y + (sy + 0.5) / n, &e, &a);
+                    equirect_angles(W, H, x + (sx + 0.5) / n, (double)y + (sy + 0.5) / ny, &e, &a);
                     double phi = relative_azimuth(job->sky, a);
                     sky_grid_lookup(&job->ss, e, phi, v);
                     for (int c = 0; c < C; c++)
@@ -132,7 +154,7 @@ static void fast_rows(void *ctx, int64_t begin, int64_t end, int thread)
             }
             float *px = &img->pixels[((size_t)y * W + x) * C];
             for (int c = 0; c < C; c++)
-                px[c] = acc[c] / (float)(n * n);
+                px[c] = acc[c] / (float)(n * ny);
         }
     }
 }
@@ -314,6 +336,9 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
                            params->sun_disk, reference);
     if (!job.img)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for a %d x %d image", W, H);
+    job.img->sun_direction[0] = sky->sun_dir.x;
+    job.img->sun_direction[1] = sky->sun_dir.y;
+    job.img->sun_direction[2] = sky->sun_dir.z;
 
     double horizon = asin(horizon_mu(atm, v3_length(sky->observer))); /* elevation, <= 0 */
     if (reference) {
@@ -326,11 +351,20 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
             s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the radiance tables");
             goto done;
         }
-        parallel_progress pss = {params->progress, params->progress_user, "single scattering", 0.0, 0.15};
+        report(params, 0.0, "ground irradiance");
+        path_context all = sky_path_context(sky, 1, 0);
+        double r_obs = v3_length(sky->observer);
+        double visible = acos(fmin(1.0, atm->bottom_radius_m / r_obs)); /* ground seen up to the horizon */
+        s = ground_irradiance_build(&job.ground, &all, acos(clamp_cosine(sky->sun_dir.z)), visible, q->ground_paths,
+                                    job.seed, params->threads, params->cancel);
+        if (s == FM_ERR_OUT_OF_MEMORY) {
+            s = fm_fail(err, s, "out of memory for the ground irradiance");
+            goto done;
+        }
+        parallel_progress pss = {params->progress, params->progress_user, "single scattering", 0.05, 0.10};
         parallel_progress pms = {params->progress, params->progress_user, "multiple scattering", 0.15, 0.75};
         parallel_progress ppx = {params->progress, params->progress_user, "pixels", 0.9, 0.08};
-        report(params, 0.0, "single scattering");
-        if (!(s = parallel_for(params->threads, sky_grid_nodes(&job.ss), 8, ss_nodes, &job, params->cancel, &pss)) &&
+        if (!s && !(s = parallel_for(params->threads, sky_grid_nodes(&job.ss), 8, ss_nodes, &job, params->cancel, &pss)) &&
             !(s = parallel_for(params->threads, sky_grid_nodes(&job.ms), 1, ms_nodes, &job, params->cancel, &pms)))
             s = parallel_for(params->threads, H, 4, fast_rows, &job, params->cancel, &ppx);
     }
@@ -353,6 +387,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
 done:
     sky_grid_free(&job.ss);
     sky_grid_free(&job.ms);
+    ground_irradiance_free(&job.ground);
     if (s) {
         fm_image_destroy(job.img);
         return s;

@@ -3,7 +3,8 @@
  * Fast path (preview, final): the radiance table of transport/sky_grid.h is filled twice, once with
  * single scattering by deterministic quadrature (fine grid) and once with all higher orders by path
  * tracing (coarse grid: that part of the sky is smooth), and every pixel averages table lookups over
- * its footprint.  Reference: every pixel path-traces all orders itself, no table of radiance.
+ * its footprint.  The ground's reflection of skylight goes with the deterministic part, through the
+ * diffuse ground irradiance (transport/ground_irradiance.h).  Reference: every pixel path-traces all orders itself, no table of radiance.
  * Both then add the sun disk, integrated over each pixel's footprint. */
 #ifndef FM_TRANSPORT_RENDER_H
 #define FM_TRANSPORT_RENDER_H
@@ -14,6 +15,7 @@ typedef struct quality_settings {
     int ss_rows_sky, ss_rows_ground, ss_cols; /* single-scattering table */
     int ms_rows_sky, ms_rows_ground, ms_cols; /* multiple-scattering table */
     int ms_paths;                             /* paths per multiple-scattering node */
+    int ground_paths;                         /* paths per diffuse ground irradiance angle */
     int subpixels;                            /* footprint samples per pixel and axis */
     int reference_paths;                      /* reference: paths per pixel */
 } quality_settings;

@@ -4,6 +4,7 @@
 #include "base/quadrature.h"
 #include "base/units.h"
 #include "transport/free_flight.h"
+#include "transport/ground_irradiance.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -98,9 +99,12 @@ void single_scatter_radiance(const path_context *ctx, vec3 origin, vec3 dir, dou
         double mu_s = v3_dot(x, ctx->sun_dir) / rad;
         double thor[FM_MAX_WAVELENGTHS];
         sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, atm->bottom_radius_m, mu_s, tbar, thor);
+        double diffuse[FM_MAX_WAVELENGTHS] = {0};
+        if (ctx->ground_diffuse)
+            ground_irradiance_lookup(ctx->ground_diffuse, mu_s, diffuse);
         for (int k = 0; k < K; k++) {
             double tv = exp(-atmosphere_optical_depth(atm, col_start, k));
-            L[k] += tv * atm->ground_albedo[k] / FM_PI * E0[k] * thor[k];
+            L[k] += tv * atm->ground_albedo[k] / FM_PI * (E0[k] * thor[k] + diffuse[k]);
         }
     }
 }

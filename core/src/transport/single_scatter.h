@@ -4,7 +4,8 @@
  * along the view ray, with Gauss-Legendre on pieces between altitude breakpoints (subdivided so that
  * no piece is optically thick), the view transmittance from nested quadratures of the species
  * columns, and the sun from the same table the path tracer uses.  It is the fast path's single
- * scattering; the path tracer restricted to order 1 estimates the same integral. */
+ * scattering; the path tracer restricted to order 1 estimates the same integral.  When the context
+ * carries a ground_irradiance table, the ground term also reflects that diffuse irradiance. */
 #ifndef FM_TRANSPORT_SINGLE_SCATTER_H
 #define FM_TRANSPORT_SINGLE_SCATTER_H
 

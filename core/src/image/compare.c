@@ -1,0 +1,85 @@
+/* Map comparison metrics (firmament.h: fm_image_compare). */
+#include "firmament/firmament.h"
+
+#include "base/status.h"
+#include "base/units.h"
+#include "camera/equirect.h"
+#include "colour/colour.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+static void pixel_xyz(const fm_image *img, size_t i, double xyz[3])
+{
+    const float *p = &img->pixels[i * img->channels];
+    if (img->channels == 1) {
+        xyz[0] = xyz[2] = 0.0;
+        xyz[1] = p[0];
+    } else if (img->content == FM_IMAGE_XYZ) {
+        xyz[0] = p[0], xyz[1] = p[1], xyz[2] = p[2];
+    } else {
+        double rgb[3] = {p[0], p[1], p[2]};
+        colour_rec709_to_xyz(rgb, xyz);
+    }
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+fm_status fm_image_compare(const fm_image *a, const fm_image *b, double exclude_deg, fm_comparison *out,
+                           fm_error *err)
+{
+    const double *around = b->sun_direction;
+    if (exclude_deg > 0.0 && around[0] == 0.0 && around[1] == 0.0 && around[2] == 0.0)
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the reference map does not say where the sun is");
+    if (a->width != b->width || a->height != b->height || a->channels != b->channels)
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the images differ in size or channels (%dx%dx%d vs %dx%dx%d)",
+                       a->width, a->height, a->channels, b->width, b->height, b->channels);
+    const int W = a->width, H = a->height;
+    double *errs = malloc(sizeof(double) * (size_t)W * H);
+    if (!errs)
+        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
+    double cos_exclude = exclude_deg > 0.0 ? cos(exclude_deg * FM_DEG) : 2.0;
+    long n = 0;
+    double sum = 0.0, sum2 = 0.0, chroma = 0.0, worst = 0.0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            if (cos_exclude <= 1.0) {
+                vec3 d = equirect_direction(W, H, x + 0.5, y + 0.5);
+                if (d.x * around[0] + d.y * around[1] + d.z * around[2] > cos_exclude)
+                    continue;
+            }
+            size_t i = (size_t)y * W + x;
+            double xa[3], xb[3];
+            pixel_xyz(a, i, xa);
+            pixel_xyz(b, i, xb);
+            if (!(xb[1] > 0.0))
+                continue;
+            double e = (xa[1] - xb[1]) / xb[1];
+            errs[n++] = fabs(e);
+            sum += e;
+            sum2 += e * e;
+            worst = fmax(worst, fabs(e));
+            if (a->channels == 3) {
+                double sa = xa[0] + xa[1] + xa[2], sb = xb[0] + xb[1] + xb[2];
+                if (sa > 0.0 && sb > 0.0)
+                    chroma += hypot(xa[0] / sa - xb[0] / sb, xa[1] / sa - xb[1] / sb);
+            }
+        }
+    if (n == 0) {
+        free(errs);
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "no pixel to compare");
+    }
+    qsort(errs, (size_t)n, sizeof *errs, cmp_double);
+    out->pixels = n;
+    out->rms = sqrt(sum2 / n);
+    out->mean = sum / n;
+    out->max = worst;
+    out->p99 = errs[(size_t)fmin((double)n - 1.0, floor(0.99 * (double)n))];
+    out->chromaticity = chroma / n;
+    free(errs);
+    return FM_OK;
+}

@@ -1,0 +1,104 @@
+/* Reading EXRs back (firmament.h: fm_image_read_exr), used by `firmament compare`. */
+#include "base/status.h"
+#include "image/image.h"
+
+#include <openexr.h>
+#include <string.h>
+
+static _Thread_local char read_message[256];
+
+static void capture(exr_const_context_t ctxt, exr_result_t code, const char *msg)
+{
+    strncpy(read_message, msg ? msg : "", sizeof read_message - 1);
+}
+
+fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
+{
+    *out = NULL;
+    read_message[0] = '\0';
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = capture;
+    exr_context_t c = NULL;
+    if (exr_start_read(&c, path, &init) != EXR_ERR_SUCCESS)
+        return fm_fail(err, FM_ERR_IO, "cannot read '%s': %s", path, read_message[0] ? read_message : "not an EXR");
+    fm_status s = FM_OK;
+    fm_image *img = NULL;
+    exr_attr_box2i_t dw;
+    const exr_attr_chlist_t *cl;
+    int32_t lines = 1;
+    exr_storage_t storage;
+    if (exr_get_storage(c, 0, &storage) || storage != EXR_STORAGE_SCANLINE || exr_get_data_window(c, 0, &dw) ||
+        exr_get_channels(c, 0, &cl) || exr_get_scanlines_per_chunk(c, 0, &lines)) {
+        s = fm_fail(err, FM_ERR_IO, "cannot read '%s': not a scanline image", path);
+        goto done;
+    }
+    int W = dw.max.x - dw.min.x + 1, H = dw.max.y - dw.min.y + 1;
+    int offsets[4] = {-1, -1, -1, -1}, C = 0;
+    for (int i = 0; i < cl->num_channels; i++) {
+        const char *n = cl->entries[i].name.str;
+        if (!strcmp(n, "R") || !strcmp(n, "Y"))
+            offsets[i] = 0;
+        else if (!strcmp(n, "G"))
+            offsets[i] = 1;
+        else if (!strcmp(n, "B"))
+            offsets[i] = 2;
+        if (offsets[i] >= 0 && offsets[i] + 1 > C)
+            C = offsets[i] + 1;
+    }
+    if (C != 1 && C != 3) {
+        s = fm_fail(err, FM_ERR_IO, "cannot read '%s': expected R, G, B or Y channels", path);
+        goto done;
+    }
+    img = image_create(W, H, C, C == 3 ? FM_IMAGE_RGB_REC709 : FM_IMAGE_SPECTRAL_RADIANCE, 0, 0);
+    if (!img) {
+        s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory reading '%s'", path);
+        goto done;
+    }
+    exr_attr_v3d_t sun;
+    if (exr_attr_get_v3d(c, 0, "firmament.sun.direction", &sun) == EXR_ERR_SUCCESS) {
+        img->sun_direction[0] = sun.x;
+        img->sun_direction[1] = sun.y;
+        img->sun_direction[2] = sun.z;
+    }
+    exr_decode_pipeline_t d = EXR_DECODE_PIPELINE_INITIALIZER;
+    int started = 0;
+    for (int y = 0; y < H && !s; y += lines) {
+        exr_chunk_info_t ci;
+        if (exr_read_scanline_chunk_info(c, 0, dw.min.y + y, &ci) ||
+            (started ? exr_decoding_update(c, 0, &ci, &d) : exr_decoding_initialize(c, 0, &ci, &d))) {
+            s = fm_fail(err, FM_ERR_IO, "cannot read '%s': %s", path, read_message);
+            break;
+        }
+        for (int k = 0; k < d.channel_count; k++) {
+            exr_coding_channel_info_t *ch = &d.channels[k];
+            int off = -1;
+            for (int i = 0; i < cl->num_channels; i++)
+                if (!strcmp(cl->entries[i].name.str, ch->channel_name))
+                    off = offsets[i];
+            ch->decode_to_ptr = off < 0 ? NULL : (uint8_t *)&img->pixels[((size_t)(ci.start_y - dw.min.y) * W) * C + off];
+            ch->user_pixel_stride = C * 4;
+            ch->user_line_stride = W * C * 4;
+            ch->user_bytes_per_element = 4;
+            ch->user_data_type = EXR_PIXEL_FLOAT;
+        }
+        if (!started) {
+            if (exr_decoding_choose_default_routines(c, 0, &d)) {
+                s = fm_fail(err, FM_ERR_IO, "cannot read '%s': unsupported layout", path);
+                break;
+            }
+            started = 1;
+        }
+        if (exr_decoding_run(c, 0, &d))
+            s = fm_fail(err, FM_ERR_IO, "cannot read '%s': %s", path, read_message);
+    }
+    if (started)
+        exr_decoding_destroy(c, &d);
+done:
+    exr_finish(&c);
+    if (s) {
+        fm_image_destroy(img);
+        return s;
+    }
+    *out = img;
+    return FM_OK;
+}
