@@ -33,6 +33,19 @@ fm_sky_params test_params(double sun_elevation_deg, double lambda_nm);
 fm_image *test_render(const fm_sky *sky, int width, fm_quality quality, int threads, uint64_t seed, int samples,
                       double sample_scale, int with_disk);
 
+/* Independent quadrature along the view ray from the sky's observer in direction d (first grid
+ * wavelength): integral_0^t_end T(0, t) f(x_t) dt by Simpson's rule in u with t = t_end u^2 (nodes
+ * crowd near the observer, where the air is densest), T from the exact column of each step.
+ * *end_transmittance receives T(0, t_end); *hits_ground whether the ray ends on the ground. */
+typedef double (*ray_integrand)(void *ctx, vec3 x);
+double test_view_ray_integral(const fm_sky *sky, vec3 d, int steps, ray_integrand f, void *ctx,
+                              double *end_transmittance, int *hits_ground);
+
+/* Mean of N path-traced radiance estimates (first grid wavelength, hero 0) from origin along dir,
+ * with random streams (seed, item, 0..N-1); *se receives the standard error of the mean. */
+double test_path_radiance(const path_context *ctx, vec3 origin, vec3 dir, int N, uint64_t seed, uint64_t item,
+                          double *se);
+
 /* CIE Y of pixel (x, y) of an XYZ image, or the value of a monochromatic one. */
 double test_pixel_y(const fm_image *img, int x, int y);
 

@@ -1,5 +1,8 @@
 #include "check.h"
 
+#include "atmosphere/optical_depth.h"
+#include "base/rng.h"
+
 #include <math.h>
 #include <stdio.h>
 
@@ -63,4 +66,51 @@ double test_pixel_y(const fm_image *img, int x, int y)
 {
     size_t i = ((size_t)y * img->width + x) * img->channels;
     return img->channels == 1 ? img->pixels[i] : img->pixels[i + 1];
+}
+
+double test_view_ray_integral(const fm_sky *sky, vec3 d, int steps, ray_integrand f, void *ctx,
+                              double *end_transmittance, int *hits_ground)
+{
+    const atmosphere *a = &sky->atm;
+    vec3 o = sky->observer;
+    int ground;
+    double t_end = ray_distance_to_boundary(a, v3_length(o), v3_dot(o, d) / v3_length(o), &ground);
+    double sum = 0.0, tau = 0.0, t_prev = 0.0;
+    vec3 x_prev = o;
+    for (int i = 0; i <= steps; i++) {
+        double u = (double)i / steps, t = t_end * u * u, dt_du = 2.0 * t_end * u;
+        vec3 x = v3_madd(o, d, t);
+        if (i > 0) { /* view optical depth, exact on each step */
+            double col[FM_MAX_SPECIES], r = v3_length(x_prev);
+            column_exact(a, r, v3_dot(x_prev, d) / r, t - t_prev, col);
+            tau += atmosphere_optical_depth(a, col, 0);
+        }
+        double w = (i == 0 || i == steps) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+        if (dt_du > 0.0)
+            sum += w * dt_du * exp(-tau) * f(ctx, x);
+        t_prev = t;
+        x_prev = x;
+    }
+    if (end_transmittance)
+        *end_transmittance = exp(-tau);
+    if (hits_ground)
+        *hits_ground = ground;
+    return sum / (3.0 * steps);
+}
+
+double test_path_radiance(const path_context *ctx, vec3 origin, vec3 dir, int N, uint64_t seed, uint64_t item,
+                          double *se)
+{
+    double sum = 0.0, sum2 = 0.0;
+    for (int j = 0; j < N; j++) {
+        rng r = rng_for(seed, item, (uint64_t)j);
+        double L[FM_MAX_WAVELENGTHS] = {0};
+        path_trace(ctx, origin, dir, 0, &r, L);
+        sum += L[0];
+        sum2 += L[0] * L[0];
+    }
+    double mean = sum / N;
+    if (se)
+        *se = sqrt(fmax(0.0, sum2 / N - mean * mean) / N);
+    return mean;
 }

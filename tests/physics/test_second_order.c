@@ -46,31 +46,26 @@ static double in_scattered(const fm_sky *sky, const path_context *one, vec3 y, v
     return sum;
 }
 
+typedef struct source_ctx {
+    const fm_sky *sky;
+    const path_context *one;
+    vec3 d;
+} source_ctx;
+
+/* Order-2 source along the view ray: sigma_s(x) times the in-scattered order-1 radiance. */
+static double second_order_source(void *p, vec3 x)
+{
+    const source_ctx *c = p;
+    const atmosphere *a = &c->sky->atm;
+    double n = profile_density(&a->species[0].profile, v3_length(x) - a->bottom_radius_m);
+    return a->species[0].sigma_s[0] * n * in_scattered(c->sky, c->one, x, c->d);
+}
+
 static double second_order_quadrature(const fm_sky *sky, vec3 d, int steps)
 {
-    const atmosphere *a = &sky->atm;
     path_context one = sky_path_context(sky, 1, 1);
-    vec3 o = sky->observer;
-    double t_end = ray_distance_to_boundary(a, v3_length(o), d.z, NULL);
-    double sum = 0.0, tau = 0.0, t_prev = 0.0;
-    vec3 x_prev = o;
-    for (int i = 0; i <= steps; i++) {
-        double u = (double)i / steps, t = t_end * u * u, dt_du = 2.0 * t_end * u;
-        vec3 x = v3_madd(o, d, t);
-        if (i > 0) {
-            double col[FM_MAX_SPECIES];
-            column_exact(a, v3_length(x_prev), v3_dot(x_prev, d) / v3_length(x_prev), t - t_prev, col);
-            tau += atmosphere_optical_depth(a, col, 0);
-        }
-        double w = (i == 0 || i == steps) ? 1.0 : (i % 2 ? 4.0 : 2.0);
-        if (dt_du > 0.0) {
-            double n = profile_density(&a->species[0].profile, v3_length(x) - a->bottom_radius_m);
-            sum += w * dt_du * exp(-tau) * a->species[0].sigma_s[0] * n * in_scattered(sky, &one, x, d);
-        }
-        t_prev = t;
-        x_prev = x;
-    }
-    return sum / (3.0 * steps);
+    source_ctx ctx = {sky, &one, d};
+    return test_view_ray_integral(sky, d, steps, second_order_source, &ctx, NULL, NULL);
 }
 
 static void second_order_matches_quadrature(void **state)
@@ -84,16 +79,7 @@ static void second_order_matches_quadrature(void **state)
     for (int i = 0; i < 3; i++) {
         vec3 d = direction_from_elevation_azimuth(dirs[i][0] * FM_DEG, dirs[i][1] * FM_DEG);
         double ref = second_order_quadrature(sky, d, 40);
-        const int N = 4000000;
-        double sum = 0.0, sum2 = 0.0;
-        for (int j = 0; j < N; j++) {
-            rng r = rng_for(99, (uint64_t)i, (uint64_t)j);
-            double L[1] = {0};
-            path_trace(&two, sky->observer, d, 0, &r, L);
-            sum += L[0];
-            sum2 += L[0] * L[0];
-        }
-        double mean = sum / N, se = sqrt((sum2 / N - mean * mean) / N);
+        double se, mean = test_path_radiance(&two, sky->observer, d, 4000000, 99, (uint64_t)i, &se);
         print_message("direction (%g, %g): quadrature %.6e, path tracer %.6e +- %.1e\n", dirs[i][0], dirs[i][1], ref,
                       mean, se);
         assert_true(se < 2.5e-3 * ref);

@@ -25,42 +25,36 @@ static double sun_transmittance(const atmosphere *a, double r, double mu_s)
     return exp(-atmosphere_optical_depth(a, col, 0));
 }
 
+/* Order-1 source along the view ray: sigma_s p(cos) E0 T_sun at x. */
+typedef struct source_ctx {
+    const fm_sky *sky;
+    double phase;
+} source_ctx;
+
+static double single_scattering_source(void *p, vec3 x)
+{
+    const source_ctx *c = p;
+    const atmosphere *a = &c->sky->atm;
+    double r = v3_length(x);
+    double n = profile_density(&a->species[0].profile, r - a->bottom_radius_m);
+    return a->species[0].sigma_s[0] * n * c->phase * a->grid.solar_irradiance[0] *
+           sun_transmittance(a, r, v3_dot(x, c->sky->sun_dir) / r);
+}
+
 /* Order-1 radiance toward the observer looking along d (monochromatic sky). */
 static double reference_radiance(const fm_sky *sky, vec3 d, int steps)
 {
     const atmosphere *a = &sky->atm;
-    const species *mol = &a->species[0];
-    vec3 o = sky->observer;
-    double r0 = v3_length(o), mu0 = d.z;
+    source_ctx ctx = {sky, phase_rayleigh_eval(v3_dot(d, sky->sun_dir), a->species[0].phase_param[0])};
+    double T_end;
     int ground;
-    double t_end = ray_distance_to_boundary(a, r0, mu0, &ground);
-    double E0 = a->grid.solar_irradiance[0];
-    double cos_sun = v3_dot(d, sky->sun_dir);
-    double phase = phase_rayleigh_eval(cos_sun, mol->phase_param[0]);
-    /* t = t_end u^2: nodes crowd near the observer, where the air is densest */
-    double sum = 0.0, tau = 0.0, t_prev = 0.0;
-    vec3 x_prev = o;
-    for (int i = 0; i <= steps; i++) {
-        double u = (double)i / steps, t = t_end * u * u, dt_du = 2.0 * t_end * u;
-        vec3 x = v3_madd(o, d, t);
-        double r = v3_length(x);
-        if (i > 0) { /* view optical depth, exact on each step */
-            double col[FM_MAX_SPECIES];
-            column_exact(a, v3_length(x_prev), v3_dot(x_prev, d) / v3_length(x_prev), t - t_prev, col);
-            tau += atmosphere_optical_depth(a, col, 0);
-        }
-        double n = profile_density(&mol->profile, r - a->bottom_radius_m);
-        double f = exp(-tau) * mol->sigma_s[0] * n * phase * E0 * sun_transmittance(a, r, v3_dot(x, sky->sun_dir) / r);
-        double w = (i == 0 || i == steps) ? 1.0 : (i % 2 ? 4.0 : 2.0);
-        sum += w * f * dt_du;
-        t_prev = t;
-        x_prev = x;
-    }
-    double L = sum / (3.0 * steps);
+    double L = test_view_ray_integral(sky, d, steps, single_scattering_source, &ctx, &T_end, &ground);
     if (ground) {
+        vec3 o = sky->observer;
+        double t_end = ray_distance_to_boundary(a, v3_length(o), d.z, NULL);
         vec3 x = v3_madd(o, d, t_end);
         double mu_s = v3_dot(v3_normalize(x), sky->sun_dir);
-        L += exp(-tau) * a->ground_albedo[0] / FM_PI * E0 * fmax(mu_s, 0.0) *
+        L += T_end * a->ground_albedo[0] / FM_PI * a->grid.solar_irradiance[0] * fmax(mu_s, 0.0) *
              sun_transmittance(a, a->bottom_radius_m, mu_s);
     }
     return L;
@@ -86,16 +80,7 @@ static void compare_at(double lambda, double albedo)
         print_message("direction (%g, %g): reference %.6e\n", dirs[i][0], dirs[i][1], ref);
         check_rel(quad[0], ref, 2e-3, "quadrature vs reference");
         /* the path tracer, one scattering event */
-        const int N = 800000;
-        double sum = 0.0, sum2 = 0.0;
-        for (int j = 0; j < N; j++) {
-            rng r = rng_for(2024, (uint64_t)i, (uint64_t)j);
-            double L[1] = {0};
-            path_trace(&one, sky->observer, d, 0, &r, L);
-            sum += L[0];
-            sum2 += L[0] * L[0];
-        }
-        double mean = sum / N, se = sqrt((sum2 / N - mean * mean) / N);
+        double se, mean = test_path_radiance(&one, sky->observer, d, 800000, 2024, (uint64_t)i, &se);
         print_message("standard error %.2e relative\n", se / ref);
         assert_true(se < 1.2e-3 * ref);
         check_rel(mean, ref, 5e-3, "path tracer (order 1) vs reference");

@@ -55,16 +55,7 @@ static void radiance(double sun_elevation, double view_elevation, double rel_azi
     fm_sky *sky = test_sky(&p);
     path_context all = sky_path_context(sky, 1, 0);
     vec3 d = direction_from_elevation_azimuth(view_elevation * FM_DEG, rel_azimuth * FM_DEG);
-    double s = 0.0, s2 = 0.0;
-    for (int i = 0; i < N; i++) {
-        rng r = rng_for(seed, 0, (uint64_t)i);
-        double L[1] = {0};
-        path_trace(&all, sky->observer, d, 0, &r, L);
-        s += L[0];
-        s2 += L[0] * L[0];
-    }
-    *mean = s / N;
-    *se = sqrt((s2 / N - *mean * *mean) / N);
+    *mean = test_path_radiance(&all, sky->observer, d, N, seed, 0, se);
     fm_sky_destroy(sky);
 }
 

@@ -155,14 +155,21 @@ static void colour_exr_attributes_and_sidecar(void **state)
     fm_sky_destroy(sky);
 }
 
+/* A small rendered sky and the paths <dir>/<name>.exr and .json. */
+static fm_image *small_sky(double lambda, const char *name, fm_sky **sky, char exr[300], char json[300])
+{
+    fm_sky_params p = test_params(30.0, lambda);
+    *sky = test_sky(&p);
+    snprintf(exr, 300, "%s/%s.exr", dir, name);
+    snprintf(json, 300, "%s/%s.json", dir, name);
+    return test_render(*sky, 16, FM_QUALITY_PREVIEW, 0, 1, 0, 0.25, 0);
+}
+
 static void monochromatic_exr_has_one_channel(void **state)
 {
-    fm_sky_params p = test_params(30.0, 550.0);
-    fm_sky *sky = test_sky(&p);
-    fm_image *img = test_render(sky, 16, FM_QUALITY_PREVIEW, 0, 1, 0, 0.25, 0);
+    fm_sky *sky;
     char exr[300], json[300];
-    snprintf(exr, sizeof exr, "%s/mono.exr", dir);
-    snprintf(json, sizeof json, "%s/mono.json", dir);
+    fm_image *img = small_sky(550.0, "mono", &sky, exr, json);
     commit_files(sky, img, exr, json, NULL, FM_OK);
     exr_context_t c;
     test_exr e = test_exr_read(exr, &c);
@@ -184,12 +191,9 @@ static void monochromatic_exr_has_one_channel(void **state)
 
 static void cancelled_commit_leaves_existing_files_alone(void **state)
 {
-    fm_sky_params p = test_params(30.0, 0.0);
-    fm_sky *sky = test_sky(&p);
-    fm_image *img = test_render(sky, 16, FM_QUALITY_PREVIEW, 0, 1, 0, 0.25, 0);
+    fm_sky *sky;
     char exr[300], json[300];
-    snprintf(exr, sizeof exr, "%s/keep.exr", dir);
-    snprintf(json, sizeof json, "%s/keep.json", dir);
+    fm_image *img = small_sky(0.0, "keep", &sky, exr, json);
     FILE *f = fopen(exr, "w");
     fputs("old image", f);
     fclose(f);

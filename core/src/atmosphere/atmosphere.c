@@ -97,6 +97,11 @@ void atmosphere_coefficients(const atmosphere *atm, double r, double *sigma_s, d
 {
     double n[FM_MAX_SPECIES];
     atmosphere_densities(atm, r, n);
+    atmosphere_coefficients_from_densities(atm, n, sigma_s, sigma_t);
+}
+
+void atmosphere_coefficients_from_densities(const atmosphere *atm, const double *n, double *sigma_s, double *sigma_t)
+{
     for (int k = 0; k < atm->grid.count; k++) {
         double s = 0.0, t = 0.0;
         for (int c = 0; c < atm->species_count; c++) {

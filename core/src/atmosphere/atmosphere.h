@@ -60,7 +60,9 @@ static inline void atmosphere_densities(const atmosphere *atm, double r, double 
         n[c] = profile_density(&atm->species[c].profile, z);
 }
 
-/* Coefficients at radius r for every grid wavelength (m^-1). */
+/* Scattering and extinction coefficients (m^-1) for every grid wavelength, from the species
+ * densities n (atmosphere_densities) or at radius r. */
+void atmosphere_coefficients_from_densities(const atmosphere *atm, const double *n, double *sigma_s, double *sigma_t);
 void atmosphere_coefficients(const atmosphere *atm, double r, double *sigma_s, double *sigma_t);
 
 /* Optical depth for grid wavelength k of a set of species columns (particles m^-2). */

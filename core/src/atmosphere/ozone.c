@@ -3,23 +3,16 @@
 #include "atmosphere/standard_atmosphere.h"
 #include "base/units.h"
 #include "data/tables.h"
+#include "spectrum/spectrum_table.h"
 
 #include <math.h>
 #include <pthread.h>
 
 double ozone_cross_section_m2(double lambda_nm, double temperature_k)
 {
-    double dt = temperature_k - 273.15;
-    double c[3];
-    double f = lambda_nm - FM_OZONE_FIRST_NM;
-    if (!(f >= 0.0) || f > FM_OZONE_COUNT - 1)
+    double dt = temperature_k - 273.15, c[3];
+    if (!table_interpolate_uniform(&fm_ozone_bogumil_1nm[0][0], FM_OZONE_COUNT, 3, FM_OZONE_FIRST_NM, lambda_nm, c))
         return 0.0;
-    int i = (int)f;
-    if (i >= FM_OZONE_COUNT - 1)
-        i = FM_OZONE_COUNT - 2;
-    double t = f - i;
-    for (int j = 0; j < 3; j++)
-        c[j] = fm_ozone_bogumil_1nm[i][j] * (1.0 - t) + fm_ozone_bogumil_1nm[i + 1][j] * t;
     double sigma_cm2 = (c[0] + c[1] * dt + c[2] * dt * dt) * 1e-20;
     return sigma_cm2 > 0.0 ? sigma_cm2 * FM_CM2 : 0.0;
 }

@@ -7,17 +7,8 @@
 
 void cie_xyz_at(double lambda_nm, double xyz[3])
 {
-    double f = lambda_nm - FM_CIE_FIRST_NM;
-    if (!(f >= 0.0) || f > FM_CIE_COUNT - 1) {
+    if (!table_interpolate_uniform(&fm_cie1931_xyz_1nm[0][0], FM_CIE_COUNT, 3, FM_CIE_FIRST_NM, lambda_nm, xyz))
         xyz[0] = xyz[1] = xyz[2] = 0.0;
-        return;
-    }
-    int i = (int)f;
-    if (i >= FM_CIE_COUNT - 1)
-        i = FM_CIE_COUNT - 2;
-    double t = f - i;
-    for (int c = 0; c < 3; c++)
-        xyz[c] = fm_cie1931_xyz_1nm[i][c] * (1.0 - t) + fm_cie1931_xyz_1nm[i + 1][c] * t;
 }
 
 void cie_spectrum_to_xyz(const double *lambda_nm, const double *values, int n, double xyz[3])

@@ -62,3 +62,17 @@ double table_hat_integral_rows(const double *rows, int n, int stride, int column
     }
     return total;
 }
+
+int table_interpolate_uniform(const double *rows, int count, int columns, double first, double x, double *out)
+{
+    double f = x - first;
+    if (!(f >= 0.0) || f > count - 1)
+        return 0;
+    int i = (int)f;
+    if (i >= count - 1)
+        i = count - 2;
+    double t = f - i;
+    for (int c = 0; c < columns; c++)
+        out[c] = rows[(long)i * columns + c] * (1.0 - t) + rows[(long)(i + 1) * columns + c] * t;
+    return 1;
+}

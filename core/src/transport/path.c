@@ -133,15 +133,7 @@ void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r
                 break; /* reached the ground or the top */
             double rad = ray_segment_radius(&seg, t);
             atmosphere_densities(atm, rad, n);
-            for (int k = 0; k < K; k++) {
-                double s = 0.0, tt = 0.0;
-                for (int c = 0; c < atm->species_count; c++) {
-                    s += atm->species[c].sigma_s[k] * n[c];
-                    tt += (atm->species[c].sigma_s[k] + atm->species[c].sigma_a[k]) * n[c];
-                }
-                sig_s[k] = s;
-                sig_t[k] = tt;
-            }
+            atmosphere_coefficients_from_densities(atm, n, sig_s, sig_t);
             const double *maj = atm->shell_majorant[shell];
             if (rng_uniform(r) * maj[h] < sig_s[h]) {
                 for (int k = 0; k < K; k++)
