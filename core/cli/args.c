@@ -222,6 +222,7 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
                 return PARSE_ERROR;
             }
             opt->render.threads = (int)n;
+            opt->sky.threads = (int)n;
             break;
         case OPT_SEED:
             if (!parse_long(arg, 0, 9007199254740992LL, &n)) {

@@ -24,6 +24,7 @@ fm_sky_params fm_sky_params_default(void)
         .ozone_column_du = 300.0,
         .earth_sun_distance_au = 1.0,
         .wavelength_nm = 0.0,
+        .threads = 0,
     };
 }
 
@@ -46,6 +47,8 @@ static fm_status validate(const fm_sky_params *p, fm_error *err)
         return s;
     if (p->wavelength_nm != 0.0 && (s = check_range(err, "wavelength_nm", p->wavelength_nm, 300.0, 1000.0, "nm")))
         return s;
+    if (p->threads < 0 || p->threads > 256)
+        return fm_fail_parameter(err, "threads", "%d is outside [0, 256]", p->threads);
     return FM_OK;
 }
 
@@ -93,9 +96,9 @@ fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err
                                                     params->sun_azimuth_deg * FM_DEG);
     sky->observer = v3(0.0, 0.0, sky->atm.bottom_radius_m + params->observer_altitude_m);
 
-    if ((s = column_table_build(&sky->columns, &sky->atm, COLUMN_TABLE_R, COLUMN_TABLE_MU, 0, err)) ||
+    if ((s = column_table_build(&sky->columns, &sky->atm, COLUMN_TABLE_R, COLUMN_TABLE_MU, params->threads, err)) ||
         (s = sun_irradiance_build(&sky->sun_table, &sky->atm, &sky->columns, &sky->sun, SUN_TABLE_R,
-                                  SUN_TABLE_MU, 0, err))) {
+                                  SUN_TABLE_MU, params->threads, err))) {
         fm_sky_destroy(sky);
         return s;
     }

@@ -64,6 +64,7 @@ typedef struct fm_sky_params {
     double ozone_column_du;       /* total ozone column, [0, 1000] Dobson units; 0 disables ozone */
     double earth_sun_distance_au; /* scales solar irradiance (1/d^2) and disk size (1/d), [0.95, 1.05] */
     double wavelength_nm;         /* 0: colour render over 380-780 nm; else one wavelength in [300, 1000] */
+    int threads;                  /* for building the sky's tables, [0, 256]; 0 = one per online core */
 } fm_sky_params;
 
 fm_sky_params fm_sky_params_default(void);

@@ -79,7 +79,10 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
     if (!colour)
         add_double(m, "parameters", "wavelength_nm", sp->wavelength_nm);
     add_string(m, "parameters", "quality", quality_name(params->quality));
-    add_string(m, "parameters", "seed", m->seed_text);
+    if (params->seed <= (1ull << 53)) /* exact as a JSON number and an EXR double */
+        add_double(m, "parameters", "seed", (double)params->seed);
+    else
+        add_string(m, "parameters", "seed", m->seed_text);
     add_double(m, "parameters", "sample_scale", params->sample_scale);
     add_string(m, "parameters", "atmosphere", "U.S. Standard Atmosphere 1976 molecules (Bucholtz Rayleigh), "
                                               "ozone (Bogumil 2003 cross sections, AFGL U.S. Standard profile)");

@@ -114,7 +114,8 @@ void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r
                 force[k] = -expm1(-depth[k]);
             for (int k = 0; k < K; k++) {
                 w[k] *= force[k];
-                q[k] *= force[h] / force[k];
+                /* a wavelength the medium does not touch cannot produce this path at all */
+                q[k] = force[k] > 0.0 ? q[k] * force[h] / force[k] : 0.0;
             }
             tau = -log1p(-rng_uniform(r) * force[h]);
         } else {
