@@ -21,7 +21,7 @@
 static double in_scattered(const fm_sky *sky, const path_context *one, vec3 y, vec3 d)
 {
     const atmosphere *a = &sky->atm;
-    double gamma = a->species[0].phase_param[0];
+    double gamma = a->species[0].phase.param[0];
     double r = v3_length(y);
     frame f = frame_from_normal(v3_scale(y, 1.0 / r));
     double mh = horizon_mu(a, r);

@@ -45,7 +45,7 @@ static double single_scattering_source(void *p, vec3 x)
 static double reference_radiance(const fm_sky *sky, vec3 d, int steps)
 {
     const atmosphere *a = &sky->atm;
-    source_ctx ctx = {sky, phase_rayleigh_eval(v3_dot(d, sky->sun_dir), a->species[0].phase_param[0])};
+    source_ctx ctx = {sky, phase_rayleigh_eval(v3_dot(d, sky->sun_dir), a->species[0].phase.param[0])};
     double T_end;
     int ground;
     double L = test_view_ray_integral(sky, d, steps, single_scattering_source, &ctx, &T_end, &ground);

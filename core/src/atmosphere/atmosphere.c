@@ -36,10 +36,10 @@ fm_status atmosphere_init_clear_sky(atmosphere *atm, const spectral_grid *grid, 
 
     species *mol = &atm->species[atm->species_count++];
     mol->name = "molecules";
-    mol->phase = PHASE_RAYLEIGH;
+    mol->phase.kind = PHASE_RAYLEIGH;
     for (int k = 0; k < grid->count; k++) {
         mol->sigma_s[k] = rayleigh_cross_section_m2(grid->lambda_nm[k]);
-        mol->phase_param[k] = rayleigh_gamma(grid->lambda_nm[k]);
+        mol->phase.param[k] = rayleigh_gamma(grid->lambda_nm[k]);
     }
     if (profile_sample(&mol->profile, molecules_density, NULL, FM_ATMOSPHERE_HEIGHT_M, FM_PROFILE_SPACING_M))
         goto oom;
@@ -48,7 +48,7 @@ fm_status atmosphere_init_clear_sky(atmosphere *atm, const spectral_grid *grid, 
     if (ozone_column_du > 0.0) {
         species *o3 = &atm->species[atm->species_count++];
         o3->name = "ozone";
-        o3->phase = PHASE_NONE;
+        o3->phase.kind = PHASE_NONE;
         double t_eff = ozone_effective_temperature_k();
         for (int k = 0; k < grid->count; k++)
             o3->sigma_a[k] = ozone_cross_section_m2(grid->lambda_nm[k], t_eff);

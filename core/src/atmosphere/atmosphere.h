@@ -10,23 +10,18 @@
 #define FM_ATMOSPHERE_ATMOSPHERE_H
 
 #include "atmosphere/profile.h"
+#include "phase/phase.h"
 #include "spectrum/spectral_grid.h"
 
 #define FM_MAX_SPECIES 8
 #define FM_MAX_SHELLS 40
-
-typedef enum phase_kind {
-    PHASE_NONE = 0, /* pure absorber */
-    PHASE_RAYLEIGH  /* parameter: gamma = rho / (2 - rho) */
-} phase_kind;
 
 typedef struct species {
     const char *name;
     density_profile profile;
     double sigma_s[FM_MAX_WAVELENGTHS]; /* m^2 per particle */
     double sigma_a[FM_MAX_WAVELENGTHS];
-    phase_kind phase;
-    double phase_param[FM_MAX_WAVELENGTHS];
+    phase_function phase;
 } species;
 
 typedef struct atmosphere {

@@ -1,6 +1,7 @@
 #include "transport/path.h"
 
-#include "phase/phase_rayleigh.h"
+#include "base/units.h"
+#include "phase/phase.h"
 #include "transport/free_flight.h"
 
 #include <math.h>
@@ -14,33 +15,13 @@ void medium_phase(const atmosphere *atm, const double *n, double cos_theta, doub
         for (int c = 0; c < atm->scattering_count; c++) {
             const species *sp = &atm->species[c];
             double s = sp->sigma_s[k] * n[c];
-            double pc = 0.0;
-            switch (sp->phase) {
-            case PHASE_RAYLEIGH:
-                pc = phase_rayleigh_eval(cos_theta, sp->phase_param[k]);
-                break;
-            case PHASE_NONE:
-                break;
-            }
-            num += s * pc;
+            num += s * phase_evaluate(&sp->phase, k, cos_theta);
             den += s;
         }
         p[k] = den > 0.0 ? num / den : 0.0;
         if (sigma_s)
             sigma_s[k] = den;
     }
-}
-
-/* cos_theta sampled from the phase function of species c at grid wavelength k. */
-static double sample_species_phase(const species *sp, int k, double u)
-{
-    switch (sp->phase) {
-    case PHASE_RAYLEIGH:
-        return phase_rayleigh_sample(u, sp->phase_param[k]);
-    case PHASE_NONE:
-        break;
-    }
-    return 2.0 * u - 1.0;
 }
 
 static vec3 rotate_direction(vec3 d, double cos_theta, double phi)
@@ -179,7 +160,7 @@ void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r
                     break;
                 c++;
             }
-            double cos_theta = sample_species_phase(&atm->species[c], h, rng_uniform(r));
+            double cos_theta = phase_sample(&atm->species[c].phase, h, rng_uniform(r));
             vec3 nd = rotate_direction(d, cos_theta, 2.0 * FM_PI * rng_uniform(r));
             medium_phase(atm, n, cos_theta, phase, NULL);
             for (int k = 0; k < K; k++)
