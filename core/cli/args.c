@@ -96,7 +96,7 @@ void options_print_usage(void)
           "Sky:\n"
           "  --sun-elevation DEG    elevation of the sun's centre, [-90, 90] (default 30)\n"
           "  --sun-azimuth DEG      from north toward east, [-360, 360] (default 180, south)\n"
-          "  --altitude M           observer above the ground, [0, 100000] (default 0)\n"
+          "  --altitude M           observer above the ground, [0, 20000] (default 0)\n"
           "  --albedo X             Lambertian ground reflectance, [0, 1] (default 0.2)\n"
           "  --ozone-du X           total ozone column in Dobson units, [0, 1000]; 0 disables (default 300)\n"
           "  --earth-sun-distance AU  [0.95, 1.05] (default 1)\n"

@@ -50,6 +50,7 @@ expect_usage_error "azimuth out of range" render --sun-azimuth 400
 expect_usage_error "negative albedo" render --albedo -0.1
 expect_usage_error "albedo above 1" render --albedo 1.5
 expect_usage_error "negative altitude" render --altitude -3
+expect_usage_error "altitude above 20 km" render --altitude 30000
 expect_usage_error "negative ozone" render --ozone-du -1
 expect_usage_error "width 0" render --width 0
 expect_usage_error "absurd width" render --width 1000000

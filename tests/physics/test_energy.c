@@ -49,8 +49,10 @@ static double flux_at(double lambda, double albedo, double cos_alpha, flux_kind 
     fm_sky_params p = test_params(asin(cos_alpha) / FM_DEG, lambda);
     p.ozone_column_du = 0.0;
     p.ground_albedo = albedo;
-    p.observer_altitude_m = kind == UP_AT_TOP ? FM_ATMOSPHERE_HEIGHT_M : 0.0;
     fm_sky *sky = test_sky(&p);
+    /* the path tracer works from anywhere: put the observer at the top of the atmosphere */
+    if (kind == UP_AT_TOP)
+        sky->observer = v3(0.0, 0.0, sky->atm.top_radius_m);
     double f = flux(sky, kind == UP_AT_TOP ? -1.0 : 1.0, N, seed);
     if (kind == DOWN_AT_GROUND) {
         fm_sun_light sun;

@@ -1,5 +1,6 @@
 /* The fast path (radiance tables) against the reference mode (per-pixel path tracing, no tables),
- * on small maps of a noon sky and a sunset, at the default final quality.
+ * on small maps of a noon sky, a sunset and a noon sky seen from eye height (2 m: the horizon dips
+ * 0.045 degrees, a sliver of sky below the horizontal), at the default final quality.
  *
  * Metric: for each pixel's luminance, z = (Y_fast - Y_ref) / se_ref with se_ref the reference's own
  * standard error.  If the fast path were exact, z would be standard normal noise: mean z^2 = 1,
@@ -15,12 +16,13 @@
 
 #include <math.h>
 
-static void compare(double sun_elevation)
+static void compare(double sun_elevation, double altitude_m, int reference_paths)
 {
     fm_sky_params p = test_params(sun_elevation, 0.0);
+    p.observer_altitude_m = altitude_m;
     fm_sky *sky = test_sky(&p);
     const int W = 48, H = 24;
-    fm_image *ref = test_render(sky, W, FM_QUALITY_REFERENCE, 0, 11, 4096, 1.0, 0);
+    fm_image *ref = test_render(sky, W, FM_QUALITY_REFERENCE, 0, 11, reference_paths, 1.0, 0);
     fm_image *fast = test_render(sky, W, FM_QUALITY_FINAL, 0, 12, 0, 1.0, 0);
     double z2[3] = {0}, zs[3] = {0}, rel[3] = {0}, se2[3] = {0}, worst = 0.0;
     long n[3] = {0};
@@ -56,14 +58,16 @@ static void compare(double sun_elevation)
     fm_sky_destroy(sky);
 }
 
-static void noon(void **state) { compare(30.0); }
-static void sunset(void **state) { compare(2.0); }
+static void noon(void **state) { compare(30.0, 0.0, 4096); }
+static void sunset(void **state) { compare(2.0, 0.0, 4096); }
+static void eye_height(void **state) { compare(30.0, 2.0, 2048); }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(noon),
         cmocka_unit_test(sunset),
+        cmocka_unit_test(eye_height),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

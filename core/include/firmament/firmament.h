@@ -59,7 +59,7 @@ const char *fm_status_name(fm_status status);
 typedef struct fm_sky_params {
     double sun_elevation_deg;     /* of the sun disk's centre above the horizontal, [-90, 90] */
     double sun_azimuth_deg;       /* from north toward east, [-360, 360] */
-    double observer_altitude_m;   /* above the ground, [0, 100000] (the top of the atmosphere) */
+    double observer_altitude_m;   /* above the ground, [0, 20000] */
     double ground_albedo;         /* Lambertian reflectance, [0, 1] */
     double ozone_column_du;       /* total ozone column, [0, 1000] Dobson units; 0 disables ozone */
     double earth_sun_distance_au; /* scales solar irradiance (1/d^2) and disk size (1/d), [0.95, 1.05] */

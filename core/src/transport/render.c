@@ -80,7 +80,10 @@ static void ss_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         double e, phi, L[FM_MAX_WAVELENGTHS] = {0};
         sky_grid_node_angles(&job->ss, (int)i, &e, &phi);
         single_scatter_radiance(&pc, sky->observer, view_direction(sky, e, phi), L);
-        to_channels(&sky->atm, L, &job->ss.values[i * job->channels]);
+        float v[3];
+        to_channels(&sky->atm, L, v);
+        for (int c = 0; c < job->channels; c++)
+            sky_grid_set(&job->ss, (int)i, c, v[c]);
     }
 }
 
@@ -114,20 +117,43 @@ static double relative_azimuth(const fm_sky *sky, double azimuth)
     return phi > FM_PI ? 2.0 * FM_PI - phi : phi;
 }
 
-/* Footprint samples per pixel row: the quality's count, but near the horizon, where radiance climbs
- * steeply toward it (and jumps to the ground), rows are sampled every 0.2 degrees or finer. */
-static int sub_rows(const render_job *job, int y, int H)
+/* Footprint samples of one pixel row: elevations and weights (summing to 1) of the midpoints of
+ * equal sub-intervals.  Away from the horizon the quality's count is enough.  Near it, radiance climbs
+ * steeply toward the horizon and jumps to the ground, so sub-intervals are 0.2 degrees or finer and
+ * the row is split exactly at the horizon elevation: each side is sampled on its own and weighted
+ * by its share of the row (pixels are averages over image area, i.e. uniform in elevation). */
+#define MAX_SUB_ROWS 256
+
+static int row_samples(const render_job *job, int y, int H, double *elevation, double *weight)
 {
     const double fine = 0.2 * FM_DEG, band_below = 3.0 * FM_DEG, band_above = 10.0 * FM_DEG;
     double top = FM_PI * (0.5 - (double)y / H), bottom = FM_PI * (0.5 - (double)(y + 1) / H);
     double h = job->ss.horizon_elevation;
-    int n = job->q.subpixels;
-    if (bottom < h + band_above && top > h - band_below) {
-        int needed = (int)ceil((top - bottom) / fine);
-        if (needed > n)
-            n = needed;
+    double cuts[3] = {top, bottom, bottom};
+    int parts = 1;
+    if (h < top && h > bottom) {
+        cuts[1] = h;
+        parts = 2;
     }
-    return n;
+    int near = bottom < h + band_above && top > h - band_below;
+    int count = 0;
+    for (int p = 0; p < parts; p++) {
+        double hi = cuts[p], lo = cuts[p + 1];
+        int n = job->q.subpixels;
+        if (near) {
+            int needed = (int)ceil((hi - lo) / fine);
+            if (needed > n)
+                n = needed;
+        }
+        if (n > MAX_SUB_ROWS / parts)
+            n = MAX_SUB_ROWS / parts;
+        for (int j = 0; j < n; j++) {
+            elevation[count] = hi - (hi - lo) * (j + 0.5) / n;
+            weight[count] = (hi - lo) / (top - bottom) / n;
+            count++;
+        }
+    }
+    return count;
 }
 
 static void fast_rows(void *ctx, int64_t begin, int64_t end, int thread)
@@ -135,26 +161,28 @@ static void fast_rows(void *ctx, int64_t begin, int64_t end, int thread)
     render_job *job = ctx;
     fm_image *img = job->img;
     const int W = img->width, H = img->height, C = job->channels, n = job->q.subpixels;
+    double elevation[MAX_SUB_ROWS], weight[MAX_SUB_ROWS];
     for (int64_t y = begin; y < end; y++) {
-        const int ny = sub_rows(job, (int)y, H);
+        const int ny = row_samples(job, (int)y, H, elevation, weight);
         for (int x = 0; x < W; x++) {
-            float acc[3] = {0, 0, 0}, v[3];
+            double acc[3] = {0, 0, 0};
+            float v[3];
             for (int sy = 0; sy < ny; sy++) {
                 for (int sx = 0; sx < n; sx++) {
                     double e, a;
-                    equirect_angles(W, H, x + (sx + 0.5) / n, (double)y + (sy + 0.5) / ny, &e, &a);
-                    double phi = relative_azimuth(job->sky, a);
-                    sky_grid_lookup(&job->ss, e, phi, v);
+                    equirect_angles(W, H, x + (sx + 0.5) / n, (double)y, &e, &a);
+                    double phi = relative_azimuth(job->sky, a), w = weight[sy] / n;
+                    sky_grid_lookup(&job->ss, elevation[sy], phi, v);
                     for (int c = 0; c < C; c++)
-                        acc[c] += v[c];
-                    sky_grid_lookup(&job->ms, e, phi, v);
+                        acc[c] += w * v[c];
+                    sky_grid_lookup(&job->ms, elevation[sy], phi, v);
                     for (int c = 0; c < C; c++)
-                        acc[c] += v[c];
+                        acc[c] += w * v[c];
                 }
             }
             float *px = &img->pixels[((size_t)y * W + x) * C];
             for (int c = 0; c < C; c++)
-                px[c] = acc[c] / (float)(n * ny);
+                px[c] = (float)acc[c];
         }
     }
 }
@@ -346,8 +374,10 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
         s = parallel_for(params->threads, H, 1, reference_rows, &job, params->cancel, &pr);
     } else {
         const quality_settings *q = &job.q;
-        if (sky_grid_init(&job.ss, horizon, q->ss_rows_sky, q->ss_rows_ground, q->ss_cols, job.channels) ||
-            sky_grid_init(&job.ms, horizon, q->ms_rows_sky, q->ms_rows_ground, q->ms_cols, job.channels)) {
+        /* deterministic single scattering interpolates in log space; the noisy higher orders do not
+         * (the logarithm of a noisy mean is biased) */
+        if (sky_grid_init(&job.ss, horizon, q->ss_rows_sky, q->ss_rows_ground, q->ss_cols, job.channels, 1) ||
+            sky_grid_init(&job.ms, horizon, q->ms_rows_sky, q->ms_rows_ground, q->ms_cols, job.channels, 0)) {
             s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the radiance tables");
             goto done;
         }

@@ -10,15 +10,21 @@
 #define HORIZON_GAP 1e-7
 
 fm_status sky_grid_init(sky_grid *g, double horizon_elevation, int rows_sky, int rows_ground, int cols,
-                        int channels)
+                        int channels, int logarithmic)
 {
     g->horizon_elevation = horizon_elevation;
+    g->logarithmic = logarithmic;
     g->rows_sky = rows_sky;
     g->rows_ground = rows_ground;
     g->cols = cols;
     g->channels = channels;
     g->values = calloc((size_t)sky_grid_nodes(g) * (size_t)channels, sizeof(float));
     return g->values ? FM_OK : FM_ERR_OUT_OF_MEMORY;
+}
+
+void sky_grid_set(sky_grid *g, int index, int c, float v)
+{
+    g->values[(size_t)index * g->channels + c] = g->logarithmic ? logf(fmaxf(v, FM_GRID_FLOOR)) : v;
 }
 
 void sky_grid_free(sky_grid *g)
@@ -71,6 +77,8 @@ void sky_grid_lookup(const sky_grid *g, double elevation, double rel_azimuth, fl
     const float *v01 = v00 + C;
     const float *v10 = v00 + (size_t)g->cols * C;
     const float *v11 = v10 + C;
-    for (int c = 0; c < C; c++)
-        out[c] = (float)((1 - tr) * ((1 - tc) * v00[c] + tc * v01[c]) + tr * ((1 - tc) * v10[c] + tc * v11[c]));
+    for (int c = 0; c < C; c++) {
+        double v = (1 - tr) * ((1 - tc) * v00[c] + tc * v01[c]) + tr * ((1 - tc) * v10[c] + tc * v11[c]);
+        out[c] = (float)(g->logarithmic ? exp(v) : v);
+    }
 }

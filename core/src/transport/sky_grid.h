@@ -7,7 +7,9 @@
  *     sky rows:    e = e_h + (pi/2 - e_h) u^2,  u = row / (rows_sky - 1)     (row 0 at the horizon)
  *     ground rows: e = e_h - (pi/2 + e_h) u^2,  u = row / (rows_ground - 1)
  * so rows crowd where radiance changes fastest; columns are uniform in phi.  Lookups interpolate
- * bilinearly in (u, phi) within the domain of the direction. */
+ * bilinearly in (u, phi) within the domain of the direction: in the values themselves, or, for a
+ * logarithmic grid, in their logarithms (exact for radiance that falls exponentially across the
+ * grid, as through the limb seen from high up; meant for deterministic, non-negative values). */
 #ifndef FM_TRANSPORT_SKY_GRID_H
 #define FM_TRANSPORT_SKY_GRID_H
 
@@ -16,11 +18,17 @@
 typedef struct sky_grid {
     double horizon_elevation; /* rad */
     int rows_sky, rows_ground, cols, channels;
+    int logarithmic;          /* values hold log(max(v, FM_GRID_FLOOR)) */
     float *values;            /* [rows_sky + rows_ground][cols][channels], sky rows first */
 } sky_grid;
 
+#define FM_GRID_FLOOR 1e-30f
+
 fm_status sky_grid_init(sky_grid *g, double horizon_elevation, int rows_sky, int rows_ground, int cols,
-                        int channels);
+                        int channels, int logarithmic);
+
+/* Stores value v at node `index`, channel c. */
+void sky_grid_set(sky_grid *g, int index, int c, float v);
 void sky_grid_free(sky_grid *g);
 
 static inline int sky_grid_nodes(const sky_grid *g) { return (g->rows_sky + g->rows_ground) * g->cols; }
