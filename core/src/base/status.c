@@ -51,12 +51,3 @@ fm_status fm_fail_parameter(fm_error *err, const char *field, const char *fmt, .
     }
     return FM_ERR_INVALID_ARGUMENT;
 }
-
-void fm_error_clear(fm_error *err)
-{
-    if (err) {
-        err->status = FM_OK;
-        err->parameter[0] = '\0';
-        err->message[0] = '\0';
-    }
-}

@@ -18,7 +18,4 @@ fm_status fm_fail(fm_error *err, fm_status code, const char *fmt, ...) FM_PRINTF
  * it ("<field>: ..."). */
 fm_status fm_fail_parameter(fm_error *err, const char *field, const char *fmt, ...) FM_PRINTF(3, 4);
 
-/* Clears err to FM_OK with an empty message. */
-void fm_error_clear(fm_error *err);
-
 #endif

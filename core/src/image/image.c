@@ -1,7 +1,6 @@
 /* fm_image: allocation, colour conversion and the hemispherical integral used by the sidecar. */
 #include "base/status.h"
 #include "base/units.h"
-#include "camera/equirect.h"
 #include "colour/colour.h"
 #include "image/image.h"
 
@@ -68,17 +67,17 @@ void fm_image_diffuse_horizontal(const fm_image *image, double out[3])
 {
     const int W = image->width, H = image->height, C = image->channels;
     out[0] = out[1] = out[2] = 0.0;
-    for (int y = 0; y < H / 2; y++) { /* the upper half: elevation > 0 */
-        double omega = equirect_pixel_solid_angle(W, H, y);
-        double top = FM_PI * (0.5 - (double)y / H), bottom = FM_PI * (0.5 - (double)(y + 1) / H);
-        /* mean of sin(elevation) over the row's solid angle: cos(zenith) weighting */
-        double cos_mean = 0.5 * (sin(top) + sin(bottom));
+    for (int y = 0; y < H; y++) {
+        /* the part of the row above the horizontal plane; with radiance constant over a pixel, its
+         * cos(zenith)-weighted solid angle is (2 pi / W) * (sin^2 top - sin^2 bottom) / 2 */
+        double top = FM_PI * (0.5 - (double)y / H), bottom = fmax(0.0, FM_PI * (0.5 - (double)(y + 1) / H));
+        if (top <= 0.0)
+            break;
+        double weight = FM_PI / W * (sin(top) * sin(top) - sin(bottom) * sin(bottom));
         for (int x = 0; x < W; x++) {
             size_t i = ((size_t)y * W + x) * C;
-            for (int c = 0; c < C && c < 3; c++) {
-                double v = image->pixels[i + c] - (image->sun_disk ? image->sun_disk[i + c] : 0.0f);
-                out[c] += v * omega * cos_mean;
-            }
+            for (int c = 0; c < C && c < 3; c++)
+                out[c] += weight * (image->pixels[i + c] - (image->sun_disk ? image->sun_disk[i + c] : 0.0f));
         }
     }
 }
