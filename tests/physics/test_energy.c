@@ -134,11 +134,45 @@ static void black_ground_absorbs_the_rest(void **state)
     check_rel(out + limb + absorbed, in, 4e-3, "reflected + absorbed by the ground = incident (albedo 0)");
 }
 
+/* The sidecar's diffuse horizontal irradiance is the integral of the map's upper hemisphere
+ * (fm_image_diffuse_horizontal); it must match a path-traced estimate made without the map. */
+static void map_diffuse_irradiance_matches_path_tracing(void **state)
+{
+    const double elevations[] = {30.0, 3.0};
+    for (int e = 0; e < 2; e++) {
+        fm_sky_params p = test_params(elevations[e], 0.0);
+        fm_sky *sky = test_sky(&p);
+        fm_image *img = test_render(sky, 256, FM_QUALITY_FINAL, 0, 3, 0, 1.0, 1);
+        double from_map[3];
+        fm_image_diffuse_horizontal(img, from_map); /* XYZ, sun disk excluded */
+        const int K = sky->atm.grid.count, N = 100000;
+        path_context all = sky_path_context(sky, 1, 0);
+        double sum = 0.0, sum2 = 0.0;
+        for (int i = 0; i < N; i++) {
+            rng r = rng_for(55, (uint64_t)e, (uint64_t)i);
+            double u1 = rng_uniform(&r), u2 = rng_uniform(&r), s = sqrt(u1), phi = 2.0 * FM_PI * u2;
+            double L[FM_MAX_WAVELENGTHS] = {0}, y = 0.0;
+            path_trace(&all, sky->observer, v3(s * cos(phi), s * sin(phi), sqrt(1.0 - u1)), i % K, &r, L);
+            for (int k = 0; k < K; k++)
+                y += L[k] * sky->atm.grid.xyz_weight[k][1];
+            sum += y;
+            sum2 += y * y;
+        }
+        double mean = sum / N, traced = FM_PI * mean, se = FM_PI * sqrt((sum2 / N - mean * mean) / N);
+        print_message("sun %g deg: diffuse horizontal %.1f lux from the map, %.1f +- %.1f lux path-traced\n",
+                      elevations[e], 683.0 * from_map[1], 683.0 * traced, 683.0 * se);
+        check_rel(from_map[1], traced, 0.01 + 3.0 * se / traced, "diffuse horizontal irradiance (Y)");
+        fm_image_destroy(img);
+        fm_sky_destroy(sky);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(white_ground_returns_everything),
         cmocka_unit_test(black_ground_absorbs_the_rest),
+        cmocka_unit_test(map_diffuse_irradiance_matches_path_tracing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
