@@ -3,7 +3,7 @@
 # written completely or not at all (errors, SIGINT, SIGTERM), progress lines, `compare`.
 # Usage: test_cli.sh path/to/firmament
 set -u
-FM=$1
+FM=$(realpath "$1") # absolute: the cases run from their own directories
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 failures=0
