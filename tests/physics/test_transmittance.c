@@ -82,21 +82,20 @@ static double tracked_transmittance(const atmosphere *a, vec3 origin, vec3 dir, 
 
 static void delta_tracking_in_the_ozone_layer(void **state)
 {
-    /* 300 nm, 100 DU: between 15 and 30 km ozone absorbs more than the air at 15 km scatters and
-     * absorbs, so no majorant taken at the start of these rays would be valid. */
+    /* 300 nm, 1000 DU: between 12 and 32 km ozone absorbs up to 2.4 times more than everything at
+     * the ground, so one majorant taken at the ground (or at the start of these rays) would
+     * under-sample collisions there and overestimate the transmittance. */
     fm_sky_params p = test_params(30.0, 300.0);
-    p.ozone_column_du = 100.0;
+    p.ozone_column_du = 1000.0;
     fm_sky *sky = test_sky(&p);
     const atmosphere *a = &sky->atm;
-    double n[FM_MAX_SPECIES] = {0};
-    atmosphere_densities(a, a->bottom_radius_m + 15000.0, n);
-    double start = a->species[0].sigma_s[0] * n[0] + a->species[1].sigma_a[0] * n[1];
-    atmosphere_densities(a, a->bottom_radius_m + 22000.0, n);
-    double layer = a->species[1].sigma_a[0] * n[1];
-    assert_true(layer > start); /* the premise of the test */
+    double ss[FM_MAX_WAVELENGTHS], ground[FM_MAX_WAVELENGTHS], layer[FM_MAX_WAVELENGTHS];
+    atmosphere_coefficients(a, a->bottom_radius_m, ss, ground);
+    atmosphere_coefficients(a, a->bottom_radius_m + 20000.0, ss, layer);
+    assert_true(layer[0] > 2.0 * ground[0]); /* the premise of the test */
     struct {
         double z, mu;
-    } rays[] = {{15000.0, 1.0}, {30000.0, -0.05}, {0.0, 0.9}};
+    } rays[] = {{25000.0, 1.0}, {27000.0, 0.6}, {30000.0, 1.0}};
     for (int i = 0; i < 3; i++) {
         double r0 = a->bottom_radius_m + rays[i].z;
         vec3 origin = v3(0, 0, r0), dir = v3(sqrt(1 - rays[i].mu * rays[i].mu), 0, rays[i].mu);
