@@ -41,6 +41,9 @@ typedef double (*ray_integrand)(void *ctx, vec3 x);
 double test_view_ray_integral(const fm_sky *sky, vec3 d, int steps, ray_integrand f, void *ctx,
                               double *end_transmittance, int *hits_ground);
 
+/* Molecular scattering coefficient (m^-1) at point x for the first grid wavelength. */
+double test_molecular_scattering(const fm_sky *sky, vec3 x);
+
 /* Mean of N path-traced radiance estimates (first grid wavelength, hero 0) from origin along dir,
  * with random streams (seed, item, 0..N-1); *se receives the standard error of the mean. */
 double test_path_radiance(const path_context *ctx, vec3 origin, vec3 dir, int N, uint64_t seed, uint64_t item,

@@ -114,3 +114,9 @@ double test_path_radiance(const path_context *ctx, vec3 origin, vec3 dir, int N,
         *se = sqrt(fmax(0.0, sum2 / N - mean * mean) / N);
     return mean;
 }
+
+double test_molecular_scattering(const fm_sky *sky, vec3 x)
+{
+    const species *mol = &sky->atm.species[0];
+    return mol->sigma_s[0] * profile_density(&mol->profile, v3_length(x) - sky->atm.bottom_radius_m);
+}

@@ -56,9 +56,7 @@ typedef struct source_ctx {
 static double second_order_source(void *p, vec3 x)
 {
     const source_ctx *c = p;
-    const atmosphere *a = &c->sky->atm;
-    double n = profile_density(&a->species[0].profile, v3_length(x) - a->bottom_radius_m);
-    return a->species[0].sigma_s[0] * n * in_scattered(c->sky, c->one, x, c->d);
+    return test_molecular_scattering(c->sky, x) * in_scattered(c->sky, c->one, x, c->d);
 }
 
 static double second_order_quadrature(const fm_sky *sky, vec3 d, int steps)

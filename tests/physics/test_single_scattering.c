@@ -36,8 +36,7 @@ static double single_scattering_source(void *p, vec3 x)
     const source_ctx *c = p;
     const atmosphere *a = &c->sky->atm;
     double r = v3_length(x);
-    double n = profile_density(&a->species[0].profile, r - a->bottom_radius_m);
-    return a->species[0].sigma_s[0] * n * c->phase * a->grid.solar_irradiance[0] *
+    return test_molecular_scattering(c->sky, x) * c->phase * a->grid.solar_irradiance[0] *
            sun_transmittance(a, r, v3_dot(x, c->sky->sun_dir) / r);
 }
 
