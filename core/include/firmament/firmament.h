@@ -56,15 +56,47 @@ const char *fm_status_name(fm_status status);
 /* ---------------------------------------------------------------------------------------------
  * The sky: atmosphere, sun and observer.  Immutable once created; shared by render threads. */
 
+typedef enum fm_aerosol_phase {
+    FM_AEROSOL_PHASE_MIE = 0, /* the tabulated Mie phase function of the mixture, per wavelength */
+    FM_AEROSOL_PHASE_HG       /* Henyey-Greenstein with the mixture's Mie asymmetry parameter g */
+} fm_aerosol_phase;
+
+/* ozone_column_du: take the column from the climatology for the date and place. */
+#define FM_OZONE_FROM_CLIMATOLOGY (-1.0)
+/* humidity_percent: the biome's own default humidity. */
+#define FM_HUMIDITY_BIOME_DEFAULT (-1.0)
+
 typedef struct fm_sky_params {
     double sun_elevation_deg;     /* of the sun disk's centre above the horizontal, [-90, 90] */
     double sun_azimuth_deg;       /* from north toward east, [-360, 360] */
     double observer_altitude_m;   /* above the ground, [0, 20000] */
     double ground_albedo;         /* Lambertian reflectance, [0, 1] */
-    double ozone_column_du;       /* total ozone column, [0, 1000] Dobson units; 0 disables ozone */
+    double ozone_column_du;       /* total ozone column, [0, 1000] Dobson units; 0 disables ozone;
+                                   * FM_OZONE_FROM_CLIMATOLOGY: from the date and place below */
     double earth_sun_distance_au; /* scales solar irradiance (1/d^2) and disk size (1/d), [0.95, 1.05] */
     double wavelength_nm;         /* 0: colour render over 380-780 nm; else one wavelength in [300, 1000] */
     int threads;                  /* for building the sky's tables, [0, 256]; 0 = one per online core */
+
+    /* Date and place (Gregorian calendar; year 0 = no date): the ozone climatology's inputs. */
+    int year, month, day;         /* [1900, 2100], [1, 12], [1, days in month] */
+    double latitude_deg;          /* [-90, 90], north positive */
+    double longitude_deg;         /* [-180, 180], east positive */
+
+    /* Aerosols. */
+    const char *biome;            /* NULL or "none": no aerosols; else a name in presets/biomes/
+                                   * (background, desert-dust, ..., urban) or a path to a biome JSON */
+    double turbidity;             /* multiplier of the biome's aerosol number densities, [0, 50]; 1 = nominal */
+    double aod550;                /* 0: use turbidity; else scale the biome to this aerosol optical depth
+                                   * at 550 nm, (0, 10] */
+    double humidity_percent;      /* relative humidity for hygroscopic growth, [0, 99];
+                                   * FM_HUMIDITY_BIOME_DEFAULT: the biome's own */
+    fm_aerosol_phase aerosol_phase;
+
+    /* A custom atmosphere (README, "Custom atmospheres"): replaces the built-in molecules, ozone and
+     * aerosols.  NULL = the built-in Earth atmosphere. */
+    const char *atmosphere_file;
+    /* Where biome names are looked up; NULL = $FIRMAMENT_PRESETS, else the installed presets. */
+    const char *presets_dir;
 } fm_sky_params;
 
 fm_sky_params fm_sky_params_default(void);
@@ -87,6 +119,23 @@ typedef struct fm_sun_light {
 } fm_sun_light;
 
 void fm_sky_sun_light(const fm_sky *sky, fm_sun_light *out);
+
+/* What the atmosphere holds, as the sidecar reports it.  Optical depths are vertical, from the
+ * ground to the top, at 550 nm (computed at 550 nm whatever the render's spectral grid). */
+typedef struct fm_composition {
+    double rayleigh_tau550;
+    double ozone_tau550;
+    double aerosol_tau550;
+    double aerosol_angstrom;      /* -dln(tau)/dln(lambda) between 440 and 870 nm; 0 without aerosols */
+    double aerosol_ssa550;        /* column single-scattering albedo at 550 nm; 1 without aerosols */
+    double aerosol_g550;          /* column asymmetry parameter at 550 nm */
+    double ozone_column_du;       /* used (from the climatology or as given) */
+    double humidity_percent;      /* used for hygroscopic growth; -1 without aerosols */
+    double turbidity;             /* number-density multiplier actually applied (also when aod550 set it) */
+    char biome[64];               /* "none", a biome name, or "custom" for an atmosphere file */
+} fm_composition;
+
+void fm_sky_composition(const fm_sky *sky, fm_composition *out);
 
 /* ---------------------------------------------------------------------------------------------
  * Rendering. */
