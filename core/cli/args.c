@@ -24,6 +24,7 @@ enum {
     OPT_WAVELENGTH,
     OPT_SIDECAR,
     OPT_EARTH_SUN_DISTANCE,
+    OPT_ATMOSPHERE,
 };
 
 /* Each option with the library field it sets (for error messages). */
@@ -41,6 +42,7 @@ static const option_doc docs[] = {
     {OPT_OZONE, "ozone-du", "ozone_column_du"},
     {OPT_EARTH_SUN_DISTANCE, "earth-sun-distance", "earth_sun_distance_au"},
     {OPT_WAVELENGTH, "wavelength", "wavelength_nm"},
+    {OPT_ATMOSPHERE, "atmosphere", "atmosphere_file"},
     {OPT_WIDTH, "width", "width"},
     {OPT_QUALITY, "quality", "quality"},
     {OPT_SAMPLES, "samples", "reference_samples"},
@@ -58,6 +60,7 @@ static const struct option long_options[] = {
     {"ozone-du", required_argument, NULL, OPT_OZONE},
     {"earth-sun-distance", required_argument, NULL, OPT_EARTH_SUN_DISTANCE},
     {"wavelength", required_argument, NULL, OPT_WAVELENGTH},
+    {"atmosphere", required_argument, NULL, OPT_ATMOSPHERE},
     {"width", required_argument, NULL, OPT_WIDTH},
     {"quality", required_argument, NULL, OPT_QUALITY},
     {"samples", required_argument, NULL, OPT_SAMPLES},
@@ -102,6 +105,10 @@ void options_print_usage(void)
           "  --earth-sun-distance AU  [0.95, 1.05] (default 1)\n"
           "  --wavelength NM        monochromatic render at one wavelength, [300, 1000]: one channel of\n"
           "                         spectral radiance in W m^-2 sr^-1 nm^-1\n"
+          "  --atmosphere FILE      a custom atmosphere (JSON, docs/atmosphere-file.md) instead of the\n"
+          "                         built-in Earth: its planet, constituents and optionally its ground\n"
+          "                         albedo (over --albedo) and solar spectrum; --ozone-du is ignored;\n"
+          "                         e.g. presets/atmospheres/reference-rayleigh.json\n"
           "Image:\n"
           "  -o, --output FILE      output EXR (default sky.exr); the sidecar is FILE with .json\n"
           "  --sidecar FILE         sidecar path instead of the default\n"
@@ -194,6 +201,9 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
                 return PARSE_ERROR;
             }
             opt->sky.wavelength_nm = d;
+            break;
+        case OPT_ATMOSPHERE:
+            opt->sky.atmosphere_file = arg;
             break;
         case OPT_SAMPLE_SCALE:
             bad_number = !parse_double(arg, &opt->render.sample_scale);

@@ -1,6 +1,7 @@
 /* fm_sky: validation of the user's parameters and construction of the atmosphere and tables. */
 #include "sky.h"
 
+#include "atmosphere/atmosphere_file.h"
 #include "base/status.h"
 #include "base/units.h"
 #include "base/vec.h"
@@ -92,11 +93,24 @@ fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err
     for (int k = 0; k < grid.count; k++)
         grid.solar_irradiance[k] *= inv_d2;
 
-    if ((s = atmosphere_init_clear_sky(&sky->atm, &grid, params->ozone_column_du, params->ground_albedo, err))) {
+    if (params->atmosphere_file) {
+        /* A custom atmosphere: its own geometry, constituents, and optionally albedo and solar
+         * spectrum (at 1 AU, scaled by 1/d^2 like the built-in one). */
+        s = atmosphere_init_from_file(&sky->atm, params->atmosphere_file, &grid, inv_d2, params->ground_albedo, err);
+        if (!s && params->observer_altitude_m >= sky->atm.top_radius_m - sky->atm.bottom_radius_m) {
+            s = fm_fail_parameter(err, "observer_altitude_m", "%g m is not below the top of the atmosphere in %s (%g m)",
+                                  params->observer_altitude_m, params->atmosphere_file,
+                                  sky->atm.top_radius_m - sky->atm.bottom_radius_m);
+            atmosphere_free(&sky->atm);
+        }
+    } else {
+        s = atmosphere_init_clear_sky(&sky->atm, &grid, params->ozone_column_du, params->ground_albedo, err);
+    }
+    if (s) {
         free(sky);
         return s;
     }
-    sun_disk_init(&sky->sun, &grid, params->earth_sun_distance_au);
+    sun_disk_init(&sky->sun, &sky->atm.grid, params->earth_sun_distance_au);
     sky->sun_dir = direction_from_elevation_azimuth(params->sun_elevation_deg * FM_DEG,
                                                     params->sun_azimuth_deg * FM_DEG);
     sky->observer = v3(0.0, 0.0, sky->atm.bottom_radius_m + params->observer_altitude_m);

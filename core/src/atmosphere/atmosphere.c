@@ -20,9 +20,13 @@ static double ozone_density(void *ctx, double altitude_m)
 }
 
 /* Shell boundaries (km): fine where the density changes fastest, around the ozone layer and at the
- * altitudes where aerosol layers usually end. */
-static const double shell_altitude_km[] = {0, 0.5, 1, 1.5, 2, 2.5, 3, 4, 5, 6, 7, 8, 10, 12, 14, 16, 18, 20,
-                                           22, 24, 26, 28, 30, 33, 36, 40, 45, 50, 60, 70, 80, 100};
+ * altitudes where aerosol layers usually end; coarser beyond 100 km for taller custom atmospheres.
+ * The list is cut at the top of the atmosphere, whatever it is. */
+static const double shell_altitude_km[] = {0.5, 1, 1.5, 2, 2.5, 3, 4, 5, 6, 7, 8, 10, 12, 14, 16, 18, 20, 22,
+                                           24, 26, 28, 30, 33, 36, 40, 45, 50, 60, 70, 80, 100, 150, 200, 300,
+                                           500, 1000, 2000, 5000};
+#define N_SHELL_ALTITUDES ((int)(sizeof shell_altitude_km / sizeof shell_altitude_km[0]))
+_Static_assert(N_SHELL_ALTITUDES + 1 <= FM_MAX_SHELLS, "shell list longer than FM_MAX_SHELLS");
 
 fm_status atmosphere_init_clear_sky(atmosphere *atm, const spectral_grid *grid, double ozone_column_du,
                                     double ground_albedo, fm_error *err)
@@ -65,18 +69,22 @@ oom:
 
 void atmosphere_free(atmosphere *atm)
 {
-    for (int c = 0; c < atm->species_count; c++)
+    for (int c = 0; c < atm->species_count; c++) {
         profile_free(&atm->species[c].profile);
+        phase_free(&atm->species[c].phase);
+    }
     atm->species_count = 0;
 }
 
 void atmosphere_update_majorants(atmosphere *atm)
 {
-    int n = (int)(sizeof shell_altitude_km / sizeof shell_altitude_km[0]) - 1;
+    const double top_m = atm->top_radius_m - atm->bottom_radius_m;
+    int n = 0;
+    atm->shell_radius[0] = atm->bottom_radius_m;
+    for (int i = 0; i < N_SHELL_ALTITUDES && shell_altitude_km[i] * FM_KM < top_m * (1.0 - 1e-9); i++)
+        atm->shell_radius[++n] = atm->bottom_radius_m + shell_altitude_km[i] * FM_KM;
+    atm->shell_radius[++n] = atm->top_radius_m;
     atm->shell_count = n;
-    for (int i = 0; i <= n; i++)
-        atm->shell_radius[i] = atm->bottom_radius_m + shell_altitude_km[i] * FM_KM;
-    atm->shell_radius[n] = atm->top_radius_m;
     for (int i = 0; i < n; i++) {
         double z0 = atm->shell_radius[i] - atm->bottom_radius_m;
         double z1 = atm->shell_radius[i + 1] - atm->bottom_radius_m;

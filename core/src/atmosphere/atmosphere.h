@@ -13,7 +13,7 @@
 #include "phase/phase.h"
 #include "spectrum/spectral_grid.h"
 
-#define FM_MAX_SPECIES 8
+#define FM_MAX_SPECIES 12
 #define FM_MAX_SHELLS 40
 
 typedef struct species {
@@ -31,6 +31,7 @@ typedef struct atmosphere {
     int species_count;
     species species[FM_MAX_SPECIES];
     int scattering_count;                     /* species with a phase function come first */
+    char species_names[FM_MAX_SPECIES][32];   /* storage for names read from a file */
 
     /* Delta-tracking majorants: shell i spans [shell_radius[i], shell_radius[i+1]]; for every grid
      * wavelength k, shell_majorant[i][k] >= sigma_t(r, lambda_k) for all r in the shell. */
@@ -44,7 +45,7 @@ fm_status atmosphere_init_clear_sky(atmosphere *atm, const spectral_grid *grid, 
                                     double ground_albedo, fm_error *err);
 void atmosphere_free(atmosphere *atm);
 
-/* Computes the majorant shells; call after the species are final. */
+/* Computes the majorant shells (for any top of the atmosphere); call after the species are final. */
 void atmosphere_update_majorants(atmosphere *atm);
 
 /* Number densities of every species at radius r. */

@@ -119,7 +119,7 @@ void column_exact(const atmosphere *atm, double r, double mu, double t_max, doub
 
 static const double breakpoint_altitude_km[] = {0.25, 0.5, 1, 1.5, 2, 2.5, 3, 4, 5, 6, 7, 8, 9, 10, 12, 14,
                                                 16, 18, 20, 22, 24, 26, 28, 30, 33, 36, 40, 45, 50, 55, 60,
-                                                70, 80, 90};
+                                                70, 80, 90, 100, 150, 200, 300, 500, 1000, 2000, 5000};
 #define N_BREAKPOINTS ((int)(sizeof breakpoint_altitude_km / sizeof breakpoint_altitude_km[0]))
 
 static int cmp_double(const void *a, const void *b)
@@ -138,6 +138,8 @@ int ray_pieces(const atmosphere *atm, double r, double mu, double t_max, double 
         s[n++] = 0.0;
     for (int i = 0; i < N_BREAKPOINTS && n + 2 < max_count; i++) {
         double rb = atm->bottom_radius_m + breakpoint_altitude_km[i] * FM_KM;
+        if (rb >= atm->top_radius_m)
+            break; /* the list is ascending; the top is the ray's end anyway */
         double d = rb * rb - p2;
         if (d <= 0.0)
             continue;

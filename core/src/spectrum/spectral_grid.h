@@ -26,6 +26,13 @@ typedef struct spectral_grid {
 void spectral_grid_visible(spectral_grid *grid);
 void spectral_grid_single(spectral_grid *grid, double lambda_nm);
 
+/* Replaces the grid's solar spectrum by another one, irradiance(ctx, lambda_nm) in W m^-2 nm^-1
+ * (e.g. a custom atmosphere's): a single-wavelength grid takes its value at the node; a colour grid
+ * recomputes the node means E_k and the XYZ weights as above, from 1 nm samples within one step of
+ * each node (where E_k is 0 the weights are those of a flat spectrum: nothing is lit there). */
+typedef double (*spectrum_fn)(const void *ctx, double lambda_nm);
+void spectral_grid_set_solar(spectral_grid *grid, spectrum_fn irradiance, const void *ctx);
+
 /* XYZ of values given at the grid's nodes (colour grids only). */
 void spectral_grid_to_xyz(const spectral_grid *grid, const double *values, double xyz[3]);
 
