@@ -34,7 +34,7 @@ fm_status atmosphere_init_clear_sky(atmosphere *atm, const spectral_grid *grid, 
     for (int k = 0; k < grid->count; k++)
         atm->ground_albedo[k] = ground_albedo;
 
-    species *mol = &atm->species[atm->species_count++];
+    species *mol = atmosphere_new_species(atm, 1);
     mol->name = "molecules";
     mol->phase.kind = PHASE_RAYLEIGH;
     for (int k = 0; k < grid->count; k++) {
@@ -43,10 +43,9 @@ fm_status atmosphere_init_clear_sky(atmosphere *atm, const spectral_grid *grid, 
     }
     if (profile_sample(&mol->profile, molecules_density, NULL, FM_ATMOSPHERE_HEIGHT_M, FM_PROFILE_SPACING_M))
         goto oom;
-    atm->scattering_count = 1;
 
     if (ozone_column_du > 0.0) {
-        species *o3 = &atm->species[atm->species_count++];
+        species *o3 = atmosphere_new_species(atm, 0);
         o3->name = "ozone";
         o3->phase.kind = PHASE_NONE;
         double t_eff = ozone_effective_temperature_k();
@@ -68,6 +67,17 @@ void atmosphere_free(atmosphere *atm)
     for (int c = 0; c < atm->species_count; c++)
         profile_free(&atm->species[c].profile);
     atm->species_count = 0;
+}
+
+species *atmosphere_new_species(atmosphere *atm, int scatters)
+{
+    if (atm->species_count >= FM_MAX_SPECIES)
+        return NULL;
+    int at = scatters ? atm->scattering_count++ : atm->species_count;
+    memmove(&atm->species[at + 1], &atm->species[at], sizeof(species) * (size_t)(atm->species_count - at));
+    atm->species_count++;
+    memset(&atm->species[at], 0, sizeof(species));
+    return &atm->species[at];
 }
 
 void atmosphere_update_majorants(atmosphere *atm)

@@ -13,7 +13,7 @@
 #include "phase/phase.h"
 #include "spectrum/spectral_grid.h"
 
-#define FM_MAX_SPECIES 8
+#define FM_MAX_SPECIES 12
 #define FM_MAX_SHELLS 40
 
 typedef struct species {
@@ -43,6 +43,10 @@ typedef struct atmosphere {
 fm_status atmosphere_init_clear_sky(atmosphere *atm, const spectral_grid *grid, double ozone_column_du,
                                     double ground_albedo, fm_error *err);
 void atmosphere_free(atmosphere *atm);
+
+/* A zeroed slot for a new species, keeping scattering species before pure absorbers; NULL when
+ * FM_MAX_SPECIES are in use. */
+species *atmosphere_new_species(atmosphere *atm, int scatters);
 
 /* Computes the majorant shells; call after the species are final. */
 void atmosphere_update_majorants(atmosphere *atm);
