@@ -3,6 +3,9 @@
 
 #include "aerosol/aerosol.h"
 #include "atmosphere/ozone.h"
+#include "atmosphere/ozone_climatology.h"
+#include "atmosphere/ozone_profile.h"
+#include "base/date.h"
 #include "atmosphere/rayleigh.h"
 #include "presets.h"
 
@@ -57,13 +60,6 @@ static fm_status check_range(fm_error *err, const char *field, double v, double 
     if (!isfinite(v) || v < lo || v > hi)
         return fm_fail_parameter(err, field, "%g is outside [%g, %g]%s%s", v, lo, hi, unit[0] ? " " : "", unit);
     return FM_OK;
-}
-
-static int date_is_valid(int y, int m, int d)
-{
-    static const int days[] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
-    int leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
-    return y >= 1900 && y <= 2100 && m >= 1 && m <= 12 && d >= 1 && d <= days[m - 1] + (m == 2 && leap);
 }
 
 static fm_status validate_date(const fm_sky_params *p, fm_error *err)
@@ -208,15 +204,29 @@ fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err
     for (int k = 0; k < grid.count; k++)
         grid.solar_irradiance[k] *= inv_d2;
 
+    /* ozone: the column as given or from the climatology; the profile shape for the date and
+     * latitude when there is a date, else the U.S. Standard one */
     double ozone_du = params->ozone_column_du;
-    if ((s = atmosphere_init_clear_sky(&sky->atm, &grid, ozone_du, params->ground_albedo, err))) {
+    ozone_profile shape = OZONE_PROFILE_US_STANDARD;
+    if (params->year != 0) {
+        shape = ozone_profile_for(params->latitude_deg,
+                                  date_day_of_year(params->year, params->month, params->day));
+        if (ozone_du == FM_OZONE_FROM_CLIMATOLOGY &&
+            (s = ozone_climatology_for_date(params->year, params->month, params->day, params->latitude_deg,
+                                            params->longitude_deg, &ozone_du, err))) {
+            free(sky);
+            return s;
+        }
+    }
+    if ((s = atmosphere_init_clear_sky(&sky->atm, &grid, ozone_du, shape, params->ground_albedo, err))) {
         free(sky);
         return s;
     }
-    if ((s = add_aerosols(sky, params, ozone_du, ozone_effective_temperature_k(), err))) {
+    if ((s = add_aerosols(sky, params, ozone_du, ozone_profile_effective_temperature_k(shape), err))) {
         fm_sky_destroy(sky);
         return s;
     }
+    snprintf(sky->composition.ozone_profile, sizeof sky->composition.ozone_profile, "%s", ozone_profile_name(shape));
     sun_disk_init(&sky->sun, &grid, params->earth_sun_distance_au);
     sky->sun_dir = direction_from_elevation_azimuth(params->sun_elevation_deg * FM_DEG,
                                                     params->sun_azimuth_deg * FM_DEG);

@@ -97,13 +97,14 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
         add_double(m, "parameters", "longitude_deg", sp->longitude_deg);
     }
     add_string(m, "parameters", "atmosphere", "U.S. Standard Atmosphere 1976 molecules (Bucholtz Rayleigh), "
-                                              "ozone (Bogumil 2003 cross sections, AFGL profiles), "
+                                              "ozone (Bogumil 2003 cross sections, AFGL profiles by latitude and season), "
                                               "OPAC aerosol components (Mie theory)");
 
     const fm_composition *c = &m->composition;
     add_double(m, "atmosphere", "rayleigh_optical_depth_550nm", c->rayleigh_tau550);
     add_double(m, "atmosphere", "ozone_optical_depth_550nm", c->ozone_tau550);
     add_double(m, "atmosphere", "ozone_column_du", c->ozone_column_du);
+    add_string(m, "atmosphere", "ozone_profile", c->ozone_profile);
     add_string(m, "atmosphere", "biome", c->biome);
     add_double(m, "atmosphere", "aerosol_optical_depth_550nm", c->aerosol_tau550);
     if (c->aerosol_tau550 > 0.0) {
