@@ -71,8 +71,10 @@ oom:
 
 void atmosphere_free(atmosphere *atm)
 {
-    for (int c = 0; c < atm->species_count; c++)
+    for (int c = 0; c < atm->species_count; c++) {
         profile_free(&atm->species[c].profile);
+        phase_free(&atm->species[c].phase);
+    }
     atm->species_count = 0;
 }
 
