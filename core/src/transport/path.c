@@ -15,6 +15,8 @@ void medium_phase(const atmosphere *atm, const double *n, double cos_theta, doub
     double num[FM_MAX_WAVELENGTHS] = {0}, den[FM_MAX_WAVELENGTHS] = {0}, value[FM_MAX_WAVELENGTHS];
     for (int c = 0; c < atm->scattering_count; c++) {
         const species *sp = &atm->species[c];
+        if (n[c] == 0.0)
+            continue; /* aerosol layers are absent at most altitudes */
         phase_evaluate_all(&sp->phase, K, cos_theta, value);
         for (int k = 0; k < K; k++) {
             double s = sp->sigma_s[k] * n[c];
