@@ -119,6 +119,48 @@ file afglus.dat of libRadtran).  Columns: geometric altitude [km], O3 number den
     return len(rows)
 
 
+# AFGL profiles in the order of ozone_profile (atmosphere/ozone_climatology.h), after US Standard.
+AFGL_PROFILES = [
+    ("us", "U.S. Standard 1976"),
+    ("t", "tropical (15 N, annual mean)"),
+    ("ms", "midlatitude summer (45 N, July)"),
+    ("mw", "midlatitude winter (45 N, January)"),
+    ("ss", "subarctic summer (60 N, July)"),
+    ("sw", "subarctic winter (60 N, January)"),
+]
+
+
+def afgl_profiles(data):
+    tables = []
+    for name, _ in AFGL_PROFILES:
+        rows = read_columns(os.path.join(data, "atmosphere", "afgl%s.dat" % name))
+        rows.sort(key=lambda r: r[0])
+        tables.append(rows)
+    grid = [r[0] for r in tables[0]]
+    assert all([r[0] for r in t] == grid for t in tables), "AFGL profiles on different altitude grids"
+    body = "const double fm_afgl_profiles[FM_AFGL_PROFILE_COUNT][FM_AFGL_LEVEL_COUNT][3] = {\n"
+    notes = []
+    for (name, title), rows in zip(AFGL_PROFILES, tables):
+        column = 0.0  # log-linear between levels, molecules cm^-2
+        for a, b in zip(rows, rows[1:]):
+            dz = (b[0] - a[0]) * 1e5
+            column += a[4] * dz if a[4] == b[4] else (b[4] - a[4]) / math.log(b[4] / a[4]) * dz
+        notes.append("  %-11s %-36s %5.1f DU" % ("afgl%s.dat" % name, title, column / 2.6867e16))
+        body += "    { /* afgl%s.dat: %s */\n" % (name, title)
+        body += "".join("        {%.3f, %.3f, %s},\n" % (r[0], r[2], fmt(r[4] * 1e6)) for r in rows)
+        body += "    },\n"
+    body += "};\n"
+    write_c("afgl_profiles.c", """
+The six AFGL model atmospheres: temperature and ozone number density vs altitude
+(G. P. Anderson, S. A. Clough, F. X. Kneizys, J. H. Chetwynd, E. P. Shettle, "AFGL atmospheric
+constituent profiles (0-120 km)", AFGL-TR-86-0110, Air Force Geophysics Laboratory, 1986;
+files afgl*.dat as distributed with libRadtran, data/atmmod).  Per profile, one row per level from
+the ground up: geometric altitude [km], temperature [K], O3 number density [m^-3] (converted from
+cm^-3).  Values otherwise unchanged.  Total ozone columns (log-linear between levels, 0-120 km):
+""" + "\n".join(notes), body)
+    return len(grid)
+
+
 # Neckel & Labs (1994), Solar Physics 153, 91-114, Table 1: centre-to-limb variation
 # I(mu)/I(1) = sum_k A_k mu^k and, last column, the disk-averaged intensity over the central one.
 NECKEL_LABS_1994 = [
@@ -172,7 +214,7 @@ Solar Physics 153 (1994) 91-114, Table 1.""", body)
     return len(NECKEL_LABS_1994)
 
 
-def header(n_solar, n_profile, n_ld):
+def header(n_solar, n_profile, n_ld, n_afgl):
     path = os.path.join(OUT, "tables.h")
     with open(path, "w") as f:
         f.write("""/* Physical data tables compiled into firmament (see each .c file for sources and units).
@@ -187,15 +229,19 @@ def header(n_solar, n_profile, n_ld):
 #define FM_OZONE_COUNT %d
 #define FM_OZONE_PROFILE_COUNT %d
 #define FM_LIMB_DARKENING_COUNT %d
+#define FM_AFGL_PROFILE_COUNT %d
+#define FM_AFGL_LEVEL_COUNT %d
 
 extern const double fm_cie1931_xyz_1nm[FM_CIE_COUNT][3];
 extern const double fm_solar_astm_g173[FM_SOLAR_COUNT][2];
 extern const double fm_ozone_bogumil_1nm[FM_OZONE_COUNT][3];
 extern const double fm_ozone_profile_afgl_us[FM_OZONE_PROFILE_COUNT][2];
 extern const double fm_limb_darkening_neckel_labs[FM_LIMB_DARKENING_COUNT][8];
+/* [profile][level][altitude km, temperature K, O3 m^-3], profiles in ozone_profile order */
+extern const double fm_afgl_profiles[FM_AFGL_PROFILE_COUNT][FM_AFGL_LEVEL_COUNT][3];
 
 #endif
-""" % (n_solar, LAMBDA_MIN_NM, LAMBDA_MAX_NM - LAMBDA_MIN_NM + 1, n_profile, n_ld))
+""" % (n_solar, LAMBDA_MIN_NM, LAMBDA_MAX_NM - LAMBDA_MIN_NM + 1, n_profile, n_ld, len(AFGL_PROFILES), n_afgl))
     print("wrote", path)
 
 
@@ -209,7 +255,8 @@ def main():
     ozone_table(data)
     n_profile = ozone_profile(data)
     n_ld = limb_darkening_table()
-    header(n_solar, n_profile, n_ld)
+    n_afgl = afgl_profiles(data)
+    header(n_solar, n_profile, n_ld, n_afgl)
 
 
 if __name__ == "__main__":

@@ -25,6 +25,14 @@ enum {
     OPT_SIDECAR,
     OPT_EARTH_SUN_DISTANCE,
     OPT_ATMOSPHERE,
+    OPT_BIOME,
+    OPT_TURBIDITY,
+    OPT_AOD550,
+    OPT_HUMIDITY,
+    OPT_AEROSOL_PHASE,
+    OPT_DATE,
+    OPT_LATITUDE,
+    OPT_LONGITUDE,
 };
 
 /* Each option with the library field it sets (for error messages). */
@@ -41,6 +49,14 @@ static const option_doc docs[] = {
     {OPT_ALBEDO, "albedo", "ground_albedo"},
     {OPT_OZONE, "ozone-du", "ozone_column_du"},
     {OPT_EARTH_SUN_DISTANCE, "earth-sun-distance", "earth_sun_distance_au"},
+    {OPT_BIOME, "biome", "biome"},
+    {OPT_TURBIDITY, "turbidity", "turbidity"},
+    {OPT_AOD550, "aod550", "aod550"},
+    {OPT_HUMIDITY, "humidity", "humidity_percent"},
+    {OPT_AEROSOL_PHASE, "aerosol-phase", "aerosol_phase"},
+    {OPT_DATE, "date", "date"},
+    {OPT_LATITUDE, "latitude", "latitude_deg"},
+    {OPT_LONGITUDE, "longitude", "longitude_deg"},
     {OPT_WAVELENGTH, "wavelength", "wavelength_nm"},
     {OPT_ATMOSPHERE, "atmosphere", "atmosphere_file"},
     {OPT_WIDTH, "width", "width"},
@@ -59,6 +75,14 @@ static const struct option long_options[] = {
     {"albedo", required_argument, NULL, OPT_ALBEDO},
     {"ozone-du", required_argument, NULL, OPT_OZONE},
     {"earth-sun-distance", required_argument, NULL, OPT_EARTH_SUN_DISTANCE},
+    {"biome", required_argument, NULL, OPT_BIOME},
+    {"turbidity", required_argument, NULL, OPT_TURBIDITY},
+    {"aod550", required_argument, NULL, OPT_AOD550},
+    {"humidity", required_argument, NULL, OPT_HUMIDITY},
+    {"aerosol-phase", required_argument, NULL, OPT_AEROSOL_PHASE},
+    {"date", required_argument, NULL, OPT_DATE},
+    {"latitude", required_argument, NULL, OPT_LATITUDE},
+    {"longitude", required_argument, NULL, OPT_LONGITUDE},
     {"wavelength", required_argument, NULL, OPT_WAVELENGTH},
     {"atmosphere", required_argument, NULL, OPT_ATMOSPHERE},
     {"width", required_argument, NULL, OPT_WIDTH},
@@ -91,7 +115,7 @@ void options_print_usage(void)
           "       firmament compare IMAGE.exr REFERENCE.exr [--exclude-sun DEG] [--json]\n"
           "       firmament --help | --version\n"
           "\n"
-          "Renders the clear sky seen from one place as an equirectangular OpenEXR map (Blender's\n"
+          "Renders the sky seen from one place as an equirectangular OpenEXR map (Blender's\n"
           "Environment Texture layout: north at u = 0.25, east at the centre, zenith at the top) and a\n"
           "JSON sidecar with the sun's direction and light.  Values are CIE-weighted radiance in\n"
           "linear Rec.709 (Y x 683 = cd/m^2), or spectral radiance with --wavelength.\n"
@@ -101,7 +125,21 @@ void options_print_usage(void)
           "  --sun-azimuth DEG      from north toward east, [-360, 360] (default 180, south)\n"
           "  --altitude M           observer above the ground, [0, 20000] (default 0)\n"
           "  --albedo X             Lambertian ground reflectance, [0, 1] (default 0.2)\n"
-          "  --ozone-du X           total ozone column in Dobson units, [0, 1000]; 0 disables (default 300)\n"
+          "  --ozone-du X           total ozone column in Dobson units, [0, 1000]; 0 disables (default:\n"
+          "                         from the climatology with --date, else 300)\n"
+          "  --date YYYY-MM-DD      date (1900-2100) for the ozone climatology; needs --latitude\n"
+          "  --latitude DEG         [-90, 90], north positive\n"
+          "  --longitude DEG        [-180, 180], east positive (default 0)\n"
+          "Aerosols:\n"
+          "  --biome NAME           none | background | desert-dust | maritime-clean | maritime-mineral |\n"
+          "                         polar-antarctic | polar-arctic | remote-continental | rural | urban,\n"
+          "                         or a biome JSON file (default rural)\n"
+          "  --turbidity X          multiplier of the biome's aerosol number density, [0, 50] (default 1)\n"
+          "  --aod550 X             instead: scale the biome to this aerosol optical depth at 550 nm\n"
+          "  --humidity RH          relative humidity in %, [0, 99], for hygroscopic growth (default: the\n"
+          "                         biome's)\n"
+          "  --aerosol-phase MODEL  mie (tabulated Mie phase function, default) | hg (Henyey-Greenstein\n"
+          "                         with the Mie asymmetry parameter)\n"
           "  --earth-sun-distance AU  [0.95, 1.05] (default 1)\n"
           "  --wavelength NM        monochromatic render at one wavelength, [300, 1000]: one channel of\n"
           "                         spectral radiance in W m^-2 sr^-1 nm^-1\n"
@@ -162,7 +200,7 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
 
     opterr = 0; /* we print our own, one-line messages */
     optind = 1;
-    int c, index = -1;
+    int c, index = -1, have_ozone = 0, have_latitude = 0;
     while ((c = getopt_long(argc, argv, ":o:h", long_options, &index)) != -1) {
         const char *name = index >= 0 ? long_options[index].name : NULL;
         const char *arg = optarg;
@@ -190,6 +228,7 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             break;
         case OPT_OZONE:
             bad_number = !parse_double(arg, &opt->sky.ozone_column_du);
+            have_ozone = 1;
             break;
         case OPT_EARTH_SUN_DISTANCE:
             bad_number = !parse_double(arg, &opt->sky.earth_sun_distance_au);
@@ -204,6 +243,56 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             break;
         case OPT_ATMOSPHERE:
             opt->sky.atmosphere_file = arg;
+            break;
+        case OPT_BIOME:
+            opt->sky.biome = arg;
+            break;
+        case OPT_TURBIDITY:
+            bad_number = !parse_double(arg, &opt->sky.turbidity);
+            break;
+        case OPT_AOD550:
+            bad_number = !parse_double(arg, &d);
+            if (!bad_number && d <= 0.0) {
+                snprintf(msg, msg_size, "--aod550: %g is outside (0, 10]", d);
+                return PARSE_ERROR;
+            }
+            opt->sky.aod550 = d;
+            break;
+        case OPT_HUMIDITY:
+            bad_number = !parse_double(arg, &d);
+            if (!bad_number && d < 0.0) {
+                snprintf(msg, msg_size, "--humidity: %g is outside [0, 99] %%", d);
+                return PARSE_ERROR;
+            }
+            opt->sky.humidity_percent = d;
+            break;
+        case OPT_AEROSOL_PHASE:
+            if (strcmp(arg, "mie") == 0)
+                opt->sky.aerosol_phase = FM_AEROSOL_PHASE_MIE;
+            else if (strcmp(arg, "hg") == 0)
+                opt->sky.aerosol_phase = FM_AEROSOL_PHASE_HG;
+            else {
+                snprintf(msg, msg_size, "--aerosol-phase: '%s' is not one of mie, hg", arg);
+                return PARSE_ERROR;
+            }
+            break;
+        case OPT_DATE: {
+            int y, m, dd, used = 0;
+            if (sscanf(arg, "%4d-%2d-%2d%n", &y, &m, &dd, &used) != 3 || used != 10 || arg[used] != '\0') {
+                snprintf(msg, msg_size, "--date: '%s' is not a date YYYY-MM-DD", arg);
+                return PARSE_ERROR;
+            }
+            opt->sky.year = y;
+            opt->sky.month = m;
+            opt->sky.day = dd;
+            break;
+        }
+        case OPT_LATITUDE:
+            bad_number = !parse_double(arg, &opt->sky.latitude_deg);
+            have_latitude = 1;
+            break;
+        case OPT_LONGITUDE:
+            bad_number = !parse_double(arg, &opt->sky.longitude_deg);
             break;
         case OPT_SAMPLE_SCALE:
             bad_number = !parse_double(arg, &opt->render.sample_scale);
@@ -291,6 +380,14 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     if (optind < argc) {
         snprintf(msg, msg_size, "unexpected argument '%s' (options start with --)", argv[optind]);
         return PARSE_ERROR;
+    }
+    if (opt->sky.year != 0 && !have_ozone) {
+        /* a date and a place choose the ozone column, unless --ozone-du says otherwise */
+        if (!have_latitude) {
+            snprintf(msg, msg_size, "--date: the ozone climatology also needs --latitude (or give --ozone-du)");
+            return PARSE_ERROR;
+        }
+        opt->sky.ozone_column_du = FM_OZONE_FROM_CLIMATOLOGY;
     }
     return PARSE_RUN;
 }

@@ -2,12 +2,22 @@
 #include "sky.h"
 
 #include "atmosphere/atmosphere_file.h"
+#include "aerosol/aerosol.h"
+#include "atmosphere/ozone.h"
+#include "atmosphere/ozone_climatology.h"
+#include "atmosphere/ozone_profile.h"
+#include "base/date.h"
+#include "atmosphere/rayleigh.h"
+#include "presets.h"
+
 #include "base/status.h"
 #include "base/units.h"
 #include "base/vec.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* Observers from the ground to aircraft and balloons.  Higher up, the upper limb (light scattered
  * from the bright atmosphere below into very thin air) makes the path tracer's estimates
@@ -31,6 +41,18 @@ fm_sky_params fm_sky_params_default(void)
         .earth_sun_distance_au = 1.0,
         .wavelength_nm = 0.0,
         .threads = 0,
+        .year = 0,
+        .month = 0,
+        .day = 0,
+        .latitude_deg = 0.0,
+        .longitude_deg = 0.0,
+        .biome = "rural",
+        .turbidity = 1.0,
+        .aod550 = 0.0,
+        .humidity_percent = FM_HUMIDITY_BIOME_DEFAULT,
+        .aerosol_phase = FM_AEROSOL_PHASE_MIE,
+        .atmosphere_file = NULL,
+        .presets_dir = NULL,
     };
 }
 
@@ -41,6 +63,136 @@ static fm_status check_range(fm_error *err, const char *field, double v, double 
     return FM_OK;
 }
 
+static fm_status validate_date(const fm_sky_params *p, fm_error *err)
+{
+    if (p->year == 0) {
+        if (p->ozone_column_du == FM_OZONE_FROM_CLIMATOLOGY)
+            return fm_fail_parameter(err, "ozone_column_du", "the ozone climatology needs a date and a place");
+        return FM_OK;
+    }
+    if (!date_is_valid(p->year, p->month, p->day))
+        return fm_fail_parameter(err, "date", "%04d-%02d-%02d is not a valid date between 1900 and 2100", p->year,
+                                 p->month, p->day);
+    return FM_OK;
+}
+
+static int has_biome(const fm_sky_params *p)
+{
+    return p->biome && p->biome[0] && strcmp(p->biome, "none") != 0;
+}
+
+/* Ozone, molecules and aerosols as the sidecar reports them, all at 550 nm. */
+static fm_status compute_composition(fm_sky *sky, const biome *b, double humidity, double turbidity,
+                                     double ozone_du, double ozone_t_eff_k, fm_error *err)
+{
+    fm_composition *c = &sky->composition;
+    memset(c, 0, sizeof *c);
+    c->rayleigh_tau550 = rayleigh_cross_section_m2(550.0) * profile_column(&sky->atm.species[0].profile);
+    c->ozone_tau550 = ozone_cross_section_m2(550.0, ozone_t_eff_k) * ozone_du * FM_DU_MOLECULES_PER_M2;
+    c->ozone_column_du = ozone_du;
+    c->aerosol_ssa550 = 1.0;
+    c->humidity_percent = -1.0;
+    snprintf(c->biome, sizeof c->biome, "none");
+    if (!b)
+        return FM_OK;
+    snprintf(c->biome, sizeof c->biome, "%s", b->name);
+    aerosol_column col550, col440, col870;
+    fm_status s;
+    if ((s = aerosol_biome_column(b, humidity, 550.0, &col550, err)) ||
+        (s = aerosol_biome_column(b, humidity, 440.0, &col440, err)) ||
+        (s = aerosol_biome_column(b, humidity, 870.0, &col870, err)))
+        return s;
+    c->aerosol_tau550 = turbidity * col550.tau_ext;
+    if (col440.tau_ext > 0.0 && col870.tau_ext > 0.0)
+        c->aerosol_angstrom = -log(col870.tau_ext / col440.tau_ext) / log(870.0 / 440.0);
+    if (col550.tau_ext > 0.0)
+        c->aerosol_ssa550 = col550.tau_sca / col550.tau_ext;
+    c->aerosol_g550 = col550.g;
+    c->humidity_percent = humidity;
+    c->turbidity = turbidity;
+    return FM_OK;
+}
+
+/* Adds the biome's aerosols; turbidity from aod550 when that is given. */
+static fm_status add_aerosols(fm_sky *sky, const fm_sky_params *p, double ozone_du, double ozone_t_eff_k,
+                              fm_error *err)
+{
+    if (!has_biome(p))
+        return compute_composition(sky, NULL, 0.0, 0.0, ozone_du, ozone_t_eff_k, err);
+    biome b;
+    fm_status s = biome_load(p->biome, presets_dir(p->presets_dir), &b, err);
+    if (s)
+        return s;
+    double humidity = p->humidity_percent == FM_HUMIDITY_BIOME_DEFAULT ? b.humidity_percent : p->humidity_percent;
+    double turbidity = p->turbidity;
+    if (p->aod550 > 0.0) {
+        aerosol_column col;
+        if ((s = aerosol_biome_column(&b, humidity, 550.0, &col, err)))
+            return s;
+        if (!(col.tau_ext > 0.0))
+            return fm_fail_parameter(err, "aod550", "biome '%s' has no aerosol to scale", b.name);
+        turbidity = p->aod550 / col.tau_ext;
+    }
+    if ((s = aerosol_add_biome(&sky->atm, &b, humidity, turbidity, p->aerosol_phase, err)))
+        return s;
+    atmosphere_update_majorants(&sky->atm);
+    return compute_composition(sky, &b, humidity, turbidity, ozone_du, ozone_t_eff_k, err);
+}
+
+/* A custom atmosphere (atmosphere_file.h) replaces molecules, ozone and aerosols: its own planet,
+ * constituents, and optionally ground albedo (over params->ground_albedo) and solar spectrum (at
+ * 1 AU, scaled by 1/d^2 like the built-in one).  The sidecar's composition sorts its constituents
+ * at 550 nm, when the file covers 550 nm: Rayleigh scatterers as "rayleigh", pure absorbers as
+ * "ozone", other scatterers as aerosols; biome and ozone profile read "custom". */
+static fm_status custom_atmosphere(fm_sky *sky, const fm_sky_params *p, const spectral_grid *grid, double inv_d2,
+                                   fm_error *err)
+{
+    if (has_biome(p))
+        return fm_fail_parameter(err, "biome", "'%s' cannot be combined with a custom atmosphere file (%s), whose "
+                                 "constituents replace the built-in ones", p->biome, p->atmosphere_file);
+    fm_status s = atmosphere_init_from_file(&sky->atm, p->atmosphere_file, grid, inv_d2, p->ground_albedo, err);
+    if (s)
+        return s;
+    double top_m = sky->atm.top_radius_m - sky->atm.bottom_radius_m;
+    if (p->observer_altitude_m >= top_m) {
+        atmosphere_free(&sky->atm);
+        return fm_fail_parameter(err, "observer_altitude_m", "%g m is not below the top of the atmosphere in %s (%g m)",
+                                 p->observer_altitude_m, p->atmosphere_file, top_m);
+    }
+    fm_composition *c = &sky->composition;
+    memset(c, 0, sizeof *c);
+    snprintf(c->biome, sizeof c->biome, "custom");
+    snprintf(c->ozone_profile, sizeof c->ozone_profile, "custom");
+    c->aerosol_ssa550 = 1.0;
+    c->humidity_percent = -1.0;
+    spectral_grid g550;
+    spectral_grid_single(&g550, 550.0);
+    atmosphere a;
+    if (atmosphere_init_from_file(&a, p->atmosphere_file, &g550, 1.0, 0.0, NULL) != FM_OK)
+        return FM_OK; /* not given at 550 nm: nothing to report */
+    double aerosol_sca = 0.0, aerosol_g = 0.0;
+    for (int i = 0; i < a.species_count; i++) {
+        const species *sp = &a.species[i];
+        double col = profile_column(&sp->profile);
+        double tau = (sp->sigma_s[0] + sp->sigma_a[0]) * col;
+        if (sp->phase.kind == PHASE_RAYLEIGH) {
+            c->rayleigh_tau550 += tau;
+        } else if (sp->phase.kind == PHASE_NONE) {
+            c->ozone_tau550 += tau;
+        } else {
+            c->aerosol_tau550 += tau;
+            aerosol_sca += sp->sigma_s[0] * col;
+            aerosol_g += sp->sigma_s[0] * col * phase_asymmetry(&sp->phase, 0);
+        }
+    }
+    if (c->aerosol_tau550 > 0.0)
+        c->aerosol_ssa550 = aerosol_sca / c->aerosol_tau550;
+    if (aerosol_sca > 0.0)
+        c->aerosol_g550 = aerosol_g / aerosol_sca;
+    atmosphere_free(&a);
+    return FM_OK;
+}
+
 static fm_status validate(const fm_sky_params *p, fm_error *err)
 {
     fm_status s;
@@ -48,10 +200,24 @@ static fm_status validate(const fm_sky_params *p, fm_error *err)
         (s = check_range(err, "sun_azimuth_deg", p->sun_azimuth_deg, -360.0, 360.0, "degrees")) ||
         (s = check_range(err, "observer_altitude_m", p->observer_altitude_m, 0.0, FM_MAX_OBSERVER_ALTITUDE_M, "m")) ||
         (s = check_range(err, "ground_albedo", p->ground_albedo, 0.0, 1.0, "")) ||
-        (s = check_range(err, "ozone_column_du", p->ozone_column_du, 0.0, 1000.0, "DU")) ||
+        (s = check_range(err, "latitude_deg", p->latitude_deg, -90.0, 90.0, "degrees")) ||
+        (s = check_range(err, "longitude_deg", p->longitude_deg, -180.0, 180.0, "degrees")) ||
+        (s = check_range(err, "turbidity", p->turbidity, 0.0, 50.0, "")) ||
         (s = check_range(err, "earth_sun_distance_au", p->earth_sun_distance_au, 0.95, 1.05, "AU")))
         return s;
     if (p->wavelength_nm != 0.0 && (s = check_range(err, "wavelength_nm", p->wavelength_nm, 300.0, 1000.0, "nm")))
+        return s;
+    if (p->ozone_column_du != FM_OZONE_FROM_CLIMATOLOGY &&
+        (s = check_range(err, "ozone_column_du", p->ozone_column_du, 0.0, 1000.0, "DU")))
+        return s;
+    if (p->aod550 != 0.0 && (s = check_range(err, "aod550", p->aod550, 1e-6, 10.0, "")))
+        return s;
+    if (p->humidity_percent != FM_HUMIDITY_BIOME_DEFAULT &&
+        (s = check_range(err, "humidity_percent", p->humidity_percent, 0.0, 99.0, "%")))
+        return s;
+    if (p->aerosol_phase != FM_AEROSOL_PHASE_MIE && p->aerosol_phase != FM_AEROSOL_PHASE_HG)
+        return fm_fail_parameter(err, "aerosol_phase", "%d is not a known phase model", (int)p->aerosol_phase);
+    if ((s = validate_date(p, err)))
         return s;
     if (p->threads < 0 || p->threads > 256)
         return fm_fail_parameter(err, "threads", "%d is outside [0, 256]", p->threads);
@@ -94,21 +260,34 @@ fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err
         grid.solar_irradiance[k] *= inv_d2;
 
     if (params->atmosphere_file) {
-        /* A custom atmosphere: its own geometry, constituents, and optionally albedo and solar
-         * spectrum (at 1 AU, scaled by 1/d^2 like the built-in one). */
-        s = atmosphere_init_from_file(&sky->atm, params->atmosphere_file, &grid, inv_d2, params->ground_albedo, err);
-        if (!s && params->observer_altitude_m >= sky->atm.top_radius_m - sky->atm.bottom_radius_m) {
-            s = fm_fail_parameter(err, "observer_altitude_m", "%g m is not below the top of the atmosphere in %s (%g m)",
-                                  params->observer_altitude_m, params->atmosphere_file,
-                                  sky->atm.top_radius_m - sky->atm.bottom_radius_m);
-            atmosphere_free(&sky->atm);
+        if ((s = custom_atmosphere(sky, params, &grid, inv_d2, err))) {
+            free(sky);
+            return s;
         }
     } else {
-        s = atmosphere_init_clear_sky(&sky->atm, &grid, params->ozone_column_du, params->ground_albedo, err);
-    }
-    if (s) {
-        free(sky);
-        return s;
+        /* ozone: the column as given or from the climatology; the profile shape for the date and
+         * latitude when there is a date, else the U.S. Standard one */
+        double ozone_du = params->ozone_column_du;
+        ozone_profile shape = OZONE_PROFILE_US_STANDARD;
+        if (params->year != 0) {
+            shape = ozone_profile_for(params->latitude_deg,
+                                      date_day_of_year(params->year, params->month, params->day));
+            if (ozone_du == FM_OZONE_FROM_CLIMATOLOGY &&
+                (s = ozone_climatology_for_date(params->year, params->month, params->day, params->latitude_deg,
+                                                params->longitude_deg, &ozone_du, err))) {
+                free(sky);
+                return s;
+            }
+        }
+        if ((s = atmosphere_init_clear_sky(&sky->atm, &grid, ozone_du, shape, params->ground_albedo, err))) {
+            free(sky);
+            return s;
+        }
+        if ((s = add_aerosols(sky, params, ozone_du, ozone_profile_effective_temperature_k(shape), err))) {
+            fm_sky_destroy(sky);
+            return s;
+        }
+        snprintf(sky->composition.ozone_profile, sizeof sky->composition.ozone_profile, "%s", ozone_profile_name(shape));
     }
     sun_disk_init(&sky->sun, &sky->atm.grid, params->earth_sun_distance_au);
     sky->sun_dir = direction_from_elevation_azimuth(params->sun_elevation_deg * FM_DEG,
@@ -167,4 +346,9 @@ void fm_sky_sun_light(const fm_sky *sky, fm_sun_light *out)
             out->horizontal_irradiance[0] = eh;
         }
     }
+}
+
+void fm_sky_composition(const fm_sky *sky, fm_composition *out)
+{
+    *out = sky->composition;
 }

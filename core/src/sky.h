@@ -3,6 +3,7 @@
 #ifndef FM_SKY_H
 #define FM_SKY_H
 
+#include "aerosol/biome.h"
 #include "atmosphere/atmosphere.h"
 #include "atmosphere/optical_depth.h"
 #include "firmament/firmament.h"
@@ -18,6 +19,7 @@ struct fm_sky {
     sun_irradiance sun_table;
     vec3 sun_dir;      /* toward the sun's centre; at the observer the Earth-centred frame is the map frame */
     vec3 observer;     /* Earth-centred position (0, 0, R + altitude) */
+    fm_composition composition;
 };
 
 /* A path context for the sky with the given order range. */

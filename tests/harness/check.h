@@ -26,7 +26,8 @@ void check_abs_impl(double actual, double expected, double abs_tol, const char *
 /* A sky from parameters; fails the test on error. */
 fm_sky *test_sky(const fm_sky_params *params);
 
-/* Default sky parameters with the sun at the given elevation, monochromatic if lambda_nm > 0. */
+/* Default sky parameters without aerosols (biome "none"), the sun at the given elevation,
+ * monochromatic if lambda_nm > 0. */
 fm_sky_params test_params(double sun_elevation_deg, double lambda_nm);
 
 /* Renders a map (fails the test on error). */

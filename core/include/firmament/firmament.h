@@ -130,6 +130,7 @@ typedef struct fm_composition {
     double aerosol_ssa550;        /* column single-scattering albedo at 550 nm; 1 without aerosols */
     double aerosol_g550;          /* column asymmetry parameter at 550 nm */
     double ozone_column_du;       /* used (from the climatology or as given) */
+    char ozone_profile[32];       /* AFGL profile shape: "us-standard", "tropical", "midlatitude-summer", ... */
     double humidity_percent;      /* used for hygroscopic growth; -1 without aerosols */
     double turbidity;             /* number-density multiplier actually applied (also when aod550 set it) */
     char biome[64];               /* "none", a biome name, or "custom" for an atmosphere file */

@@ -14,9 +14,15 @@ static double molecules_density(void *ctx, double altitude_m)
     return us76_number_density(altitude_m);
 }
 
+typedef struct ozone_layer {
+    double column_du;
+    ozone_profile shape;
+} ozone_layer;
+
 static double ozone_density(void *ctx, double altitude_m)
 {
-    return *(const double *)ctx * ozone_number_density_per_du(altitude_m);
+    const ozone_layer *o = ctx;
+    return o->column_du * ozone_profile_density_per_du(o->shape, altitude_m);
 }
 
 /* Shell boundaries (km): fine where the density changes fastest, around the ozone layer and at the
@@ -29,7 +35,7 @@ static const double shell_altitude_km[] = {0.5, 1, 1.5, 2, 2.5, 3, 4, 5, 6, 7, 8
 _Static_assert(N_SHELL_ALTITUDES + 1 <= FM_MAX_SHELLS, "shell list longer than FM_MAX_SHELLS");
 
 fm_status atmosphere_init_clear_sky(atmosphere *atm, const spectral_grid *grid, double ozone_column_du,
-                                    double ground_albedo, fm_error *err)
+                                    ozone_profile ozone_shape, double ground_albedo, fm_error *err)
 {
     memset(atm, 0, sizeof *atm);
     atm->bottom_radius_m = FM_EARTH_RADIUS_M;
@@ -38,7 +44,7 @@ fm_status atmosphere_init_clear_sky(atmosphere *atm, const spectral_grid *grid, 
     for (int k = 0; k < grid->count; k++)
         atm->ground_albedo[k] = ground_albedo;
 
-    species *mol = &atm->species[atm->species_count++];
+    species *mol = atmosphere_new_species(atm, 1);
     mol->name = "molecules";
     mol->phase.kind = PHASE_RAYLEIGH;
     for (int k = 0; k < grid->count; k++) {
@@ -47,16 +53,16 @@ fm_status atmosphere_init_clear_sky(atmosphere *atm, const spectral_grid *grid, 
     }
     if (profile_sample(&mol->profile, molecules_density, NULL, FM_ATMOSPHERE_HEIGHT_M, FM_PROFILE_SPACING_M))
         goto oom;
-    atm->scattering_count = 1;
 
     if (ozone_column_du > 0.0) {
-        species *o3 = &atm->species[atm->species_count++];
+        species *o3 = atmosphere_new_species(atm, 0);
         o3->name = "ozone";
         o3->phase.kind = PHASE_NONE;
-        double t_eff = ozone_effective_temperature_k();
+        double t_eff = ozone_profile_effective_temperature_k(ozone_shape);
+        ozone_layer layer = {ozone_column_du, ozone_shape};
         for (int k = 0; k < grid->count; k++)
             o3->sigma_a[k] = ozone_cross_section_m2(grid->lambda_nm[k], t_eff);
-        if (profile_sample(&o3->profile, ozone_density, &ozone_column_du, FM_ATMOSPHERE_HEIGHT_M,
+        if (profile_sample(&o3->profile, ozone_density, &layer, FM_ATMOSPHERE_HEIGHT_M,
                            FM_PROFILE_SPACING_M))
             goto oom;
     }
@@ -74,6 +80,17 @@ void atmosphere_free(atmosphere *atm)
         phase_free(&atm->species[c].phase);
     }
     atm->species_count = 0;
+}
+
+species *atmosphere_new_species(atmosphere *atm, int scatters)
+{
+    if (atm->species_count >= FM_MAX_SPECIES)
+        return NULL;
+    int at = scatters ? atm->scattering_count++ : atm->species_count;
+    memmove(&atm->species[at + 1], &atm->species[at], sizeof(species) * (size_t)(atm->species_count - at));
+    atm->species_count++;
+    memset(&atm->species[at], 0, sizeof(species));
+    return &atm->species[at];
 }
 
 void atmosphere_update_majorants(atmosphere *atm)

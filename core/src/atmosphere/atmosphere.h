@@ -9,6 +9,7 @@
 #ifndef FM_ATMOSPHERE_ATMOSPHERE_H
 #define FM_ATMOSPHERE_ATMOSPHERE_H
 
+#include "atmosphere/ozone_profile.h"
 #include "atmosphere/profile.h"
 #include "phase/phase.h"
 #include "spectrum/spectral_grid.h"
@@ -40,10 +41,15 @@ typedef struct atmosphere {
     double shell_majorant[FM_MAX_SHELLS][FM_MAX_WAVELENGTHS];
 } atmosphere;
 
-/* Builds molecules (U.S. Standard 1976 + Rayleigh after Bucholtz) and ozone (if column > 0). */
+/* Builds molecules (U.S. Standard 1976 + Rayleigh after Bucholtz) and ozone (if column > 0) with
+ * the given AFGL profile shape. */
 fm_status atmosphere_init_clear_sky(atmosphere *atm, const spectral_grid *grid, double ozone_column_du,
-                                    double ground_albedo, fm_error *err);
+                                    ozone_profile ozone_shape, double ground_albedo, fm_error *err);
 void atmosphere_free(atmosphere *atm);
+
+/* A zeroed slot for a new species, keeping scattering species before pure absorbers; NULL when
+ * FM_MAX_SPECIES are in use. */
+species *atmosphere_new_species(atmosphere *atm, int scatters);
 
 /* Computes the majorant shells (for any top of the atmosphere); call after the species are final. */
 void atmosphere_update_majorants(atmosphere *atm);

@@ -4,6 +4,7 @@
 #include "base/units.h"
 
 #include <cjson/cJSON.h>
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -688,6 +689,10 @@ static fm_status read_text(const reader *rd, char **out, size_t *size)
 static fm_status syntax_error(const reader *rd, const char *text, size_t size, const char *at)
 {
     size_t offset = at && at >= text && at <= text + size ? (size_t)(at - text) : size;
+    /* cJSON sometimes points just past the offending character (e.g. after a stray comma): on
+     * whitespace, report the last character before it */
+    while (offset < size && offset > 0 && isspace((unsigned char)text[offset]))
+        offset--;
     int line = 1, column = 1;
     for (size_t i = 0; i < offset; i++) {
         if (text[i] == '\n')
@@ -698,8 +703,11 @@ static fm_status syntax_error(const reader *rd, const char *text, size_t size, c
     if (offset >= size)
         return fm_fail_parameter(rd->err, "atmosphere_file", "%s:%d:%d: JSON syntax error: unexpected end of file",
                                  rd->file, line, column);
-    return fm_fail_parameter(rd->err, "atmosphere_file", "%s:%d:%d: JSON syntax error near '%.12s'", rd->file, line,
-                             column, text + offset);
+    int shown = 0; /* up to 12 characters of the line from there */
+    while (shown < 12 && offset + shown < size && text[offset + shown] != '\n' && text[offset + shown] != '\r')
+        shown++;
+    return fm_fail_parameter(rd->err, "atmosphere_file", "%s:%d:%d: JSON syntax error at '%.*s'", rd->file, line,
+                             column, shown, text + offset);
 }
 
 static double file_solar(const void *ctx, double lambda_nm)

@@ -34,3 +34,11 @@ double profile_max(const density_profile *p, double z0_m, double z1_m)
         m = fmax(m, p->n[i]);
     return m;
 }
+
+double profile_column(const density_profile *p)
+{
+    double s = 0.0;
+    for (int i = 0; i + 1 < p->count; i++)
+        s += 0.5 * (p->n[i] + p->n[i + 1]) * p->dz_m;
+    return s;
+}

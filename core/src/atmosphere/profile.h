@@ -34,6 +34,10 @@ static inline double profile_density(const density_profile *p, double altitude_m
     return p->n[i] + (p->n[i + 1] - p->n[i]) * t;
 }
 
+/* Column (m^-2 for densities in m^-3): the integral of the piecewise-linear profile from the ground
+ * to its top node. */
+double profile_column(const density_profile *p);
+
 /* Maximum density over [z0, z1] (exact for the piecewise-linear function). */
 double profile_max(const density_profile *p, double z0_m, double z1_m);
 

@@ -10,11 +10,15 @@
 #define FM_OZONE_COUNT 701
 #define FM_OZONE_PROFILE_COUNT 50
 #define FM_LIMB_DARKENING_COUNT 30
+#define FM_AFGL_PROFILE_COUNT 6
+#define FM_AFGL_LEVEL_COUNT 50
 
 extern const double fm_cie1931_xyz_1nm[FM_CIE_COUNT][3];
 extern const double fm_solar_astm_g173[FM_SOLAR_COUNT][2];
 extern const double fm_ozone_bogumil_1nm[FM_OZONE_COUNT][3];
 extern const double fm_ozone_profile_afgl_us[FM_OZONE_PROFILE_COUNT][2];
 extern const double fm_limb_darkening_neckel_labs[FM_LIMB_DARKENING_COUNT][8];
+/* [profile][level][altitude km, temperature K, O3 m^-3], profiles in ozone_profile order */
+extern const double fm_afgl_profiles[FM_AFGL_PROFILE_COUNT][FM_AFGL_LEVEL_COUNT][3];
 
 #endif

@@ -51,6 +51,7 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
     const char *slash = strrchr(exr_path, '/');
     snprintf(m->out_name, sizeof m->out_name, "%s", slash ? slash + 1 : exr_path);
     snprintf(m->seed_text, sizeof m->seed_text, "%llu", (unsigned long long)params->seed);
+    fm_sky_composition(sky, &m->composition);
 
     add_string(m, "", "version", FIRMAMENT_VERSION);
     add_string(m, "image", "file", m->out_name);
@@ -84,8 +85,35 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
     else
         add_string(m, "parameters", "seed", m->seed_text);
     add_double(m, "parameters", "sample_scale", params->sample_scale);
+    add_string(m, "parameters", "biome", m->composition.biome);
+    add_double(m, "parameters", "turbidity", sp->turbidity);
+    if (sp->aod550 > 0.0)
+        add_double(m, "parameters", "aod550", sp->aod550);
+    add_string(m, "parameters", "aerosol_phase", sp->aerosol_phase == FM_AEROSOL_PHASE_HG ? "hg" : "mie");
+    if (sp->year != 0) {
+        snprintf(m->date_text, sizeof m->date_text, "%04d-%02d-%02d", sp->year, sp->month, sp->day);
+        add_string(m, "parameters", "date", m->date_text);
+        add_double(m, "parameters", "latitude_deg", sp->latitude_deg);
+        add_double(m, "parameters", "longitude_deg", sp->longitude_deg);
+    }
     add_string(m, "parameters", "atmosphere", "U.S. Standard Atmosphere 1976 molecules (Bucholtz Rayleigh), "
-                                              "ozone (Bogumil 2003 cross sections, AFGL U.S. Standard profile)");
+                                              "ozone (Bogumil 2003 cross sections, AFGL profiles by latitude and season), "
+                                              "OPAC aerosol components (Mie theory)");
+
+    const fm_composition *c = &m->composition;
+    add_double(m, "atmosphere", "rayleigh_optical_depth_550nm", c->rayleigh_tau550);
+    add_double(m, "atmosphere", "ozone_optical_depth_550nm", c->ozone_tau550);
+    add_double(m, "atmosphere", "ozone_column_du", c->ozone_column_du);
+    add_string(m, "atmosphere", "ozone_profile", c->ozone_profile);
+    add_string(m, "atmosphere", "biome", c->biome);
+    add_double(m, "atmosphere", "aerosol_optical_depth_550nm", c->aerosol_tau550);
+    if (c->aerosol_tau550 > 0.0) {
+        add_double(m, "atmosphere", "aerosol_angstrom_exponent_440_870nm", c->aerosol_angstrom);
+        add_double(m, "atmosphere", "aerosol_single_scattering_albedo_550nm", c->aerosol_ssa550);
+        add_double(m, "atmosphere", "aerosol_asymmetry_parameter_550nm", c->aerosol_g550);
+        add_double(m, "atmosphere", "humidity_percent", c->humidity_percent);
+        add_double(m, "atmosphere", "turbidity", c->turbidity);
+    }
 
     fm_sun_light sun;
     fm_sky_sun_light(sky, &sun);

@@ -5,12 +5,12 @@
 
 #include "firmament/firmament.h"
 
-#define FM_META_MAX 48
+#define FM_META_MAX 80
 
 typedef enum meta_type { META_DOUBLE, META_INT, META_STRING, META_VEC3 } meta_type;
 
 typedef struct meta_entry {
-    const char *group; /* "parameters", "image", "sun" or "sky" */
+    const char *group; /* "parameters", "image", "atmosphere", "sun" or "sky" */
     const char *key;
     meta_type type;
     double v[3];
@@ -22,6 +22,8 @@ typedef struct metadata {
     meta_entry e[FM_META_MAX];
     char seed_text[24];
     char out_name[256];
+    char date_text[16];
+    fm_composition composition;
 } metadata;
 
 /* Gathers parameters and derived quantities (direct sunlight, diffuse horizontal illuminance). */

@@ -9,18 +9,25 @@
 
 void medium_phase(const atmosphere *atm, const double *n, double cos_theta, double *p, double *sigma_s)
 {
+    /* One phase_evaluate_all per species (a tabulated phase function then searches its angle grid
+     * once, not once per wavelength); the sums run over species in the same order as before. */
     const int K = atm->grid.count;
-    for (int k = 0; k < K; k++) {
-        double num = 0.0, den = 0.0;
-        for (int c = 0; c < atm->scattering_count; c++) {
-            const species *sp = &atm->species[c];
+    double num[FM_MAX_WAVELENGTHS] = {0}, den[FM_MAX_WAVELENGTHS] = {0}, value[FM_MAX_WAVELENGTHS];
+    for (int c = 0; c < atm->scattering_count; c++) {
+        const species *sp = &atm->species[c];
+        if (n[c] == 0.0)
+            continue; /* aerosol layers are absent at most altitudes */
+        phase_evaluate_all(&sp->phase, K, cos_theta, value);
+        for (int k = 0; k < K; k++) {
             double s = sp->sigma_s[k] * n[c];
-            num += s * phase_evaluate(&sp->phase, k, cos_theta);
-            den += s;
+            num[k] += s * value[k];
+            den[k] += s;
         }
-        p[k] = den > 0.0 ? num / den : 0.0;
+    }
+    for (int k = 0; k < K; k++) {
+        p[k] = den[k] > 0.0 ? num[k] / den[k] : 0.0;
         if (sigma_s)
-            sigma_s[k] = den;
+            sigma_s[k] = den[k];
     }
 }
 
