@@ -143,13 +143,11 @@ static fm_status add_aerosols(fm_sky *sky, const fm_sky_params *p, double ozone_
  * constituents, and optionally ground albedo (over params->ground_albedo) and solar spectrum (at
  * 1 AU, scaled by 1/d^2 like the built-in one).  The sidecar's composition sorts its constituents
  * at 550 nm, when the file covers 550 nm: Rayleigh scatterers as "rayleigh", pure absorbers as
- * "ozone", other scatterers as aerosols; biome and ozone profile read "custom". */
+ * "ozone", other scatterers as aerosols; biome and ozone profile read "custom".  The built-in
+ * constituents' parameters (ozone column, date, biome, turbidity, ...) do not apply and are ignored. */
 static fm_status custom_atmosphere(fm_sky *sky, const fm_sky_params *p, const spectral_grid *grid, double inv_d2,
                                    fm_error *err)
 {
-    if (has_biome(p))
-        return fm_fail_parameter(err, "biome", "'%s' cannot be combined with a custom atmosphere file (%s), whose "
-                                 "constituents replace the built-in ones", p->biome, p->atmosphere_file);
     fm_status s = atmosphere_init_from_file(&sky->atm, p->atmosphere_file, grid, inv_d2, p->ground_albedo, err);
     if (s)
         return s;

@@ -75,6 +75,35 @@ rm -rf "$work/out" && mkdir -p "$work/out"
 (cd "$work/out" && "$FM" render --sun-elevation 95 2>"$work/stderr")
 grep -q -- '--sun-elevation' "$work/stderr" && grep -q '95' "$work/stderr" && ok || fail "message names the option: $(cat "$work/stderr")"
 
+# --- custom atmospheres (--atmosphere FILE) ----------------------------------------------------
+presets=$(cd "$(dirname "$0")/../../presets/atmospheres" && pwd)
+grep -q -- '--atmosphere' "$work/help" && ok || fail "render --help mentions --atmosphere"
+printf '{\n  "planet_radius_km": 6360,\n  "top_altitude_km": 60,,\n}\n' >"$work/bad-syntax.json"
+printf '{"planet_radius_km": 6360, "top_altitude_km": 60, "constituents": [{"profile": {"type": "exponential", "scale_height_km": 8}, "scattering": 1e-5, "phase": {"type": "henyey-greenstein", "g": 1.5}}]}\n' >"$work/bad-g.json"
+expect_usage_error "atmosphere file with a syntax error" render --atmosphere "$work/bad-syntax.json" --wavelength 550
+expect_usage_error "atmosphere file with g out of range" render --atmosphere "$work/bad-g.json" --wavelength 550
+expect_usage_error "missing atmosphere file" render --atmosphere "$work/no-such-atmosphere.json"
+expect_usage_error "atmosphere file without the colour wavelengths" render --atmosphere "$presets/reference-rayleigh.json"
+# the messages name the flag, the file, and where and what the problem is
+rm -rf "$work/out" && mkdir -p "$work/out"
+(cd "$work/out" && "$FM" render --atmosphere "$work/bad-syntax.json" --wavelength 550 2>"$work/stderr")
+grep -q -- "--atmosphere: $work/bad-syntax.json:3:25: JSON syntax error" "$work/stderr" && ok || fail "syntax error message: $(cat "$work/stderr")"
+(cd "$work/out" && "$FM" render --atmosphere "$work/bad-g.json" --wavelength 550 2>"$work/stderr")
+grep -qF -- "--atmosphere: $work/bad-g.json: \$.constituents[0].phase.g: must be in (-1, 1), not 1.5" "$work/stderr" && ok ||
+    fail "range error message: $(cat "$work/stderr")"
+(cd "$work/out" && "$FM" render --atmosphere "$presets/reference-rayleigh.json" 2>"$work/stderr")
+grep -q 'given for 440-680 nm (constituent "molecules"), but the render needs 380-780 nm' "$work/stderr" && ok ||
+    fail "wavelength coverage message: $(cat "$work/stderr")"
+# the four reference atmospheres render at 550 nm
+for f in reference-rayleigh reference-rayleigh-ozone reference-rayleigh-aerosol reference-rayleigh-aerosol-albedo; do
+    rm -rf "$work/out" && mkdir -p "$work/out"
+    if "$FM" render --atmosphere "$presets/$f.json" --wavelength 550 --width 16 --quality preview --progress none \
+        -o "$work/out/$f.exr" 2>"$work/stderr" && [ -s "$work/out/$f.exr" ] && [ -s "$work/out/$f.json" ]; then ok; else
+        fail "render $f at 550 nm: $(cat "$work/stderr")"
+    fi
+done
+grep -q '"custom"' "$work/out/reference-rayleigh-aerosol-albedo.json" && ok || fail "sidecar reports a custom atmosphere"
+
 # --- a successful render -----------------------------------------------------------------------
 rm -rf "$work/out" && mkdir -p "$work/out"
 if "$FM" render --width 32 --quality preview --progress none -o "$work/out/sky.exr"; then ok; else fail "small render"; fi
