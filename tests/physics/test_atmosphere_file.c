@@ -253,6 +253,49 @@ static char *constituent_file(const char *extra_top, const char *constituent)
     return write_temp(text);
 }
 
+static double hg(double g, double mu)
+{
+    return (1.0 - g * g) / (4.0 * FM_PI * pow(1.0 + g * g - 2.0 * g * mu, 1.5));
+}
+
+/* A tabulated phase function: Henyey-Greenstein g = 0.5 every degree comes back as itself; rows
+ * given per wavelength (isotropic at 400 nm, that HG at 700 nm) mix linearly in between. */
+static void tabulated_phase_from_a_file(void **state)
+{
+    static char text[16384];
+    int n = snprintf(text, sizeof text,
+                     "{\"planet_radius_km\": 6360, \"top_altitude_km\": 60, \"constituents\": [{\"profile\": "
+                     "{\"type\": \"exponential\", \"scale_height_km\": 1.2}, \"scattering\": 1e-5, \"phase\": "
+                     "{\"type\": \"tabulated\", \"wavelengths_nm\": [400, 700], \"angles_deg\": [");
+    for (int j = 0; j <= 180; j++)
+        n += snprintf(text + n, sizeof text - n, "%s%d", j ? ", " : "", j);
+    n += snprintf(text + n, sizeof text - n, "], \"values\": [[");
+    for (int j = 0; j <= 180; j++)
+        n += snprintf(text + n, sizeof text - n, "%s1", j ? ", " : "");
+    n += snprintf(text + n, sizeof text - n, "], [");
+    for (int j = 0; j <= 180; j++)
+        n += snprintf(text + n, sizeof text - n, "%s%.12g", j ? ", " : "", hg(0.5, cos(j * FM_DEG)));
+    snprintf(text + n, sizeof text - n, "]]}}]}");
+    char *path = write_temp(text);
+    const double lambda[3] = {400.0, 550.0, 700.0}, weight_hg[3] = {0.0, 0.5, 1.0};
+    for (int i = 0; i < 3; i++) {
+        atmosphere atm;
+        load(&atm, path, lambda[i], 1.0, 0.0);
+        const phase_function *ph = &atm.species[0].phase;
+        assert_int_equal(ph->kind, PHASE_TABULATED);
+        /* g of the 1-degree piecewise-linear table: within 1e-3 of the HG value */
+        check_abs(phase_asymmetry(ph, 0), 0.5 * weight_hg[i], 1e-3, "asymmetry of the tabulated phase");
+        for (double t = 0.5; t < 180.0; t += 7.0) {
+            double mu = cos(t * FM_DEG);
+            double expected = (1.0 - weight_hg[i]) / (4.0 * FM_PI) + weight_hg[i] * hg(0.5, mu);
+            check_rel(phase_evaluate(ph, 0, mu), expected, 5e-4, "tabulated phase between nodes");
+        }
+        atmosphere_free(&atm);
+    }
+    unlink(path);
+    free(path);
+}
+
 /* A flat spectrum over the colour grid: E_k = 1 and the Y weights sum to the integral of ybar
  * (106.857 nm for the CIE 1931 table, 380-780 nm at 1 nm); a slope is kept at the nodes. */
 static void file_solar_spectrum_on_the_colour_grid(void **state)
@@ -435,6 +478,7 @@ int main(void)
         cmocka_unit_test(majorant_shells_follow_the_top),
         cmocka_unit_test(molecular_fixture_matches_builtin_coefficients),
         cmocka_unit_test(file_solar_spectrum_on_the_colour_grid),
+        cmocka_unit_test(tabulated_phase_from_a_file),
         cmocka_unit_test(malformed_files_are_refused),
         cmocka_unit_test(observer_inside_the_file_atmosphere),
         cmocka_unit_test(molecular_fixture_renders_the_builtin_sky),
