@@ -96,9 +96,14 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
         add_double(m, "parameters", "latitude_deg", sp->latitude_deg);
         add_double(m, "parameters", "longitude_deg", sp->longitude_deg);
     }
-    add_string(m, "parameters", "atmosphere", "U.S. Standard Atmosphere 1976 molecules (Bucholtz Rayleigh), "
-                                              "ozone (Bogumil 2003 cross sections, AFGL profiles by latitude and season), "
-                                              "OPAC aerosol components (Mie theory)");
+    if (sp->atmosphere_file) {
+        add_string(m, "parameters", "atmosphere_file", sp->atmosphere_file);
+        add_string(m, "parameters", "atmosphere", "custom atmosphere file (docs/atmosphere-file.md)");
+    } else {
+        add_string(m, "parameters", "atmosphere", "U.S. Standard Atmosphere 1976 molecules (Bucholtz Rayleigh), "
+                                                  "ozone (Bogumil 2003 cross sections, AFGL profiles by latitude and "
+                                                  "season), OPAC aerosol components (Mie theory)");
+    }
 
     const fm_composition *c = &m->composition;
     add_double(m, "atmosphere", "rayleigh_optical_depth_550nm", c->rayleigh_tau550);
