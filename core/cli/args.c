@@ -229,6 +229,10 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             break;
         case OPT_OZONE:
             bad_number = !parse_double(arg, &opt->sky.ozone_column_du);
+            if (!bad_number && opt->sky.ozone_column_du < 0.0) { /* negative values are library sentinels */
+                snprintf(msg, msg_size, "--ozone-du: %g is outside [0, 1000] DU", opt->sky.ozone_column_du);
+                return PARSE_ERROR;
+            }
             have_ozone = 1;
             break;
         case OPT_EARTH_SUN_DISTANCE:

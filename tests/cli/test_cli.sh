@@ -52,6 +52,29 @@ expect_usage_error "albedo above 1" render --albedo 1.5
 expect_usage_error "negative altitude" render --altitude -3
 expect_usage_error "altitude above 20 km" render --altitude 30000
 expect_usage_error "negative ozone" render --ozone-du -1
+expect_usage_error "unknown biome" render --biome jungle
+grep -q 'known: none, background, desert-dust' "$work/stderr" && ok || fail "unknown biome lists the names: $(cat "$work/stderr")"
+expect_usage_error "negative turbidity" render --turbidity -0.5
+grep -q -- '--turbidity' "$work/stderr" && ok || fail "turbidity message names the flag"
+expect_usage_error "absurd turbidity" render --turbidity 1e6
+expect_usage_error "negative aod550" render --aod550 -0.1
+expect_usage_error "humidity above 99" render --humidity 100
+expect_usage_error "unknown aerosol phase" render --aerosol-phase rayleigh
+expect_usage_error "missing biome file" render --biome /nonexistent/biome.json
+expect_usage_error "invalid date" render --date 2023-02-30 --latitude 45
+grep -q -- '--date' "$work/stderr" && ok || fail "date message names the flag"
+expect_usage_error "malformed date" render --date 2023-2-3 --latitude 45
+expect_usage_error "date without a place" render --date 2023-06-01
+expect_usage_error "latitude beyond 90" render --date 2023-06-01 --latitude 91
+mkdir -p "$work/biomes"
+printf '{"name": "x", "humidity_percent": 50, "layers": [\n  {"name": "bl", "bottom_km": 0, "top_km": 2,\n' >"$work/biomes/truncated.json"
+expect_usage_error "biome file with a syntax error" render --biome "$work/biomes/truncated.json"
+grep -q 'truncated.json: line 3, column 1' "$work/stderr" && ok || fail "syntax error position: $(cat "$work/stderr")"
+printf '{"name": "x", "humidity_percent": 50, "layers": [{"name": "bl", "bottom_km": 0, "top_km": 2, "number_density_cm3": {"wasso": 10}}]}\n' >"$work/biomes/typo.json"
+expect_usage_error "biome file with an unknown component" render --biome "$work/biomes/typo.json"
+grep -q 'typo.json: \$.layers\[0\].number_density_cm3.wasso: unknown OPAC component' "$work/stderr" && ok || fail "JSON path in the message: $(cat "$work/stderr")"
+printf '{"name": "x", "humidity_percent": 50, "layers": [{"name": "bl", "bottom_km": 3, "top_km": 2, "number_density_cm3": {"waso": 10}}]}\n' >"$work/biomes/upside.json"
+expect_usage_error "biome layer upside down" render --biome "$work/biomes/upside.json"
 expect_usage_error "width 0" render --width 0
 expect_usage_error "absurd width" render --width 1000000
 expect_usage_error "odd width" render --width 1001

@@ -1,6 +1,7 @@
 /* The fast path (radiance tables) against the reference mode (per-pixel path tracing, no tables),
  * on small maps of a noon sky, a sunset and a noon sky seen from eye height (2 m: the horizon dips
- * 0.045 degrees, a sliver of sky below the horizontal), at the default final quality.
+ * 0.045 degrees, a sliver of sky below the horizontal), and with aerosols (rural noon, urban
+ * sunset at turbidity 2), at the default final quality.
  *
  * Metric: for each pixel's luminance, z = (Y_fast - Y_ref) / se_ref with se_ref the reference's own
  * standard error.  If the fast path were exact, z would be standard normal noise: mean z^2 = 1,
@@ -16,10 +17,13 @@
 
 #include <math.h>
 
-static void compare(double sun_elevation, double altitude_m, int reference_paths)
+static void compare(double sun_elevation, double altitude_m, const char *biome_name, double turbidity,
+                    int reference_paths)
 {
     fm_sky_params p = test_params(sun_elevation, 0.0);
     p.observer_altitude_m = altitude_m;
+    p.biome = biome_name;
+    p.turbidity = turbidity;
     fm_sky *sky = test_sky(&p);
     const int W = 48, H = 24;
     fm_image *ref = test_render(sky, W, FM_QUALITY_REFERENCE, 0, 11, reference_paths, 1.0, 0);
@@ -58,9 +62,12 @@ static void compare(double sun_elevation, double altitude_m, int reference_paths
     fm_sky_destroy(sky);
 }
 
-static void noon(void **state) { compare(30.0, 0.0, 4096); }
-static void sunset(void **state) { compare(2.0, 0.0, 4096); }
-static void eye_height(void **state) { compare(30.0, 2.0, 2048); }
+static void noon(void **state) { compare(30.0, 0.0, "none", 1.0, 4096); }
+static void sunset(void **state) { compare(2.0, 0.0, "none", 1.0, 4096); }
+static void eye_height(void **state) { compare(30.0, 2.0, "none", 1.0, 2048); }
+/* aerosols: the forward peak and absorption through both estimators */
+static void rural_noon(void **state) { compare(30.0, 0.0, "rural", 1.0, 2048); }
+static void urban_sunset(void **state) { compare(2.0, 0.0, "urban", 2.0, 2048); }
 
 int main(void)
 {
@@ -68,6 +75,8 @@ int main(void)
         cmocka_unit_test(noon),
         cmocka_unit_test(sunset),
         cmocka_unit_test(eye_height),
+        cmocka_unit_test(rural_noon),
+        cmocka_unit_test(urban_sunset),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

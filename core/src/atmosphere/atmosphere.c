@@ -127,13 +127,18 @@ void atmosphere_coefficients(const atmosphere *atm, double r, double *sigma_s, d
 
 void atmosphere_coefficients_from_densities(const atmosphere *atm, const double *n, double *sigma_s, double *sigma_t)
 {
-    for (int k = 0; k < atm->grid.count; k++) {
-        double s = 0.0, t = 0.0;
-        for (int c = 0; c < atm->species_count; c++) {
-            s += atm->species[c].sigma_s[k] * n[c];
-            t += (atm->species[c].sigma_s[k] + atm->species[c].sigma_a[k]) * n[c];
+    const int K = atm->grid.count;
+    for (int k = 0; k < K; k++)
+        sigma_s[k] = sigma_t[k] = 0.0;
+    /* species by species, skipping the absent ones (aerosol layers exist only in their altitude
+     * range); the sums per wavelength run over species in a fixed order */
+    for (int c = 0; c < atm->species_count; c++) {
+        if (n[c] == 0.0)
+            continue;
+        const species *sp = &atm->species[c];
+        for (int k = 0; k < K; k++) {
+            sigma_s[k] += sp->sigma_s[k] * n[c];
+            sigma_t[k] += (sp->sigma_s[k] + sp->sigma_a[k]) * n[c];
         }
-        sigma_s[k] = s;
-        sigma_t[k] = t;
     }
 }

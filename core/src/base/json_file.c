@@ -15,7 +15,8 @@ static char *read_all(const char *path, long *size, fm_error *err)
 {
     FILE *f = fopen(path, "rb");
     if (!f) {
-        fm_fail(err, FM_ERR_IO, "cannot read '%s': %s", path, strerror(errno));
+        /* an input file the user named: bad input, not a runtime failure */
+        fm_fail(err, FM_ERR_INVALID_ARGUMENT, "cannot read '%s': %s", path, strerror(errno));
         return NULL;
     }
     char *text = NULL;
@@ -34,7 +35,7 @@ static char *read_all(const char *path, long *size, fm_error *err)
             *size = n;
         }
     } else {
-        fm_fail(err, FM_ERR_IO, "cannot read '%s': not a regular file", path);
+        fm_fail(err, FM_ERR_INVALID_ARGUMENT, "cannot read '%s': not a regular file", path);
     }
     fclose(f);
     return text;
@@ -47,7 +48,7 @@ cJSON *json_file_read(const char *path, fm_error *err)
     if (!text)
         return NULL;
     const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, (size_t)size, &end, 1);
+    cJSON *root = cJSON_ParseWithLengthOpts(text, (size_t)size + 1, &end, 1); /* + the terminator */
     if (!root) {
         /* cJSON reports where it stopped; turn that offset into a line and column */
         const char *at = end ? end : cJSON_GetErrorPtr();
