@@ -11,6 +11,7 @@ Only numbers are taken from the inputs (physical data are facts); no code or pro
 """
 import math
 import os
+import re
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -103,20 +104,6 @@ Source: K. Bogumil, J. Orphal, J. P. Burrows et al., "Measurements of molecular 
 with the SCIAMACHY pre-flight model", J. Photochem. Photobiol. A 157 (2003) 167-184
 (IUP Bremen file crs_O3_UBremen_cf.dat, air wavelengths).
 Check: sigma(600 nm, 273 K) = 5.24e-21 cm^2.""", body)
-
-
-def ozone_profile(data):
-    rows = read_columns(os.path.join(data, "atmosphere", "afglus.dat"))
-    rows.sort(key=lambda r: r[0])
-    body = "const double fm_ozone_profile_afgl_us[FM_OZONE_PROFILE_COUNT][2] = {\n"
-    body += "".join("    {%.3f, %s},\n" % (r[0], fmt(r[4] * 1e6)) for r in rows)
-    body += "};\n"
-    write_c("ozone_profile_afgl.c", """
-Ozone number density profile of the U.S. Standard Atmosphere 1976 as tabulated by AFGL
-(G. P. Anderson et al., "AFGL atmospheric constituent profiles (0-120 km)", AFGL-TR-86-0110, 1986;
-file afglus.dat of libRadtran).  Columns: geometric altitude [km], O3 number density [m^-3]
-(converted from cm^-3).  The column is 344 DU; firmament uses the shape and rescales it.""", body)
-    return len(rows)
 
 
 # AFGL profiles in the order of ozone_profile (atmosphere/ozone_climatology.h), after US Standard.
@@ -214,7 +201,135 @@ Solar Physics 153 (1994) 91-114, Table 1.""", body)
     return len(NECKEL_LABS_1994)
 
 
-def header(n_solar, n_profile, n_ld, n_afgl):
+# OPAC components (Hess, Koepke & Schult 1998) in the order of OPAC's component numbers, and the
+# relative humidities (%) OPAC tabulates for each.
+OPAC_COMPONENTS = ["inso", "waso", "soot", "ssam", "sscm", "minm", "miam", "micm", "mitr", "suso"]
+OPAC_HUMID = [0, 50, 70, 80, 90, 95, 98, 99]
+OPAC_HYGROSCOPIC = {"waso", "ssam", "sscm", "suso"}
+OPAC_REFR_MAX_UM = 1.25  # the refractive index rows kept: 0.25-1.25 um
+
+
+def opac_optdat_header(path):
+    """rmin, rmax, sigma, Rmod (wet) from an optdat file's size-distribution header."""
+    keys = {"minimum radius": "r_min", "maximum radius": "r_max", "sigma": "sigma", "Rmod (wet)": "r_mod"}
+    out = {}
+    with open(path) as f:
+        for line in f:
+            for k, v in keys.items():
+                if k in line and ":" in line:
+                    out[v] = float(line.split(":")[1])
+    return out
+
+
+def opac_optdat_table(path):
+    """The optical-parameter rows (wavelength, ext, sca, abs, ssa, g, ...) and the phase-function
+    block (angle_deg, values per wavelength) of an optdat file."""
+    optical, phase, in_phase = [], [], False
+    with open(path) as f:
+        for line in f:
+            if "phase function" in line:
+                in_phase = True
+            # fixed-width columns can touch ("1.213E-03-1.446E-10"): match the numbers themselves
+            fields = re.findall(r"[-+]?\d\.\d+E[-+]\d+", line)
+            if not fields or re.search(r"[a-df-zA-DF-Z]", line.lstrip("#").replace("E", "")):
+                continue
+            values = [float(x) for x in fields]
+            if in_phase and not line.startswith("#"):
+                phase.append(values)
+            elif not in_phase and line.startswith("#") and len(values) == 9:
+                optical.append(values)
+    return optical, phase
+
+
+def opac_components(data):
+    opac = os.path.join(data, "aerosol", "opac")
+    cfg = read_columns(os.path.join(opac, "size_distr.cfg"))
+    entries = []
+    for number, code in enumerate(OPAC_COMPONENTS, start=1):
+        for rh in (OPAC_HUMID if code in OPAC_HYGROSCOPIC else [0]):
+            row = [r for r in cfg if int(r[0]) == number and int(r[1]) == rh]
+            assert len(row) == 1, (code, rh)
+            _, _, r_min, r_max, r_mod, rho, sigma = row[0]
+            # The optdat header of the same component must agree with size_distr.cfg; where the
+            # two differ slightly (ssam 99 %: r_max 98.6 vs 98.5 um) the header wins, being what
+            # OPAC's optical properties were computed with.
+            head = opac_optdat_header(os.path.join(opac, "optdat", "%s%02d" % (code, rh)))
+            for key, value in (("r_min", r_min), ("r_max", r_max), ("r_mod", r_mod), ("sigma", sigma)):
+                assert abs(head[key] - value) <= 5e-3 * value, (code, rh, key, head[key], value)
+                if head[key] != value:
+                    print("  %s%02d %s: optdat %g, size_distr.cfg %g" % (code, rh, key, head[key], value))
+            r_min, r_max, r_mod, sigma = head["r_min"], head["r_max"], head["r_mod"], head["sigma"]
+            refr = read_columns(os.path.join(opac, "refractive_indices", "%s%02d_refr.dat" % (code, rh)))
+            refr = [(l, n, -k) for l, n, k in refr if l <= OPAC_REFR_MAX_UM + 1e-9]
+            # suso99_refr.dat lacks the 0.5 um row; OPAC's optdat file of the same component lists
+            # the index it used there (columns ref.real, ref.imag).
+            optical, _ = opac_optdat_table(os.path.join(opac, "optdat", "%s%02d" % (code, rh)))
+            for row in optical:
+                if row[0] <= OPAC_REFR_MAX_UM + 1e-9 and not any(abs(row[0] - r[0]) < 1e-9 for r in refr):
+                    print("  %s%02d: %g um missing in the _refr.dat file, taken from optdat" % (code, rh, row[0]))
+                    refr.append((row[0], row[7], -row[8]))
+            refr.sort()
+            entries.append((code, rh, r_min, r_max, r_mod, sigma, rho, refr))
+    n_refr = len(entries[0][7])
+    assert all(len(e[7]) == n_refr for e in entries)
+    assert all(abs(a[0] - b[0]) < 1e-9 for e in entries for a, b in zip(e[7], entries[0][7]))
+    body = "const fm_opac_component fm_opac_components[FM_OPAC_COMPONENT_COUNT] = {\n"
+    for code, rh, r_min, r_max, r_mod, sigma, rho, refr in entries:
+        body += '    {"%s", %d, %g, %g, %g, %g, %g,\n     {' % (code, rh, r_min, r_max, r_mod, sigma, rho)
+        body += ",\n      ".join("{%.3f, %.4g, %.4g}" % r for r in refr)
+        body += "}},\n"
+    body += "};\n"
+    write_c("opac_components.c", """
+OPAC aerosol components: log-normal size distributions and refractive indices.
+    dN/dln r = N / (sqrt(2 pi) ln sigma) exp(-(ln r - ln r_mod)^2 / (2 ln^2 sigma)), r_min <= r <= r_max
+Fields: OPAC code, relative humidity [%], r_min, r_max, r_mod [um] (wet mode radius of the number
+distribution), sigma (geometric standard deviation), particle density [g cm^-3] (the file's header
+says g/m^3; the values are g/cm^3), then rows of wavelength [um], n, k with m = n - ik (k >= 0;
+the files write k negative), 0.25-1.25 um as tabulated (0.05 um steps to 0.8 um, then 0.9, 1.0, 1.25).
+Source: M. Hess, P. Koepke, I. Schult, "Optical properties of aerosols and clouds: the software
+package OPAC", Bull. Amer. Meteor. Soc. 79 (1998) 831-844; files size_distr.cfg and
+refractive_indices/<code><RH>_refr.dat of the OPAC data distributed with libRadtran 2.0.2
+(the size parameters agree with the headers of OPAC's optdat/<code><RH> files).""", body)
+
+    # Test data: OPAC's own Mie results (optdat) at 400/550/700 nm, and the 550 nm phase function.
+    rows, phase_rows = [], []
+    for code, rh, *_ in entries:
+        if rh not in (0, 80):
+            continue
+        optical, phase = opac_optdat_table(os.path.join(opac, "optdat", "%s%02d" % (code, rh)))
+        lambdas = [r[0] for r in optical]
+        for lam in (0.40, 0.55, 0.70):
+            r = optical[[abs(l - lam) < 1e-6 for l in lambdas].index(True)]
+            # ext.coef [1/km] for 1 particle cm^-3 = 1e-5 cm^2 = 1e-9 m^2 per particle
+            rows.append("%s,%d,%.0f,%.4e,%.4e,%.3f\n" % (code, rh, lam * 1000, r[1] * 1e-9, r[4], r[5]))
+        i550 = [abs(l - 0.55) < 1e-6 for l in lambdas].index(True)
+        sca = optical[i550][2]
+        for p in phase:
+            phase_rows.append("%s,%d,%g,%.4e\n" % (code, rh, p[0], p[1 + i550] / sca))
+    tests = os.path.join(HERE, "..", "tests", "data")
+    os.makedirs(tests, exist_ok=True)
+    with open(os.path.join(tests, "opac_optdat.csv"), "w") as f:
+        f.write("""# OPAC component optical properties (Mie results of the OPAC authors), per particle.
+# Source: Hess, Koepke & Schult (1998), BAMS 79, 831-844, OPAC data files optdat/<code><RH>
+# (columns ext.coef, si.sc.alb, asym.par); ext.coef [1/km] for 1 particle cm^-3 converted to m^2
+# per particle (x 1e-9).  Every component at 0 % and, for the hygroscopic ones, 80 % humidity.
+# Generated by tools/make_tables.py.
+component,humidity_percent,lambda_nm,ext_m2,ssa,g
+""")
+        f.writelines(rows)
+    with open(os.path.join(tests, "opac_optdat_phase550.csv"), "w") as f:
+        f.write("""# OPAC phase functions at 550 nm: the optdat "volume phase function" [1/km per particle cm^-3]
+# divided by the scattering coefficient [1/km], i.e. sr^-1 normalised over the sphere.
+# Source: Hess, Koepke & Schult (1998), BAMS 79, 831-844, OPAC data files optdat/<code><RH>.
+# Generated by tools/make_tables.py.
+component,humidity_percent,angle_deg,phase_sr
+""")
+        f.writelines(phase_rows)
+    print("wrote tests/data/opac_optdat.csv, tests/data/opac_optdat_phase550.csv")
+    return len(entries), n_refr
+
+
+def header(n_solar, n_ld, n_afgl, n_opac, n_refr):
     path = os.path.join(OUT, "tables.h")
     with open(path, "w") as f:
         f.write("""/* Physical data tables compiled into firmament (see each .c file for sources and units).
@@ -227,21 +342,34 @@ def header(n_solar, n_profile, n_ld, n_afgl):
 #define FM_SOLAR_COUNT %d
 #define FM_OZONE_FIRST_NM %d
 #define FM_OZONE_COUNT %d
-#define FM_OZONE_PROFILE_COUNT %d
 #define FM_LIMB_DARKENING_COUNT %d
 #define FM_AFGL_PROFILE_COUNT %d
 #define FM_AFGL_LEVEL_COUNT %d
+#define FM_OPAC_COMPONENT_COUNT %d
+#define FM_OPAC_REFR_COUNT %d
 
 extern const double fm_cie1931_xyz_1nm[FM_CIE_COUNT][3];
 extern const double fm_solar_astm_g173[FM_SOLAR_COUNT][2];
 extern const double fm_ozone_bogumil_1nm[FM_OZONE_COUNT][3];
-extern const double fm_ozone_profile_afgl_us[FM_OZONE_PROFILE_COUNT][2];
 extern const double fm_limb_darkening_neckel_labs[FM_LIMB_DARKENING_COUNT][8];
 /* [profile][level][altitude km, temperature K, O3 m^-3], profiles in ozone_profile order */
 extern const double fm_afgl_profiles[FM_AFGL_PROFILE_COUNT][FM_AFGL_LEVEL_COUNT][3];
 
+/* One OPAC aerosol component at one relative humidity (data/opac_components.c). */
+typedef struct fm_opac_component {
+    const char *code;      /* OPAC code, e.g. "waso" */
+    int humidity_percent;  /* 0, 50, 70, 80, 90, 95, 98, 99 */
+    double r_min_um, r_max_um, r_mod_um; /* truncation and number mode radius (um) */
+    double sigma;          /* geometric standard deviation */
+    double density_g_cm3;  /* particle density */
+    double refr[FM_OPAC_REFR_COUNT][3]; /* wavelength (um), n, k of m = n - ik */
+} fm_opac_component;
+
+extern const fm_opac_component fm_opac_components[FM_OPAC_COMPONENT_COUNT];
+
 #endif
-""" % (n_solar, LAMBDA_MIN_NM, LAMBDA_MAX_NM - LAMBDA_MIN_NM + 1, n_profile, n_ld, len(AFGL_PROFILES), n_afgl))
+""" % (n_solar, LAMBDA_MIN_NM, LAMBDA_MAX_NM - LAMBDA_MIN_NM + 1, n_ld, len(AFGL_PROFILES), n_afgl,
+       n_opac, n_refr))
     print("wrote", path)
 
 
@@ -253,10 +381,10 @@ def main():
     cie_table(data)
     n_solar = solar_table(data)
     ozone_table(data)
-    n_profile = ozone_profile(data)
     n_ld = limb_darkening_table()
     n_afgl = afgl_profiles(data)
-    header(n_solar, n_profile, n_ld, n_afgl)
+    n_opac, n_refr = opac_components(data)
+    header(n_solar, n_ld, n_afgl, n_opac, n_refr)
 
 
 if __name__ == "__main__":

@@ -8,17 +8,29 @@
 #define FM_SOLAR_COUNT 804
 #define FM_OZONE_FIRST_NM 300
 #define FM_OZONE_COUNT 701
-#define FM_OZONE_PROFILE_COUNT 50
 #define FM_LIMB_DARKENING_COUNT 30
 #define FM_AFGL_PROFILE_COUNT 6
 #define FM_AFGL_LEVEL_COUNT 50
+#define FM_OPAC_COMPONENT_COUNT 38
+#define FM_OPAC_REFR_COUNT 15
 
 extern const double fm_cie1931_xyz_1nm[FM_CIE_COUNT][3];
 extern const double fm_solar_astm_g173[FM_SOLAR_COUNT][2];
 extern const double fm_ozone_bogumil_1nm[FM_OZONE_COUNT][3];
-extern const double fm_ozone_profile_afgl_us[FM_OZONE_PROFILE_COUNT][2];
 extern const double fm_limb_darkening_neckel_labs[FM_LIMB_DARKENING_COUNT][8];
 /* [profile][level][altitude km, temperature K, O3 m^-3], profiles in ozone_profile order */
 extern const double fm_afgl_profiles[FM_AFGL_PROFILE_COUNT][FM_AFGL_LEVEL_COUNT][3];
+
+/* One OPAC aerosol component at one relative humidity (data/opac_components.c). */
+typedef struct fm_opac_component {
+    const char *code;      /* OPAC code, e.g. "waso" */
+    int humidity_percent;  /* 0, 50, 70, 80, 90, 95, 98, 99 */
+    double r_min_um, r_max_um, r_mod_um; /* truncation and number mode radius (um) */
+    double sigma;          /* geometric standard deviation */
+    double density_g_cm3;  /* particle density */
+    double refr[FM_OPAC_REFR_COUNT][3]; /* wavelength (um), n, k of m = n - ik */
+} fm_opac_component;
+
+extern const fm_opac_component fm_opac_components[FM_OPAC_COMPONENT_COUNT];
 
 #endif
