@@ -202,6 +202,7 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     opterr = 0; /* we print our own, one-line messages */
     optind = 1;
     int c, index = -1, have_ozone = 0, have_latitude = 0;
+    const char *builtin_only = NULL; /* an option about the built-in atmosphere that was given */
     while ((c = getopt_long(argc, argv, ":o:h", long_options, &index)) != -1) {
         const char *name = index >= 0 ? long_options[index].name : NULL;
         const char *arg = optarg;
@@ -376,6 +377,9 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
                 snprintf(msg, msg_size, "unknown option '%s' (firmament --help lists the options)", argv[optind - 1]);
             return PARSE_ERROR;
         }
+        if (c == OPT_BIOME || c == OPT_TURBIDITY || c == OPT_AOD550 || c == OPT_HUMIDITY || c == OPT_AEROSOL_PHASE ||
+            c == OPT_OZONE || c == OPT_DATE)
+            builtin_only = name;
         if (bad_number) {
             snprintf(msg, msg_size, "--%s: '%s' is not a number", name ? name : "?", arg);
             return PARSE_ERROR;
@@ -386,7 +390,12 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
         snprintf(msg, msg_size, "unexpected argument '%s' (options start with --)", argv[optind]);
         return PARSE_ERROR;
     }
-    if (opt->sky.year != 0 && !have_ozone) {
+    if (opt->sky.atmosphere_file && builtin_only) {
+        snprintf(msg, msg_size, "--%s: does not apply with --atmosphere (the file defines every constituent)",
+                 builtin_only);
+        return PARSE_ERROR;
+    }
+    if (opt->sky.year != 0 && !have_ozone && !opt->sky.atmosphere_file) {
         /* a date and a place choose the ozone column, unless --ozone-du says otherwise */
         if (!have_latitude) {
             snprintf(msg, msg_size, "--date: the ozone climatology also needs --latitude (or give --ozone-du)");

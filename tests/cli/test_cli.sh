@@ -75,6 +75,8 @@ expect_usage_error "biome file with an unknown component" render --biome "$work/
 grep -q 'typo.json: \$.layers\[0\].number_density_cm3.wasso: unknown OPAC component' "$work/stderr" && ok || fail "JSON path in the message: $(cat "$work/stderr")"
 printf '{"name": "x", "humidity_percent": 50, "layers": [{"name": "bl", "bottom_km": 3, "top_km": 2, "number_density_cm3": {"waso": 10}}]}\n' >"$work/biomes/upside.json"
 expect_usage_error "biome layer upside down" render --biome "$work/biomes/upside.json"
+expect_usage_error "biome with a custom atmosphere" render --atmosphere "$(dirname "$0")/../../presets/atmospheres/reference-rayleigh.json" --biome urban
+grep -q -- '--biome: does not apply with --atmosphere' "$work/stderr" && ok || fail "conflict message: $(cat "$work/stderr")"
 expect_usage_error "width 0" render --width 0
 expect_usage_error "absurd width" render --width 1000000
 expect_usage_error "odd width" render --width 1001
