@@ -97,14 +97,14 @@ static void normalisation_is_full_distribution(void **state)
 
 /* The phase function at 550 nm against OPAC's at a few angles (a smooth fine-mode component and
  * a coarse one); OPAC's own coarse-mode phase functions are noisy at side angles (their size
- * quadrature aliases), so this checks the forward and backward lobes only, loosely. */
+ * quadrature aliases); these three agree within 1 % (miam: 2 % at 120 degrees). */
 static void phase_function_vs_optdat(void **state)
 {
     const struct {
         const char *code;
         int rh;
         double tol;
-    } cases[] = {{"waso", 0, 0.05}, {"suso", 0, 0.05}, {"miam", 0, 0.10}};
+    } cases[] = {{"waso", 0, 0.02}, {"suso", 0, 0.02}, {"miam", 0, 0.04}};
     const double angles[] = {0.0, 10.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0};
     for (int c = 0; c < 3; c++) {
         FILE *f = fopen(FM_TEST_DATA_DIR "/opac_optdat_phase550.csv", "r");
