@@ -5,7 +5,7 @@
  *
  * Method: aerosol/mie_lognormal.c at each wavelength 300, 320, ..., 1000 nm, the refractive index
  * interpolated linearly in wavelength between OPAC's tabulated ones.  The phase function is
- * evaluated on a grid four times denser (in the quadratic angle index) over the first
+ * evaluated on a grid six times denser (in the quadratic angle index) over the first
  * FORWARD_INTERVALS intervals, where the diffraction peak of coarse particles is narrower than the
  * table's spacing, and stored as its average over each node's hat function in cos(theta): the
  * piecewise-linear table then integrates to the exact Mie normalisation.  Deterministic: every
@@ -26,7 +26,7 @@
 
 #define A AEROSOL_ANGLE_COUNT
 #define W AEROSOL_WAVELENGTH_COUNT
-#define REFINE 4
+#define REFINE 6
 /* intervals refined: theta below pi (40/300)^2 = 3.2 degrees at A = 301 */
 #define FORWARD_INTERVALS ((A - 1) * 2 / 15)
 #define FINE_COUNT (REFINE * FORWARD_INTERVALS + (A - 1 - FORWARD_INTERVALS) + 1)

@@ -8,7 +8,7 @@
 
 mie_lognormal_quadrature mie_lognormal_default_quadrature(void)
 {
-    return (mie_lognormal_quadrature){.step_ln_r = 0.02, .step_x = 0.25};
+    return (mie_lognormal_quadrature){.step_ln_r = 0.02, .step_x = 1.0};
 }
 
 double lognormal_density(const lognormal_size *size, double r_um)
@@ -117,10 +117,10 @@ int mie_lognormal(const lognormal_size *size, double lambda_um, double complex m
     mie_lognormal_quadrature q = quad ? *quad : mie_lognormal_default_quadrature();
     const double k = 2.0 * FM_PI / lambda_um; /* um^-1 */
     const double a_inv = 1.0 / q.step_ln_r;
-    /* Beyond 7 standard deviations above the mode of r^4 dN/dln r (the weight of the forward
-     * peak, the most size-sensitive quantity) the distribution adds below 1e-11 to anything. */
+    /* Beyond 5 standard deviations above the mode of r^4 dN/dln r (the weight of the forward
+     * peak at 0 degrees, the most size-sensitive quantity) the distribution adds below 3e-7 to anything. */
     const double ls = log(size->sigma);
-    const double r_top = fmin(size->r_max_um, size->r_mod_um * exp(4.0 * ls * ls + 7.0 * ls));
+    const double r_top = fmin(size->r_max_um, size->r_mod_um * exp(4.0 * ls * ls + 5.0 * ls));
     if (!(r_top > size->r_min_um))
         return -1;
     const double v_min = k * size->r_min_um / q.step_x, v_max = k * r_top / q.step_x;

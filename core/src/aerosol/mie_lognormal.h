@@ -9,10 +9,13 @@
  * for waso, the full one within 0.5 %).
  *
  * Radius quadrature: the trapezoid rule in a variable u with du = dln r sqrt(1/d^2 + (x/h)^2),
- * i.e. steps of d in ln r for small spheres and of h in size parameter x for large ones.  The
- * amplitudes of large spheres oscillate in x (interference of rays, resonance ripple) with
- * periods of order 1; a step h well below them, over a weight function as smooth as the
- * log-normal, makes the average converge instead of aliasing into the phase function.
+ * i.e. steps of d in ln r for small spheres and of h in size parameter x for large ones (defaults
+ * d = 0.02, h = 1).  The amplitudes of large spheres oscillate in x (interference of rays,
+ * resonance ripple) with periods of a few units; a uniform step in x over a weight as smooth as
+ * the log-normal averages them instead of aliasing them into the phase function.  Measured on
+ * coarse sea salt at 99 % humidity, 300 nm, against h = 0.25: the phase function agrees within
+ * 0.6 % at most angles, 2-4 % at a few side and backward angles (the rainbow and glory ripple);
+ * h = 0.5 halves those and doubles the generator's time.
  *
  * Usage:
  *     lognormal_size d = {.r_mod_um = 0.0212, .sigma = 2.24, .r_min_um = 0.005, .r_max_um = 20};
