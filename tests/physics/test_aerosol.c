@@ -241,6 +241,33 @@ static void mixture_phase_normalised_and_sampled(void **state)
     fm_sky_destroy(sky);
 }
 
+/* --aerosol-phase hg: the same layers, Henyey-Greenstein with each layer's Mie asymmetry
+ * parameter, so the mean scattering angle is unchanged while the forward peak is not. */
+static void henyey_greenstein_keeps_g(void **state)
+{
+    fm_sky_params pm = aerosol_params("maritime-clean", 1.0), ph = pm;
+    ph.aerosol_phase = FM_AEROSOL_PHASE_HG;
+    fm_sky *sm = test_sky(&pm), *sh = test_sky(&ph);
+    assert_int_equal(sm->atm.species_count, sh->atm.species_count);
+    int layers = 0;
+    for (int c = 0; c < sm->atm.species_count; c++) {
+        const species *a = &sm->atm.species[c], *b = &sh->atm.species[c];
+        if (strcmp(a->name, "aerosol"))
+            continue;
+        layers++;
+        assert_int_equal(a->phase.kind, PHASE_TABULATED);
+        assert_int_equal(b->phase.kind, PHASE_HENYEY_GREENSTEIN);
+        check_abs(phase_asymmetry(&b->phase, 0), phase_asymmetry(&a->phase, 0), 2e-3, "HG g = Mie g");
+        double mie = phase_evaluate(&a->phase, 0, 1.0), hg = phase_evaluate(&b->phase, 0, 1.0);
+        print_message("forward (sr^-1): Mie %.1f, HG %.1f\n", mie, hg);
+        if (layers == 1) /* the marine boundary layer: sea salt's diffraction peak, which HG misses */
+            assert_true(mie > 2.0 * hg);
+    }
+    assert_true(layers >= 2);
+    fm_sky_destroy(sm);
+    fm_sky_destroy(sh);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -249,6 +276,7 @@ int main(void)
         cmocka_unit_test(turbidity_scales_linearly),
         cmocka_unit_test(turbidity_zero_is_none),
         cmocka_unit_test(mixture_phase_normalised_and_sampled),
+        cmocka_unit_test(henyey_greenstein_keeps_g),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
