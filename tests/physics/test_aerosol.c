@@ -1,7 +1,6 @@
 /* Aerosol biomes: optical depths against OPAC, spectral and absorption character, turbidity,
  * the tabulated Mie phase functions in the atmosphere (normalisation, sampling); biome files:
  * defaults, and malformed ones refused with the file, the JSON path and the problem. */
-#define _DEFAULT_SOURCE /* mkstemps */
 #include "check.h"
 
 #include "aerosol/aerosol.h"
@@ -248,18 +247,6 @@ static void mixture_phase_normalised_and_sampled(void **state)
 
 /* ---- biome files: schema, defaults and messages --------------------------------------------- */
 
-static char *write_biome(const char *text)
-{
-    char *path = malloc(64);
-    snprintf(path, 64, "/tmp/fm_biome_XXXXXX.json");
-    int fd = mkstemps(path, 5);
-    assert_true(fd >= 0);
-    size_t n = strlen(text);
-    assert_true(write(fd, text, n) == (ssize_t)n);
-    close(fd);
-    return path;
-}
-
 #define LAYER(extra, densities)                                                                                   \
     "{\"name\": \"bl\", \"bottom_km\": 0, \"top_km\": 2" extra ", \"number_density_cm3\": {" densities "}}"
 #define BIOME(layers) "{\"name\": \"x\", \"humidity_percent\": 50, \"layers\": [" layers "]}"
@@ -268,9 +255,10 @@ static char *write_biome(const char *text)
 static void biome_file_defaults(void **state)
 {
     (void)state;
-    char *path = write_biome(BIOME(LAYER("", "\"waso\": 10, \"soot\": 0.5") ", "
-                                   "{\"name\": \"top\", \"bottom_km\": 2, \"top_km\": 8, \"scale_height_km\": 1.5, "
-                                   "\"humidity_percent\": 20, \"number_density_cm3\": {\"suso\": 3}}"));
+    const char *text = BIOME(LAYER("", "\"waso\": 10, \"soot\": 0.5") ", {\"name\": \"top\", \"bottom_km\": 2, "
+                                "\"top_km\": 8, \"scale_height_km\": 1.5, \"humidity_percent\": 20, "
+                                "\"number_density_cm3\": {\"suso\": 3}}");
+    char *path = test_write_temp("biome", text);
     biome b;
     fm_error err = {0};
     if (biome_load(path, "/nonexistent", &b, &err))
@@ -326,17 +314,11 @@ static void malformed_biome_files_are_refused(void **state)
          ": $.layers[0].number_density_cm3.waso: must be in [0, 1e+07], not -1"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        char *path = write_biome(cases[i].text);
+        char *path = test_write_temp("biome", cases[i].text);
         biome b;
         fm_error err = {0};
         fm_status s = biome_load(path, "/nonexistent", &b, &err);
-        char expected[512];
-        snprintf(expected, sizeof expected, "biome: %s%s", path, cases[i].expected);
-        print_message("%-30s %s\n", cases[i].what, err.message);
-        if (s != FM_ERR_INVALID_ARGUMENT || strcmp(err.parameter, "biome") != 0 ||
-            strncmp(err.message, expected, strlen(expected)) != 0)
-            fail_msg("%s: status %d, message\n  %s\nexpected it to start with\n  %s", cases[i].what, (int)s,
-                     err.message, expected);
+        test_check_input_error(cases[i].what, s, &err, "biome", path, cases[i].expected);
         unlink(path);
         free(path);
     }
