@@ -69,10 +69,10 @@ expect_usage_error "latitude beyond 90" render --date 2023-06-01 --latitude 91
 mkdir -p "$work/biomes"
 printf '{"name": "x", "humidity_percent": 50, "layers": [\n  {"name": "bl", "bottom_km": 0, "top_km": 2,\n' >"$work/biomes/truncated.json"
 expect_usage_error "biome file with a syntax error" render --biome "$work/biomes/truncated.json"
-grep -q 'truncated.json: line 3, column 1' "$work/stderr" && ok || fail "syntax error position: $(cat "$work/stderr")"
+grep -q 'truncated.json:3:1: JSON syntax error: unexpected end of file' "$work/stderr" && ok || fail "syntax error position: $(cat "$work/stderr")"
 printf '{"name": "x", "humidity_percent": 50, "layers": [{"name": "bl", "bottom_km": 0, "top_km": 2, "number_density_cm3": {"wasso": 10}}]}\n' >"$work/biomes/typo.json"
 expect_usage_error "biome file with an unknown component" render --biome "$work/biomes/typo.json"
-grep -q 'typo.json: \$.layers\[0\].number_density_cm3.wasso: unknown OPAC component' "$work/stderr" && ok || fail "JSON path in the message: $(cat "$work/stderr")"
+grep -q 'typo.json: \$.layers\[0\].number_density_cm3: unknown OPAC component "wasso"' "$work/stderr" && ok || fail "JSON path in the message: $(cat "$work/stderr")"
 printf '{"name": "x", "humidity_percent": 50, "layers": [{"name": "bl", "bottom_km": 3, "top_km": 2, "number_density_cm3": {"waso": 10}}]}\n' >"$work/biomes/upside.json"
 expect_usage_error "biome layer upside down" render --biome "$work/biomes/upside.json"
 expect_usage_error "biome with a custom atmosphere" render --atmosphere "$(dirname "$0")/../../presets/atmospheres/reference-rayleigh.json" --biome urban

@@ -50,6 +50,14 @@ double test_molecular_scattering(const fm_sky *sky, vec3 x);
 double test_path_radiance(const path_context *ctx, vec3 origin, vec3 dir, int N, uint64_t seed, uint64_t item,
                           double *se);
 
+/* Writes text to a new file /tmp/fm_<stem>_XXXXXX.json; returns its path (unlink and free it). */
+char *test_write_temp(const char *stem, const char *text);
+
+/* Fails the test unless loading `file` was refused as bad input of `field` with a message that starts
+ * "FIELD: FILE" followed by `expected` (": $.layers[0]: ..."); `what` names the case. */
+void test_check_input_error(const char *what, fm_status status, const fm_error *err, const char *field,
+                            const char *file, const char *expected);
+
 /* CIE Y of pixel (x, y) of an XYZ image, or the value of a monochromatic one. */
 double test_pixel_y(const fm_image *img, int x, int y);
 

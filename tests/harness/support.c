@@ -1,3 +1,4 @@
+#define _DEFAULT_SOURCE /* mkstemps */
 #include "check.h"
 
 #include "atmosphere/optical_depth.h"
@@ -5,6 +6,9 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
 
 void check_rel_impl(double actual, double expected, double rel_tol, const char *what, const char *file, int line)
 {
@@ -120,4 +124,29 @@ double test_molecular_scattering(const fm_sky *sky, vec3 x)
 {
     const species *mol = &sky->atm.species[0];
     return mol->sigma_s[0] * profile_density(&mol->profile, v3_length(x) - sky->atm.bottom_radius_m);
+}
+
+char *test_write_temp(const char *stem, const char *text)
+{
+    char *path = malloc(96);
+    assert_non_null(path);
+    snprintf(path, 96, "/tmp/fm_%.40s_XXXXXX.json", stem);
+    int fd = mkstemps(path, 5);
+    assert_true(fd >= 0);
+    size_t n = strlen(text);
+    assert_true(write(fd, text, n) == (ssize_t)n);
+    close(fd);
+    return path;
+}
+
+void test_check_input_error(const char *what, fm_status status, const fm_error *err, const char *field,
+                            const char *file, const char *expected)
+{
+    char start[512];
+    snprintf(start, sizeof start, "%s: %s%s", field, file, expected);
+    print_message("%-40s %s\n", what, err->message);
+    if (status != FM_ERR_INVALID_ARGUMENT || strcmp(err->parameter, field) != 0 ||
+        strncmp(err->message, start, strlen(start)) != 0)
+        fail_msg("%s: status %d, message\n  %s\nexpected it to start with\n  %s", what, (int)status, err->message,
+                 start);
 }

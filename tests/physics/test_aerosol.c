@@ -1,5 +1,6 @@
 /* Aerosol biomes: optical depths against OPAC, spectral and absorption character, turbidity,
- * the tabulated Mie phase functions in the atmosphere (normalisation, sampling). */
+ * the tabulated Mie phase functions in the atmosphere (normalisation, sampling); biome files:
+ * defaults, and malformed ones refused with the file, the JSON path and the problem. */
 #include "check.h"
 
 #include "aerosol/aerosol.h"
@@ -9,7 +10,10 @@
 #include "presets.h"
 
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* OPAC extinction at 550 nm per particle per cm^3 (km^-1), from the OPAC optdat files (Hess,
  * Koepke & Schult 1998): an independent source, not our Mie tables. */
@@ -268,6 +272,90 @@ static void henyey_greenstein_keeps_g(void **state)
     fm_sky_destroy(sh);
 }
 
+/* ---- biome files: schema, defaults and messages --------------------------------------------- */
+
+#define LAYER(extra, densities)                                                                                   \
+    "{\"name\": \"bl\", \"bottom_km\": 0, \"top_km\": 2" extra ", \"number_density_cm3\": {" densities "}}"
+#define BIOME(layers) "{\"name\": \"x\", \"humidity_percent\": 50, \"layers\": [" layers "]}"
+
+/* Optional numbers keep their defaults: no scale height (constant), the ambient humidity (-1). */
+static void biome_file_defaults(void **state)
+{
+    (void)state;
+    const char *text = BIOME(LAYER("", "\"waso\": 10, \"soot\": 0.5") ", {\"name\": \"top\", \"bottom_km\": 2, "
+                                "\"top_km\": 8, \"scale_height_km\": 1.5, \"humidity_percent\": 20, "
+                                "\"number_density_cm3\": {\"suso\": 3}}");
+    char *path = test_write_temp("biome", text);
+    biome b;
+    fm_error err = {0};
+    if (biome_load(path, "/nonexistent", &b, &err))
+        fail_msg("%s", err.message);
+    assert_string_equal(b.name, "x");
+    assert_int_equal(b.layer_count, 2);
+    check_abs(b.humidity_percent, 50.0, 0.0, "ambient humidity");
+    check_abs(b.layer[0].scale_height_m, 0.0, 0.0, "no scale height: constant density");
+    check_abs(b.layer[0].humidity_percent, -1.0, 0.0, "no layer humidity: the ambient one");
+    check_abs(b.layer[0].top_m, 2000.0, 0.0, "top in m");
+    assert_int_equal(b.layer[0].component_count, 2);
+    assert_string_equal(b.layer[0].component[1].code, "soot");
+    check_abs(b.layer[0].component[1].density_m3, 0.5e6, 0.0, "per cm^3 to per m^3");
+    check_abs(b.layer[1].scale_height_m, 1500.0, 0.0, "scale height in m");
+    check_abs(b.layer[1].humidity_percent, 20.0, 0.0, "layer humidity");
+    unlink(path);
+    free(path);
+}
+
+static void malformed_biome_files_are_refused(void **state)
+{
+    (void)state;
+    const struct {
+        const char *what, *text, *expected; /* expected: in the message, after "biome: FILE" */
+    } cases[] = {
+        {"truncated", "{\"name\": \"x\", \"humidity_percent\": 50, \"layers\": [\n  {\"name\": \"bl\",\n",
+         ":3:1: JSON syntax error: unexpected end of file"},
+        {"not an object", "[]", ": $: must be an object, not an array"},
+        {"unknown key", "{\"name\": \"x\", \"humidity\": 50, \"layers\": []}", ": $: unknown key \"humidity\""},
+        {"missing name", "{\"humidity_percent\": 50, \"layers\": [" LAYER("", "\"waso\": 1") "]}",
+         ": $: missing \"name\""},
+        {"missing humidity", "{\"name\": \"x\", \"layers\": [" LAYER("", "\"waso\": 1") "]}",
+         ": $: missing \"humidity_percent\""},
+        {"no layers", BIOME(""), ": $.layers: must hold 1 to 6 layers, holds 0"},
+        {"layer key typo", BIOME(LAYER(", \"scale_height\": 2", "\"waso\": 1")),
+         ": $.layers[0]: unknown key \"scale_height\""},
+        {"layer humidity out of range", BIOME(LAYER(", \"humidity_percent\": 100", "\"waso\": 1")),
+         ": $.layers[0].humidity_percent: must be in [0, 99], not 100"},
+        {"scale height out of range", BIOME(LAYER(", \"scale_height_km\": 0.01", "\"waso\": 1")),
+         ": $.layers[0].scale_height_km: must be in [0.1, 1000], not 0.01"},
+        {"upside down",
+         BIOME("{\"name\": \"bl\", \"bottom_km\": 3, \"top_km\": 2, \"number_density_cm3\": {\"waso\": 1}}"),
+         ": $.layers[0].top_km: must be above bottom_km (3), not 2"},
+        {"overlap", BIOME(LAYER("", "\"waso\": 1") ", " LAYER("", "\"suso\": 1")),
+         ": $.layers[1].bottom_km: overlaps the layer below"},
+        {"unknown component", BIOME(LAYER("", "\"wasso\": 10")),
+         ": $.layers[0].number_density_cm3: unknown OPAC component \"wasso\""},
+        {"repeated component", BIOME(LAYER("", "\"waso\": 10, \"waso\": 20")),
+         ": $.layers[0].number_density_cm3: key \"waso\" appears twice"},
+        {"density not a number", BIOME(LAYER("", "\"waso\": \"10\"")),
+         ": $.layers[0].number_density_cm3.waso: must be a number, not a string"},
+        {"negative density", BIOME(LAYER("", "\"waso\": -1")),
+         ": $.layers[0].number_density_cm3.waso: must be in [0, 1e+07], not -1"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char *path = test_write_temp("biome", cases[i].text);
+        biome b;
+        fm_error err = {0};
+        fm_status s = biome_load(path, "/nonexistent", &b, &err);
+        test_check_input_error(cases[i].what, s, &err, "biome", path, cases[i].expected);
+        unlink(path);
+        free(path);
+    }
+    /* a file that does not exist is bad input too */
+    biome b;
+    fm_error err = {0};
+    assert_int_equal(biome_load("/nonexistent/biome.json", "/nonexistent", &b, &err), FM_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(err.message, "biome: /nonexistent/biome.json: cannot open"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -277,6 +365,8 @@ int main(void)
         cmocka_unit_test(turbidity_zero_is_none),
         cmocka_unit_test(mixture_phase_normalised_and_sampled),
         cmocka_unit_test(henyey_greenstein_keeps_g),
+        cmocka_unit_test(biome_file_defaults),
+        cmocka_unit_test(malformed_biome_files_are_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

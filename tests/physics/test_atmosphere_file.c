@@ -1,7 +1,6 @@
 /* Custom atmosphere files: the four reference atmospheres (after E. Bruneton's 2017 demo) build the
  * coefficients they state, a file restating the built-in molecular atmosphere renders the built-in
  * sky, and malformed files are refused with the file, the JSON path and the problem. */
-#define _DEFAULT_SOURCE /* mkstemps */
 #include "check.h"
 
 #include "atmosphere/atmosphere_file.h"
@@ -231,18 +230,6 @@ static void molecular_fixture_renders_the_builtin_sky(void **state)
 
 /* ---- files written by the tests ------------------------------------------------------------- */
 
-static char *write_temp(const char *text)
-{
-    char *path = malloc(64);
-    snprintf(path, 64, "/tmp/fm_atmosphere_XXXXXX.json");
-    int fd = mkstemps(path, 5);
-    assert_true(fd >= 0);
-    size_t n = strlen(text);
-    assert_true(write(fd, text, n) == (ssize_t)n);
-    close(fd);
-    return path;
-}
-
 /* A valid file around one constituent (and optional top-level extras). */
 static char *constituent_file(const char *extra_top, const char *constituent)
 {
@@ -250,7 +237,7 @@ static char *constituent_file(const char *extra_top, const char *constituent)
     snprintf(text, sizeof text,
              "{\n  \"planet_radius_km\": 6360,\n  \"top_altitude_km\": 60,%s\n  \"constituents\": [\n    %s\n  ]\n}\n",
              extra_top, constituent);
-    return write_temp(text);
+    return test_write_temp("atmosphere", text);
 }
 
 static double hg(double g, double mu)
@@ -276,7 +263,7 @@ static void tabulated_phase_from_a_file(void **state)
     for (int j = 0; j <= 180; j++)
         n += snprintf(text + n, sizeof text - n, "%s%.12g", j ? ", " : "", hg(0.5, cos(j * FM_DEG)));
     snprintf(text + n, sizeof text - n, "]]}}]}");
-    char *path = write_temp(text);
+    char *path = test_write_temp("atmosphere", text);
     const double lambda[3] = {400.0, 550.0, 700.0}, weight_hg[3] = {0.0, 0.5, 1.0};
     for (int i = 0; i < 3; i++) {
         atmosphere atm;
@@ -420,7 +407,7 @@ static void malformed_files_are_refused(void **state)
          550, ": $.constituents[0].phase.angles_deg: must run from 0 to 180 degrees, runs from 0 to 170"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        char *path = write_temp(cases[i].text);
+        char *path = test_write_temp("atmosphere", cases[i].text);
         spectral_grid grid;
         if (cases[i].lambda_nm > 0.0)
             spectral_grid_single(&grid, cases[i].lambda_nm);
@@ -429,13 +416,7 @@ static void malformed_files_are_refused(void **state)
         atmosphere atm;
         fm_error err = {0};
         fm_status s = atmosphere_init_from_file(&atm, path, &grid, 1.0, 0.2, &err);
-        char expected[512];
-        snprintf(expected, sizeof expected, "atmosphere_file: %s%s", path, cases[i].expected);
-        print_message("%-40s %s\n", cases[i].what, err.message);
-        if (s != FM_ERR_INVALID_ARGUMENT || strcmp(err.parameter, "atmosphere_file") != 0 ||
-            strncmp(err.message, expected, strlen(expected)) != 0)
-            fail_msg("%s: status %d, message\n  %s\nexpected it to start with\n  %s", cases[i].what, (int)s,
-                     err.message, expected);
+        test_check_input_error(cases[i].what, s, &err, "atmosphere_file", path, cases[i].expected);
         unlink(path);
         free(path);
     }
@@ -452,9 +433,10 @@ static void malformed_files_are_refused(void **state)
 /* Through the public API: the observer must be inside the file's atmosphere. */
 static void observer_inside_the_file_atmosphere(void **state)
 {
-    char *path = write_temp("{\"planet_radius_km\": 3390, \"top_altitude_km\": 10, \"constituents\": [{\"profile\": "
-                            "{\"type\": \"exponential\", \"scale_height_km\": 11}, \"scattering\": 1e-6, "
-                            "\"phase\": {\"type\": \"henyey-greenstein\", \"g\": 0.6}}]}");
+    char *path = test_write_temp(
+        "atmosphere", "{\"planet_radius_km\": 3390, \"top_altitude_km\": 10, \"constituents\": [{\"profile\": "
+                      "{\"type\": \"exponential\", \"scale_height_km\": 11}, \"scattering\": 1e-6, "
+                      "\"phase\": {\"type\": \"henyey-greenstein\", \"g\": 0.6}}]}");
     fm_sky_params p = test_params(30.0, 550.0);
     p.atmosphere_file = path;
     p.observer_altitude_m = 15000.0;

@@ -59,96 +59,104 @@ static int known_component(const char *code)
     return 0;
 }
 
-static fm_status parse_layer(const cJSON *item, const char *file, const json_path *path, biome_layer *layer,
-                             fm_error *err)
-{
-    static const char *const keys[] = {"name", "bottom_km", "top_km", "scale_height_km", "humidity_percent",
-                                       "number_density_cm3", "note", NULL};
-    fm_status s;
-    if (!cJSON_IsObject(item))
-        return json_fail(err, file, path, "must be an object");
-    if ((s = json_only_keys(item, keys, file, path, err)))
-        return s;
-    const cJSON *name = cJSON_GetObjectItemCaseSensitive(item, "name");
-    if (!cJSON_IsString(name)) {
-        json_path p = json_path_key(path, "name");
-        return json_fail(err, file, &p, "missing (a string)");
-    }
-    snprintf(layer->name, sizeof layer->name, "%s", name->valuestring);
-    double bottom_km, top_km, scale_km, rh;
-    if ((s = json_number(item, "bottom_km", 0.0, BIOME_TOP_M / FM_KM, 0, 0.0, &bottom_km, file, path, err)) ||
-        (s = json_number(item, "top_km", 0.0, BIOME_TOP_M / FM_KM, 0, 0.0, &top_km, file, path, err)) ||
-        (s = json_number(item, "scale_height_km", 0.1, 1000.0, 1, 0.0, &scale_km, file, path, err)) ||
-        (s = json_number(item, "humidity_percent", 0.0, 99.0, 1, -1.0, &rh, file, path, err)))
-        return s;
-    if (!(top_km > bottom_km)) {
-        json_path p = json_path_key(path, "top_km");
-        return json_fail(err, file, &p, "must be above bottom_km (%g)", bottom_km);
-    }
-    layer->bottom_m = bottom_km * FM_KM;
-    layer->top_m = top_km * FM_KM;
-    layer->scale_height_m = scale_km * FM_KM;
-    layer->humidity_percent = rh;
+static const char *const component_list = "inso, waso, soot, ssam, sscm, minm, miam, micm, mitr, suso";
 
-    json_path pd = json_path_key(path, "number_density_cm3");
-    const cJSON *densities = cJSON_GetObjectItemCaseSensitive(item, "number_density_cm3");
-    if (!cJSON_IsObject(densities))
-        return json_fail(err, file, &pd, "missing (an object of component: particles per cm^3)");
+/* {"waso": 7000, ...}: OPAC components and their number densities (particles per cm^3). */
+static fm_status parse_densities(const json_reader *rd, const cJSON *densities, const char *path, biome_layer *layer)
+{
+    fm_status s;
+    if ((s = json_require_object(rd, densities, path)))
+        return s;
     const cJSON *c;
+    cJSON_ArrayForEach(c, densities)
+    {
+        if (!known_component(c->string))
+            return json_bad(rd, path, "unknown OPAC component \"%s\" (known: %s)", c->string, component_list);
+    }
+    if ((s = json_check_keys(rd, densities, path, biome_component_codes))) /* repeated components */
+        return s;
+    const json_interval density_cm3 = {0.0, 1e7, 0, 0};
     layer->component_count = 0;
     cJSON_ArrayForEach(c, densities)
     {
-        json_path pc = json_path_key(&pd, c->string);
-        if (!known_component(c->string))
-            return json_fail(err, file, &pc, "unknown OPAC component (known: inso, waso, soot, ssam, sscm, "
-                                             "minm, miam, micm, mitr, suso)");
-        if (!cJSON_IsNumber(c) || !(c->valuedouble >= 0.0) || c->valuedouble > 1e7)
-            return json_fail(err, file, &pc, "must be a number of particles per cm^3 in [0, 1e7]");
+        char pc[JSON_PATH_CHARS];
+        json_child_path(pc, path, ".%s", c->string);
         if (layer->component_count == BIOME_MAX_COMPONENTS)
-            return json_fail(err, file, &pc, "more than %d components in one layer", BIOME_MAX_COMPONENTS);
-        biome_component *bc = &layer->component[layer->component_count++];
+            return json_bad(rd, path, "more than %d components in one layer", BIOME_MAX_COMPONENTS);
+        biome_component *bc = &layer->component[layer->component_count];
+        if ((s = json_get_number(rd, c, pc, density_cm3, &bc->density_m3)))
+            return s;
         snprintf(bc->code, sizeof bc->code, "%s", c->string);
-        bc->density_m3 = c->valuedouble * 1e6;
+        bc->density_m3 *= 1e6; /* per cm^3 to per m^3 */
+        layer->component_count++;
     }
     return FM_OK;
 }
 
-static fm_status parse_biome(const cJSON *root, const char *file, biome *out, fm_error *err)
+static fm_status parse_layer(const json_reader *rd, const cJSON *item, const char *path, biome_layer *layer)
+{
+    static const char *const keys[] = {"name", "bottom_km", "top_km", "scale_height_km", "humidity_percent",
+                                       "number_density_cm3", "note", NULL};
+    const json_interval altitude_km = {0.0, BIOME_TOP_M / FM_KM, 0, 0}, scale_height_km = {0.1, 1000.0, 0, 0},
+                        humidity = {0.0, 99.0, 0, 0};
+    fm_status s;
+    const char *name;
+    if ((s = json_require_object(rd, item, path)) || (s = json_check_keys(rd, item, path, keys)) ||
+        (s = json_get_string(rd, item, path, "name", 1, &name)))
+        return s;
+    snprintf(layer->name, sizeof layer->name, "%s", name);
+    double bottom_km, top_km, scale_km, rh;
+    if ((s = json_required_number(rd, item, path, "bottom_km", altitude_km, &bottom_km)) ||
+        (s = json_required_number(rd, item, path, "top_km", altitude_km, &top_km)) ||
+        (s = json_optional_number(rd, item, path, "scale_height_km", scale_height_km, 0.0, &scale_km)) ||
+        (s = json_optional_number(rd, item, path, "humidity_percent", humidity, -1.0, &rh)))
+        return s;
+    if (!(top_km > bottom_km)) {
+        char p[JSON_PATH_CHARS];
+        json_child_path(p, path, ".top_km");
+        return json_bad(rd, p, "must be above bottom_km (%g), not %g", bottom_km, top_km);
+    }
+    layer->bottom_m = bottom_km * FM_KM;
+    layer->top_m = top_km * FM_KM;
+    layer->scale_height_m = scale_km * FM_KM; /* 0: constant through the layer */
+    layer->humidity_percent = rh;             /* -1: the ambient humidity */
+
+    const cJSON *densities = cJSON_GetObjectItemCaseSensitive(item, "number_density_cm3");
+    if (!densities)
+        return json_bad(rd, path, "missing \"number_density_cm3\"");
+    char pd[JSON_PATH_CHARS];
+    json_child_path(pd, path, ".number_density_cm3");
+    return parse_densities(rd, densities, pd, layer);
+}
+
+static fm_status parse_biome(const json_reader *rd, const cJSON *root, biome *out)
 {
     static const char *const keys[] = {"name", "description", "opac_mixture", "humidity_percent", "sources",
                                        "layers", "note", NULL};
-    json_path root_path = json_path_root();
+    const json_interval humidity = {0.0, 99.0, 0, 0};
     fm_status s;
-    if (!cJSON_IsObject(root))
-        return json_fail(err, file, &root_path, "must be an object");
-    if ((s = json_only_keys(root, keys, file, &root_path, err)))
+    const char *name;
+    const cJSON *layers;
+    if ((s = json_require_object(rd, root, "$")) || (s = json_check_keys(rd, root, "$", keys)) ||
+        (s = json_get_string(rd, root, "$", "name", 1, &name)))
         return s;
-    const cJSON *name = cJSON_GetObjectItemCaseSensitive(root, "name");
-    if (!cJSON_IsString(name)) {
-        json_path p = json_path_key(&root_path, "name");
-        return json_fail(err, file, &p, "missing (a string)");
-    }
-    snprintf(out->name, sizeof out->name, "%s", name->valuestring);
-    if ((s = json_number(root, "humidity_percent", 0.0, 99.0, 0, 0.0, &out->humidity_percent, file, &root_path, err)))
+    snprintf(out->name, sizeof out->name, "%s", name);
+    if ((s = json_required_number(rd, root, "$", "humidity_percent", humidity, &out->humidity_percent)) ||
+        (s = json_get_array(rd, root, "$", "layers", 1, BIOME_MAX_LAYERS, "layers", &layers)))
         return s;
-
-    json_path pl = json_path_key(&root_path, "layers");
-    const cJSON *layers = cJSON_GetObjectItemCaseSensitive(root, "layers");
-    if (!cJSON_IsArray(layers) || cJSON_GetArraySize(layers) < 1)
-        return json_fail(err, file, &pl, "missing (an array of at least one layer)");
-    if (cJSON_GetArraySize(layers) > BIOME_MAX_LAYERS)
-        return json_fail(err, file, &pl, "more than %d layers", BIOME_MAX_LAYERS);
     out->layer_count = 0;
     const cJSON *item;
     cJSON_ArrayForEach(item, layers)
     {
-        json_path p = json_path_index(&pl, out->layer_count);
+        char p[JSON_PATH_CHARS];
+        snprintf(p, sizeof p, "$.layers[%d]", out->layer_count);
         biome_layer *layer = &out->layer[out->layer_count];
-        if ((s = parse_layer(item, file, &p, layer, err)))
+        if ((s = parse_layer(rd, item, p, layer)))
             return s;
         if (out->layer_count > 0 && layer->bottom_m < out->layer[out->layer_count - 1].top_m) {
-            json_path pb = json_path_key(&p, "bottom_km");
-            return json_fail(err, file, &pb, "overlaps the layer below (layers go upward without overlap)");
+            char pb[JSON_PATH_CHARS];
+            json_child_path(pb, p, ".bottom_km");
+            return json_bad(rd, pb, "overlaps the layer below (layers go upward without overlap)");
         }
         out->layer_count++;
     }
@@ -176,10 +184,12 @@ fm_status biome_load(const char *name_or_path, const char *presets_dir, biome *o
         }
         fclose(f);
     }
-    cJSON *root = json_file_read(path, err);
+    json_reader rd = {path, "biome", err};
+    fm_status s;
+    cJSON *root = json_reader_load(&rd, &s);
     if (!root)
-        return err ? err->status : FM_ERR_INVALID_ARGUMENT;
-    fm_status s = parse_biome(root, path, out, err);
+        return s;
+    s = parse_biome(&rd, root, out);
     cJSON_Delete(root);
     return s;
 }

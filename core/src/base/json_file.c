@@ -1,7 +1,6 @@
 #include "base/json_file.h"
 
-#include "base/status.h"
-
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -9,131 +8,278 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define JSON_FILE_MAX_BYTES (16L << 20)
+#define MAX_FILE_BYTES (64L << 20) /* far beyond any sensible input file; refuses a wrong file early */
 
-static char *read_all(const char *path, long *size, fm_error *err)
+const json_interval json_any = {-INFINITY, INFINITY, 1, 1};
+const json_interval json_positive = {0.0, INFINITY, 1, 1};
+const json_interval json_non_negative = {0.0, INFINITY, 0, 1};
+
+fm_status json_bad(const json_reader *rd, const char *path, const char *fmt, ...)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        /* an input file the user named: bad input, not a runtime failure */
-        fm_fail(err, FM_ERR_INVALID_ARGUMENT, "cannot read '%s': %s", path, strerror(errno));
-        return NULL;
-    }
-    char *text = NULL;
-    long n = -1;
-    if (fseek(f, 0, SEEK_END) == 0 && (n = ftell(f)) >= 0 && fseek(f, 0, SEEK_SET) == 0) {
-        if (n > JSON_FILE_MAX_BYTES) {
-            fm_fail(err, FM_ERR_INVALID_ARGUMENT, "%s: %ld bytes is too large for a JSON input file", path, n);
-        } else if (!(text = malloc((size_t)n + 1))) {
-            fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory reading '%s'", path);
-        } else if (fread(text, 1, (size_t)n, f) != (size_t)n) {
-            fm_fail(err, FM_ERR_IO, "cannot read '%s'", path);
-            free(text);
-            text = NULL;
-        } else {
-            text[n] = '\0';
-            *size = n;
-        }
-    } else {
-        fm_fail(err, FM_ERR_INVALID_ARGUMENT, "cannot read '%s': not a regular file", path);
-    }
-    fclose(f);
-    return text;
+    char what[384];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    return fm_fail_parameter(rd->err, rd->field, "%s: %s: %s", rd->file, path, what);
 }
 
-cJSON *json_file_read(const char *path, fm_error *err)
+fm_status json_out_of_memory(const json_reader *rd)
 {
-    long size = 0;
-    char *text = read_all(path, &size, err);
-    if (!text)
+    return fm_fail(rd->err, FM_ERR_OUT_OF_MEMORY, "out of memory while reading %s", rd->file);
+}
+
+void json_child_path(char *out, const char *parent, const char *fmt, ...)
+{
+    size_t n = strlen(parent);
+    if (n >= JSON_PATH_CHARS)
+        n = JSON_PATH_CHARS - 1;
+    memcpy(out, parent, n);
+    out[n] = '\0';
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(out + n, JSON_PATH_CHARS - n, fmt, ap);
+    va_end(ap);
+}
+
+const char *json_type_name(const cJSON *node)
+{
+    if (cJSON_IsNumber(node))
+        return "a number";
+    if (cJSON_IsString(node))
+        return "a string";
+    if (cJSON_IsArray(node))
+        return "an array";
+    if (cJSON_IsObject(node))
+        return "an object";
+    if (cJSON_IsBool(node))
+        return "a boolean";
+    return "null";
+}
+
+/* ---- reading and parsing ---------------------------------------------------------------------- */
+
+static fm_status read_text(const json_reader *rd, char **out, size_t *size)
+{
+    *out = NULL;
+    FILE *f = fopen(rd->file, "rb");
+    if (!f) /* a file the user named: bad input, not a runtime failure */
+        return fm_fail_parameter(rd->err, rd->field, "%s: cannot open: %s", rd->file, strerror(errno));
+    size_t cap = 1 << 16, n = 0;
+    char *buf = malloc(cap + 1);
+    fm_status st = FM_OK;
+    while (buf) {
+        n += fread(buf + n, 1, cap - n, f);
+        if (n < cap)
+            break;
+        if ((long)cap >= MAX_FILE_BYTES) {
+            st = fm_fail_parameter(rd->err, rd->field, "%s: larger than %ld MiB: not an input file", rd->file,
+                                   MAX_FILE_BYTES >> 20);
+            break;
+        }
+        cap *= 2;
+        char *grown = realloc(buf, cap + 1);
+        if (!grown)
+            free(buf);
+        buf = grown;
+    }
+    if (!buf)
+        st = json_out_of_memory(rd);
+    else if (!st && ferror(f)) /* e.g. a directory */
+        st = fm_fail_parameter(rd->err, rd->field, "%s: cannot read: %s", rd->file, strerror(errno));
+    fclose(f);
+    if (st) {
+        free(buf);
+        return st;
+    }
+    buf[n] = '\0';
+    *out = buf;
+    *size = n;
+    return FM_OK;
+}
+
+static fm_status syntax_error(const json_reader *rd, const char *text, size_t size, const char *at)
+{
+    size_t offset = at && at >= text && at <= text + size ? (size_t)(at - text) : size;
+    /* cJSON sometimes points just past the offending character (e.g. after a stray comma): on
+     * whitespace, report the last character before it */
+    while (offset < size && offset > 0 && isspace((unsigned char)text[offset]))
+        offset--;
+    int line = 1, column = 1;
+    for (size_t i = 0; i < offset; i++) {
+        if (text[i] == '\n')
+            line++, column = 1;
+        else
+            column++;
+    }
+    if (offset >= size)
+        return fm_fail_parameter(rd->err, rd->field, "%s:%d:%d: JSON syntax error: unexpected end of file", rd->file,
+                                 line, column);
+    int shown = 0; /* up to 12 characters of the line from there */
+    while (shown < 12 && offset + shown < size && text[offset + shown] != '\n' && text[offset + shown] != '\r')
+        shown++;
+    return fm_fail_parameter(rd->err, rd->field, "%s:%d:%d: JSON syntax error at '%.*s'", rd->file, line, column, shown,
+                             text + offset);
+}
+
+cJSON *json_reader_load(const json_reader *rd, fm_status *status)
+{
+    char *text = NULL;
+    size_t size = 0;
+    if ((*status = read_text(rd, &text, &size)))
         return NULL;
     const char *end = NULL;
-    cJSON *root = cJSON_ParseWithLengthOpts(text, (size_t)size + 1, &end, 1); /* + the terminator */
-    if (!root) {
-        /* cJSON reports where it stopped; turn that offset into a line and column */
-        const char *at = end ? end : cJSON_GetErrorPtr();
-        if (!at || at < text || at > text + size)
-            at = text + size;
-        int line = 1, column = 1;
-        for (const char *c = text; c < at; c++) {
-            if (*c == '\n') {
-                line++;
-                column = 1;
-            } else {
-                column++;
-            }
-        }
-        fm_fail(err, FM_ERR_INVALID_ARGUMENT, "%s: line %d, column %d: JSON syntax error", path, line, column);
-    }
+    cJSON *root = cJSON_ParseWithLengthOpts(text, size + 1, &end, 1) /* with the NUL */;
+    if (!root)
+        *status = syntax_error(rd, text, size, end);
     free(text);
     return root;
 }
 
-json_path json_path_root(void)
-{
-    json_path p;
-    snprintf(p.text, sizeof p.text, "$");
-    return p;
-}
+/* ---- keys, strings, arrays -------------------------------------------------------------------- */
 
-json_path json_path_key(const json_path *parent, const char *key)
+fm_status json_check_keys(const json_reader *rd, const cJSON *obj, const char *path, const char *const *allowed)
 {
-    json_path p;
-    snprintf(p.text, sizeof p.text, "%.120s.%.60s", parent->text, key);
-    return p;
-}
-
-json_path json_path_index(const json_path *parent, int index)
-{
-    json_path p;
-    snprintf(p.text, sizeof p.text, "%.170s[%d]", parent->text, index);
-    return p;
-}
-
-fm_status json_fail(fm_error *err, const char *file, const json_path *path, const char *fmt, ...)
-{
-    char message[320];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(message, sizeof message, fmt, ap);
-    va_end(ap);
-    return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "%s: %s: %s", file, path->text, message);
-}
-
-fm_status json_only_keys(const cJSON *object, const char *const *allowed, const char *file, const json_path *path,
-                         fm_error *err)
-{
-    const cJSON *item;
-    cJSON_ArrayForEach(item, object)
-    {
+    for (const cJSON *it = obj->child; it; it = it->next) {
         int known = 0;
-        for (int i = 0; allowed[i] && !known; i++)
-            known = item->string && strcmp(item->string, allowed[i]) == 0;
+        for (const char *const *a = allowed; *a && !known; a++)
+            known = strcmp(*a, it->string) == 0;
         if (!known) {
-            json_path p = json_path_key(path, item->string ? item->string : "?");
-            return json_fail(err, file, &p, "unknown key");
+            char list[256] = "";
+            for (const char *const *a = allowed; *a; a++) {
+                size_t used = strlen(list);
+                snprintf(list + used, sizeof list - used, "%s%s", a == allowed ? "" : ", ", *a);
+            }
+            return json_bad(rd, path, "unknown key \"%s\" (expected %s)", it->string, list);
         }
+        for (const cJSON *prev = obj->child; prev != it; prev = prev->next)
+            if (strcmp(prev->string, it->string) == 0)
+                return json_bad(rd, path, "key \"%s\" appears twice", it->string);
     }
     return FM_OK;
 }
 
-fm_status json_number(const cJSON *object, const char *key, double lo, double hi, int optional, double fallback,
-                      double *out, const char *file, const json_path *path, fm_error *err)
+fm_status json_require_object(const json_reader *rd, const cJSON *node, const char *path)
 {
-    json_path p = json_path_key(path, key);
-    const cJSON *item = cJSON_GetObjectItemCaseSensitive(object, key);
-    if (!item) {
-        if (optional) {
-            *out = fallback;
-            return FM_OK;
-        }
-        return json_fail(err, file, &p, "missing (a number in [%g, %g])", lo, hi);
+    if (!cJSON_IsObject(node))
+        return json_bad(rd, path, "must be an object, not %s", json_type_name(node));
+    return FM_OK;
+}
+
+fm_status json_get_string(const json_reader *rd, const cJSON *obj, const char *path, const char *key, int required,
+                          const char **out)
+{
+    *out = NULL;
+    const cJSON *n = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!n)
+        return required ? json_bad(rd, path, "missing \"%s\"", key) : FM_OK;
+    if (!cJSON_IsString(n)) {
+        char p[JSON_PATH_CHARS];
+        json_child_path(p, path, ".%s", key);
+        return json_bad(rd, p, "must be a string, not %s", json_type_name(n));
     }
-    if (!cJSON_IsNumber(item))
-        return json_fail(err, file, &p, "must be a number");
-    double v = item->valuedouble;
-    if (!isfinite(v) || v < lo || v > hi)
-        return json_fail(err, file, &p, "%g is outside [%g, %g]", v, lo, hi);
+    *out = n->valuestring;
+    return FM_OK;
+}
+
+fm_status json_get_array(const json_reader *rd, const cJSON *obj, const char *path, const char *key, int min, int max,
+                         const char *noun, const cJSON **out)
+{
+    *out = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!*out)
+        return json_bad(rd, path, "missing \"%s\"", key);
+    char p[JSON_PATH_CHARS];
+    json_child_path(p, path, ".%s", key);
+    if (!cJSON_IsArray(*out))
+        return json_bad(rd, p, "must be an array, not %s", json_type_name(*out));
+    int count = cJSON_GetArraySize(*out);
+    if (count < min || count > max)
+        return json_bad(rd, p, "must hold %d to %d %s, holds %d", min, max, noun, count);
+    return FM_OK;
+}
+
+/* ---- numbers ---------------------------------------------------------------------------------- */
+
+static int in_interval(double v, json_interval r)
+{
+    return (r.lo_open ? v > r.lo : v >= r.lo) && (r.hi_open ? v < r.hi : v <= r.hi);
+}
+
+static fm_status check_value(const json_reader *rd, const char *path, double v, json_interval r)
+{
+    if (in_interval(v, r))
+        return FM_OK;
+    if (r.lo == 0.0 && isinf(r.hi))
+        return json_bad(rd, path, "must be %s, not %g", r.lo_open ? "positive" : "non-negative", v);
+    return json_bad(rd, path, "must be in %c%g, %g%c, not %g", r.lo_open ? '(' : '[', r.lo, r.hi, r.hi_open ? ')' : ']',
+                    v);
+}
+
+fm_status json_get_number(const json_reader *rd, const cJSON *node, const char *path, json_interval r, double *out)
+{
+    if (!cJSON_IsNumber(node))
+        return json_bad(rd, path, "must be a number, not %s", json_type_name(node));
+    if (!isfinite(node->valuedouble))
+        return json_bad(rd, path, "must be a finite number");
+    *out = node->valuedouble;
+    return check_value(rd, path, *out, r);
+}
+
+fm_status json_required_number(const json_reader *rd, const cJSON *obj, const char *path, const char *key,
+                               json_interval r, double *out)
+{
+    if (!cJSON_GetObjectItemCaseSensitive(obj, key))
+        return json_bad(rd, path, "missing \"%s\"", key);
+    return json_optional_number(rd, obj, path, key, r, 0.0, out);
+}
+
+fm_status json_optional_number(const json_reader *rd, const cJSON *obj, const char *path, const char *key,
+                               json_interval r, double fallback, double *out)
+{
+    const cJSON *n = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!n) {
+        *out = fallback;
+        return FM_OK;
+    }
+    char p[JSON_PATH_CHARS];
+    json_child_path(p, path, ".%s", key);
+    return json_get_number(rd, n, p, r, out);
+}
+
+fm_status json_get_numbers(const json_reader *rd, const cJSON *node, const char *path, int min_count, json_interval r,
+                           double **out, int *count)
+{
+    *out = NULL;
+    if (!cJSON_IsArray(node))
+        return json_bad(rd, path, "must be an array of numbers, not %s", json_type_name(node));
+    int n = cJSON_GetArraySize(node);
+    if (n < min_count)
+        return json_bad(rd, path, "needs at least %d value%s, has %d", min_count, min_count == 1 ? "" : "s", n);
+    double *v = malloc(sizeof(double) * (size_t)n);
+    if (!v)
+        return json_out_of_memory(rd);
+    int i = 0;
+    for (const cJSON *it = node->child; it; it = it->next, i++) {
+        char p[JSON_PATH_CHARS];
+        json_child_path(p, path, "[%d]", i);
+        fm_status s = json_get_number(rd, it, p, r, &v[i]);
+        if (s) {
+            free(v);
+            return s;
+        }
+    }
     *out = v;
+    *count = n;
+    return FM_OK;
+}
+
+fm_status json_check_ascending(const json_reader *rd, const char *path, const double *x, int n)
+{
+    for (int i = 1; i < n; i++)
+        if (!(x[i] > x[i - 1])) {
+            char p[JSON_PATH_CHARS];
+            json_child_path(p, path, "[%d]", i);
+            return json_bad(rd, p, "must be greater than the value before it (%g), not %g", x[i - 1], x[i]);
+        }
     return FM_OK;
 }
