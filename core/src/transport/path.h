@@ -10,7 +10,9 @@
  * precomputed disk-integrated transmittance table (sun_irradiance.h); directions sampled by the phase
  * function never count the sun, so it is never counted twice.  Ground: Lambertian, bounced with
  * cosine sampling (weight = albedo).  Russian roulette ends paths: every order of scattering is
- * included.  Segments that would leave the atmosphere are optionally forced to collide (weight
+ * included.  Scattering directions are drawn from the local phase function or, a fraction of the
+ * time, from an aerosol phase function about the sun (the sun guide, one-sample MIS), so the next
+ * vertex's direct sunlight through its aerosol forward peak is not left to chance.  Segments that would leave the atmosphere are optionally forced to collide (weight
  * 1 - exp(-majorant depth)), which keeps thin-air paths useful without bias.
  *
  * Orders: the order of a contribution is the number of interactions (air scattering or ground
@@ -36,6 +38,12 @@ typedef struct path_context {
      * single_scatter_radiance adds the ground's reflection of the tabulated diffuse irradiance. */
     int skip_ground_first;
     const struct ground_irradiance *ground_diffuse;
+    /* Sun-guided directions: with probability sun_guide_fraction a scattering direction is drawn
+     * from sun_guide (a forward-peaked phase function) about the sun's direction instead of from
+     * the local phase function, combined by one-sample MIS.  The next vertex's sunlight is then
+     * sampled where its aerosol forward peak makes it large. */
+    const phase_function *sun_guide;
+    double sun_guide_fraction;
 } path_context;
 
 /* Adds one path's radiance estimate (W m^-2 sr^-1 nm^-1, per grid wavelength) to L. */
