@@ -346,6 +346,212 @@ static void bad_inputs_are_refused(void **state)
     refused(p, "delta_t_s");
 }
 
+/* ---- the sky's sun from the date and time --------------------------------------------------------- */
+
+static fm_sky_params dated_sky(int hour, int minute)
+{
+    fm_sky_params p = fm_sky_params_default(); /* rural aerosols: the general case */
+    p.year = 2023;
+    p.month = 6;
+    p.day = 21;
+    p.hour = hour;
+    p.minute = minute;
+    p.utc_offset_min = 120;
+    p.latitude_deg = 48.8566;
+    p.longitude_deg = 2.3522;
+    p.sun_elevation_deg = p.sun_azimuth_deg = p.earth_sun_distance_au = FM_SUN_FROM_TIME;
+    return p;
+}
+
+static void sky_sun_from_date_and_time(void **state)
+{
+    fm_sky_params p = dated_sky(9, 0);
+    fm_sky *sky = test_sky(&p);
+    fm_solar_position o;
+    unsigned computed = 0;
+    assert_int_equal(fm_sky_solar_position(sky, &o, &computed), 1);
+    assert_int_equal(computed, FM_SUN_COMPUTED_ELEVATION | FM_SUN_COMPUTED_AZIMUTH | FM_SUN_COMPUTED_DISTANCE);
+    const fm_sky_params *q = fm_sky_get_params(sky);
+    /* the renderer gets the apparent (refracted) elevation */
+    check_abs(q->sun_elevation_deg, o.elevation_deg, 0.0, "sky elevation = apparent elevation");
+    assert_true(o.elevation_deg > o.elevation_true_deg);
+    check_abs(q->sun_azimuth_deg, o.azimuth_deg, 0.0, "sky azimuth");
+    /* Paris, 21 June 2023, 09:00 CEST (PyEphem, no refraction: 28.3718, 86.0494) */
+    check_abs(o.elevation_true_deg, 28.3718, 3e-4, "Paris 09:00 elevation");
+    check_abs(o.azimuth_deg, 86.0494, 3e-4, "Paris 09:00 azimuth");
+    /* the day's Earth-Sun distance: near aphelion, 1.0163 AU, at 12:00 local time */
+    fm_solar_params noon = fm_solar_params_default();
+    noon.year = 2023, noon.month = 6, noon.day = 21, noon.hour = 12, noon.utc_offset_min = 120;
+    noon.latitude_deg = p.latitude_deg, noon.longitude_deg = p.longitude_deg;
+    fm_solar_position on;
+    fm_error err;
+    assert_int_equal(fm_solar_position_compute(&noon, &on, &err), FM_OK);
+    check_abs(q->earth_sun_distance_au, on.earth_sun_distance_au, 0.0, "distance of the day");
+    check_abs(q->earth_sun_distance_au, 1.0163, 1e-3, "distance in June");
+    fm_sun_light light;
+    fm_sky_sun_light(sky, &light);
+    check_rel(light.angular_radius_deg, 0.26645 / q->earth_sun_distance_au, 1e-4, "disk radius at that distance");
+    fm_sky_destroy(sky);
+
+    /* a given elevation overrides; the azimuth still comes from the time */
+    p.sun_elevation_deg = 10.0;
+    sky = test_sky(&p);
+    assert_int_equal(fm_sky_solar_position(sky, &o, &computed), 1);
+    assert_int_equal(computed, FM_SUN_COMPUTED_AZIMUTH | FM_SUN_COMPUTED_DISTANCE);
+    check_abs(fm_sky_get_params(sky)->sun_elevation_deg, 10.0, 0.0, "given elevation");
+    fm_sky_destroy(sky);
+
+    /* refraction off: the true elevation */
+    p = dated_sky(9, 0);
+    p.refraction = 0;
+    p.biome = "none";
+    sky = test_sky(&p);
+    fm_sky_solar_position(sky, &o, NULL);
+    check_abs(fm_sky_get_params(sky)->sun_elevation_deg, o.elevation_true_deg, 0.0, "no refraction");
+    fm_sky_destroy(sky);
+}
+
+static void sky_time_errors(void **state)
+{
+    fm_sky *sky = NULL;
+    fm_error err;
+    fm_sky_params p = dated_sky(9, 0);
+    p.hour = FM_NO_TIME; /* FM_SUN_FROM_TIME without a time */
+    assert_int_equal(fm_sky_create(&p, &sky, &err), FM_ERR_INVALID_ARGUMENT);
+    assert_string_equal(err.parameter, "sun_elevation_deg");
+    p = dated_sky(9, 0);
+    p.year = 0;
+    assert_int_equal(fm_sky_create(&p, &sky, &err), FM_ERR_INVALID_ARGUMENT);
+    assert_string_equal(err.parameter, "hour");
+    p = dated_sky(24, 0);
+    assert_int_equal(fm_sky_create(&p, &sky, &err), FM_ERR_INVALID_ARGUMENT);
+    assert_string_equal(err.parameter, "time");
+    p = dated_sky(9, 0);
+    p.utc_offset_min = 15 * 60;
+    assert_int_equal(fm_sky_create(&p, &sky, &err), FM_ERR_INVALID_ARGUMENT);
+    assert_string_equal(err.parameter, "utc_offset_min");
+    p = dated_sky(9, 0);
+    p.day = 31;
+    assert_int_equal(fm_sky_create(&p, &sky, &err), FM_ERR_INVALID_ARGUMENT);
+    assert_string_equal(err.parameter, "date");
+    assert_null(sky);
+    /* fm_sky_set_time needs a sky with a time; fm_sky_set_sun checks its ranges */
+    fm_sky_params plain = test_params(30.0, 550.0);
+    sky = test_sky(&plain);
+    assert_int_equal(fm_sky_set_time(sky, 9, 0, 0.0, &err), FM_ERR_INVALID_ARGUMENT);
+    assert_int_equal(fm_sky_set_sun(sky, 91.0, 0.0, &err), FM_ERR_INVALID_ARGUMENT);
+    assert_string_equal(err.parameter, "sun_elevation_deg");
+    assert_int_equal(fm_sky_set_sun(sky, 10.0, 400.0, &err), FM_ERR_INVALID_ARGUMENT);
+    assert_string_equal(err.parameter, "sun_azimuth_deg");
+    check_abs(fm_sky_get_params(sky)->sun_elevation_deg, 30.0, 0.0, "a refused change changes nothing");
+    fm_sky_destroy(sky);
+}
+
+/* Every field of the sky parameters (a memcmp would also compare padding). */
+static void assert_same_params(const fm_sky_params *a, const fm_sky_params *b)
+{
+    const double da[] = {a->sun_elevation_deg, a->sun_azimuth_deg, a->observer_altitude_m, a->ground_albedo,
+                         a->ozone_column_du, a->earth_sun_distance_au, a->wavelength_nm, a->latitude_deg,
+                         a->longitude_deg, a->turbidity, a->aod550, a->humidity_percent, a->second,
+                         a->pressure_mbar, a->temperature_c, a->delta_t_s};
+    const double db[] = {b->sun_elevation_deg, b->sun_azimuth_deg, b->observer_altitude_m, b->ground_albedo,
+                         b->ozone_column_du, b->earth_sun_distance_au, b->wavelength_nm, b->latitude_deg,
+                         b->longitude_deg, b->turbidity, b->aod550, b->humidity_percent, b->second,
+                         b->pressure_mbar, b->temperature_c, b->delta_t_s};
+    assert_memory_equal(da, db, sizeof da);
+    const int ia[] = {a->threads, a->year, a->month, a->day, a->hour, a->minute, a->utc_offset_min, a->refraction,
+                      (int)a->aerosol_phase};
+    const int ib[] = {b->threads, b->year, b->month, b->day, b->hour, b->minute, b->utc_offset_min, b->refraction,
+                      (int)b->aerosol_phase};
+    assert_memory_equal(ia, ib, sizeof ia);
+    assert_string_equal(a->biome, b->biome);
+}
+
+static int same_image(const fm_image *a, const fm_image *b)
+{
+    size_t n = (size_t)a->width * a->height * a->channels;
+    return a->width == b->width && a->channels == b->channels && memcmp(a->pixels, b->pixels, n * sizeof(float)) == 0 &&
+           memcmp(a->sun_direction, b->sun_direction, sizeof a->sun_direction) == 0;
+}
+
+static int same_light(const fm_sky *a, const fm_sky *b)
+{
+    fm_sun_light la, lb;
+    fm_sky_sun_light(a, &la);
+    fm_sky_sun_light(b, &lb);
+    return memcmp(&la, &lb, sizeof la) == 0;
+}
+
+/* A sky whose sun was moved renders the same bits as a new sky with that sun: what fm_sky_set_sun and
+ * fm_sky_set_time keep does not depend on the sun's direction, and what does is re-derived. */
+static void changed_sun_is_bit_identical_to_a_new_sky(void **state)
+{
+    /* fm_sky_set_time: morning sky moved to the afternoon vs a new afternoon sky */
+    fm_sky_params pm = dated_sky(16, 30);
+    fm_sky *fresh = test_sky(&pm);
+    fm_sky_params am = dated_sky(8, 15);
+    fm_sky *moved = test_sky(&am);
+    fm_error err;
+    assert_int_equal(fm_sky_set_time(moved, 16, 30, 0.0, &err), FM_OK);
+    assert_same_params(fm_sky_get_params(fresh), fm_sky_get_params(moved));
+    assert_true(same_light(fresh, moved));
+    fm_image *a = test_render(fresh, 32, FM_QUALITY_PREVIEW, 2, 7, 0, 0.25, 1);
+    fm_image *b = test_render(moved, 32, FM_QUALITY_PREVIEW, 2, 7, 0, 0.25, 1);
+    assert_true(same_image(a, b));
+    fm_image_destroy(b);
+    /* and a render of the morning sky first does not leave anything behind */
+    assert_int_equal(fm_sky_set_time(moved, 8, 15, 0.0, &err), FM_OK);
+    b = test_render(moved, 32, FM_QUALITY_PREVIEW, 2, 7, 0, 0.25, 1);
+    assert_false(same_image(a, b));
+    fm_image_destroy(b);
+    assert_int_equal(fm_sky_set_time(moved, 16, 30, 0.0, &err), FM_OK);
+    b = test_render(moved, 32, FM_QUALITY_PREVIEW, 2, 7, 0, 0.25, 1);
+    assert_true(same_image(a, b));
+    fm_image_destroy(a);
+    fm_image_destroy(b);
+    fm_sky_destroy(fresh);
+
+    /* fm_sky_set_sun with the reference quality too (per-pixel paths use the sun table directly) */
+    fm_sky_params given = test_params(20.0, 0.0);
+    given.sun_azimuth_deg = 100.0;
+    fresh = test_sky(&given);
+    assert_int_equal(fm_sky_set_sun(moved, 20.0, 100.0, &err), FM_OK);
+    fm_sky_params other = test_params(55.0, 0.0);
+    fm_sky *plain = test_sky(&other);
+    assert_int_equal(fm_sky_set_sun(plain, 20.0, 100.0, &err), FM_OK);
+    assert_same_params(fm_sky_get_params(fresh), fm_sky_get_params(plain));
+    assert_true(same_light(fresh, plain));
+    for (int q = 0; q < 2; q++) {
+        fm_quality quality = q ? FM_QUALITY_REFERENCE : FM_QUALITY_PREVIEW;
+        a = test_render(fresh, q ? 16 : 32, quality, 2, 3, 4, 0.25, 1);
+        b = test_render(plain, q ? 16 : 32, quality, 2, 3, 4, 0.25, 1);
+        assert_true(same_image(a, b));
+        fm_image_destroy(a);
+        fm_image_destroy(b);
+    }
+    unsigned computed;
+    fm_solar_position o;
+    assert_int_equal(fm_sky_solar_position(moved, &o, &computed), 1);
+    assert_int_equal(computed, FM_SUN_COMPUTED_DISTANCE); /* the sun is given now */
+    fm_sky_destroy(plain);
+    fm_sky_destroy(fresh);
+
+    /* night: Paris at 23:00 on 21 December, the sun 60 degrees below the horizon, beyond
+     * astronomical twilight (-18); the map renders, dark and finite */
+    am = dated_sky(8, 15);
+    am.month = 12;
+    am.utc_offset_min = 60;
+    fm_sky *night = test_sky(&am);
+    assert_int_equal(fm_sky_set_time(night, 23, 0, 0.0, &err), FM_OK);
+    assert_true(fm_sky_get_params(night)->sun_elevation_deg < -18.0);
+    a = test_render(night, 32, FM_QUALITY_PREVIEW, 2, 7, 0, 0.25, 1);
+    for (int i = 0; i < a->width * a->height * a->channels; i++)
+        assert_true(isfinite(a->pixels[i]) && a->pixels[i] >= 0.0f && a->pixels[i] < 1e-3f);
+    fm_image_destroy(a);
+    fm_sky_destroy(night);
+    fm_sky_destroy(moved);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -357,6 +563,9 @@ int main(void)
         cmocka_unit_test(earth_sun_distance_at_perihelion_and_aphelion),
         cmocka_unit_test(delta_t_estimate),
         cmocka_unit_test(bad_inputs_are_refused),
+        cmocka_unit_test(sky_sun_from_date_and_time),
+        cmocka_unit_test(sky_time_errors),
+        cmocka_unit_test(changed_sun_is_bit_identical_to_a_new_sky),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
