@@ -311,7 +311,7 @@ fm_status spa_validate(const fm_solar_params *p, fm_error *err)
 {
     fm_status s;
     if (!spa_date_is_valid(p->year, p->month, p->day))
-        return fm_fail_parameter(err, "date", "%04d-%02d-%02d is not a valid date between %d and %d", p->year,
+        return fm_fail_parameter(err, "date", "%04d-%02d-%02d is not a valid calendar date (years %d to %d)", p->year,
                                  p->month, p->day, SPA_MIN_YEAR, SPA_MAX_YEAR);
     if (p->hour < 0 || p->hour > 23 || p->minute < 0 || p->minute > 59 || !(p->second >= 0.0 && p->second < 60.0))
         return fm_fail_parameter(err, "time", "%d:%02d:%02g is not a time of day (00:00:00 to 23:59:59)", p->hour,
