@@ -54,7 +54,8 @@ typedef struct fm_error {
 const char *fm_status_name(fm_status status);
 
 /* ---------------------------------------------------------------------------------------------
- * The sky: atmosphere, sun and observer.  Immutable once created; shared by render threads. */
+ * The sky: atmosphere, sun and observer.  Shared read-only by render threads; only fm_sky_set_sun and
+ * fm_sky_set_time (below) change it, between renders. */
 
 typedef enum fm_aerosol_phase {
     FM_AEROSOL_PHASE_MIE = 0, /* the tabulated Mie phase function of the mixture, per wavelength */
