@@ -308,6 +308,19 @@ static const char *option_name(int id)
 static int finish_time_options(options *opt, const time_options *t, int have_latitude, char *msg, size_t msg_size)
 {
     const char *first = t->time ? "--time" : (t->start ? "--time-start" : (t->end ? "--time-end" : "--step"));
+    /* a given value equal to the library's "from the time" sentinel is out of range, not a request */
+    const struct {
+        int given;
+        double v;
+        const char *flag, *range;
+    } sentinel[] = {{t->sun_elevation, opt->sky.sun_elevation_deg, "--sun-elevation", "[-90, 90] degrees"},
+                    {t->sun_azimuth, opt->sky.sun_azimuth_deg, "--sun-azimuth", "[-360, 360] degrees"},
+                    {t->distance, opt->sky.earth_sun_distance_au, "--earth-sun-distance", "[0.95, 1.05] AU"}};
+    for (int i = 0; i < 3; i++)
+        if (sentinel[i].given && sentinel[i].v == FM_SUN_FROM_TIME) {
+            snprintf(msg, msg_size, "%s: %g is outside %s", sentinel[i].flag, sentinel[i].v, sentinel[i].range);
+            return 0;
+        }
     if (!(t->time || t->start || t->end || t->step)) {
         if (t->solar_only) {
             snprintf(msg, msg_size, "--%s: applies only with --time or --time-start", option_name(t->solar_only));
