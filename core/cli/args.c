@@ -1,4 +1,5 @@
 #include "args.h"
+#include "time_args.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -33,6 +34,16 @@ enum {
     OPT_DATE,
     OPT_LATITUDE,
     OPT_LONGITUDE,
+    /* the sun from the date and time */
+    OPT_TIME,
+    OPT_UTC_OFFSET,
+    OPT_REFRACTION,
+    OPT_PRESSURE,
+    OPT_TEMPERATURE,
+    OPT_DELTA_T,
+    OPT_TIME_START,
+    OPT_TIME_END,
+    OPT_STEP,
 };
 
 /* Each option with the library field it sets (for error messages). */
@@ -65,6 +76,13 @@ static const option_doc docs[] = {
     {OPT_SAMPLE_SCALE, "sample-scale", "sample_scale"},
     {OPT_SEED, "seed", "seed"},
     {OPT_THREADS, "threads", "threads"},
+    {OPT_TIME, "time", "time"},
+    {OPT_TIME, "time", "hour"},
+    {OPT_UTC_OFFSET, "utc-offset", "utc_offset_min"},
+    {OPT_REFRACTION, "refraction", "refraction"},
+    {OPT_PRESSURE, "pressure", "pressure_mbar"},
+    {OPT_TEMPERATURE, "temperature", "temperature_c"},
+    {OPT_DELTA_T, "delta-t", "delta_t_s"},
 };
 
 static const struct option long_options[] = {
@@ -94,6 +112,15 @@ static const struct option long_options[] = {
     {"no-sun-disk", no_argument, NULL, OPT_NO_SUN_DISK},
     {"progress", required_argument, NULL, OPT_PROGRESS},
     {"sidecar", required_argument, NULL, OPT_SIDECAR},
+    {"time", required_argument, NULL, OPT_TIME},
+    {"utc-offset", required_argument, NULL, OPT_UTC_OFFSET},
+    {"refraction", required_argument, NULL, OPT_REFRACTION},
+    {"pressure", required_argument, NULL, OPT_PRESSURE},
+    {"temperature", required_argument, NULL, OPT_TEMPERATURE},
+    {"delta-t", required_argument, NULL, OPT_DELTA_T},
+    {"time-start", required_argument, NULL, OPT_TIME_START},
+    {"time-end", required_argument, NULL, OPT_TIME_END},
+    {"step", required_argument, NULL, OPT_STEP},
     {"help", no_argument, NULL, 'h'},
     {NULL, 0, NULL, 0},
 };
@@ -112,6 +139,9 @@ const char *options_flag_for(const char *field)
 void options_print_usage(void)
 {
     fputs("usage: firmament render [options] [-o OUT.exr]\n"
+          "       firmament sun --date YYYY-MM-DD --time HH:MM[:SS] --latitude DEG --longitude DEG\n"
+          "                     [--utc-offset +HH[:MM]] [--altitude M] [--refraction on|off] [--pressure MBAR]\n"
+          "                     [--temperature C] [--delta-t S] [--json]\n"
           "       firmament compare IMAGE.exr REFERENCE.exr [--exclude-sun DEG] [--json]\n"
           "       firmament --help | --version\n"
           "\n"
@@ -127,10 +157,27 @@ void options_print_usage(void)
           "  --albedo X             Lambertian ground reflectance, [0, 1] (default 0.2)\n"
           "  --ozone-du X           total ozone column in Dobson units, [0, 1000]; 0 disables (default:\n"
           "                         from the climatology with --date, else 300)\n"
-          "  --date YYYY-MM-DD      date (1900-2100) for the ozone climatology; needs --latitude\n"
+          "  --date YYYY-MM-DD      date (1900-2100) for the ozone climatology and, with --time, the sun;\n"
+          "                         needs --latitude\n"
           "  --latitude DEG         [-90, 90], north positive\n"
-          "  --longitude DEG        [-180, 180], east positive (default 0)\n"
-          "Aerosols:\n"
+          "  --longitude DEG        [-180, 180], east positive (default 0; needed with --time)\n",
+          stdout);
+    /* the sun from the date and time */
+    fputs("Sun from the date and time (NREL SPA, +-0.0003 deg):\n"
+          "  --time HH:MM[:SS]      local clock time on --date at --latitude, --longitude: sets the sun's\n"
+          "                         apparent elevation and azimuth and the Earth-Sun distance of the day,\n"
+          "                         unless --sun-elevation, --sun-azimuth or --earth-sun-distance are given\n"
+          "  --utc-offset +-HH[:MM] local time minus UTC, -12:00 to +14:00 (default +00:00)\n"
+          "  --refraction on|off    atmospheric refraction lifts the sun (default on; the disk stays round)\n"
+          "  --pressure MBAR        air pressure for refraction, [0, 2000] (default 1010)\n"
+          "  --temperature C        air temperature for refraction, [-100, 100] (default 10)\n"
+          "  --delta-t S            TT - UT in seconds, [-8000, 8000] (default: Espenak & Meeus estimate)\n"
+          "  --time-start HH:MM[:SS], --time-end HH:MM[:SS], --step MIN\n"
+          "                         a time series instead of --time: one map every MIN minutes from start\n"
+          "                         to end (inclusive, at most 10000), OUT_0000.exr, OUT_0001.exr, ... each\n"
+          "                         with its sidecar; the atmosphere's tables are built once\n",
+          stdout);
+    fputs("Aerosols:\n"
           "  --biome NAME           none | background | desert-dust | maritime-clean | maritime-mineral |\n"
           "                         polar-antarctic | polar-arctic | remote-continental | rural | urban,\n"
           "                         or a biome JSON file (default rural)\n"
@@ -191,6 +238,145 @@ static int parse_long(const char *s, long long lo, long long hi, long long *out)
     return 1;
 }
 
+/* ---- the sun from the date and time: --time, --utc-offset, refraction, time series ---------- */
+
+typedef struct time_options {
+    int time, start, end, step;                       /* given */
+    int solar_only;                                   /* OPT_ of a refraction / Delta T option given */
+    int sun_elevation, sun_azimuth, distance, longitude; /* given, for the overrides and checks */
+} time_options;
+
+#define FM_MAX_FRAMES 10000
+
+static int parse_time_option(int c, const char *name, const char *arg, options *opt, time_options *t, char *msg,
+                             size_t msg_size)
+{
+    char flag[32];
+    snprintf(flag, sizeof flag, "--%s", name);
+    int seconds = 0, on = 0;
+    double d = 0.0;
+    switch (c) {
+    case OPT_TIME:
+    case OPT_TIME_START:
+    case OPT_TIME_END:
+        if (!parse_time_arg(flag, arg, &seconds, msg, msg_size))
+            return 0;
+        if (c == OPT_TIME_END) {
+            opt->time_end_s = seconds;
+            t->end = 1;
+        } else {
+            opt->time_start_s = seconds;
+            *(c == OPT_TIME ? &t->time : &t->start) = 1;
+        }
+        return 1;
+    case OPT_UTC_OFFSET:
+        return parse_utc_offset_arg(flag, arg, &opt->sky.utc_offset_min, msg, msg_size);
+    case OPT_REFRACTION:
+        t->solar_only = c;
+        if (!parse_on_off_arg(flag, arg, &on, msg, msg_size))
+            return 0;
+        opt->sky.refraction = on;
+        return 1;
+    case OPT_STEP:
+        if (!parse_double(arg, &d) || !(d > 0.0)) {
+            snprintf(msg, msg_size, "%s: '%s' is not a positive number of minutes", flag, arg);
+            return 0;
+        }
+        opt->step_min = d;
+        t->step = 1;
+        return 1;
+    default: /* pressure, temperature, Delta T: numbers, ranges checked by the library */
+        t->solar_only = c;
+        if (!parse_double(arg, &d)) {
+            snprintf(msg, msg_size, "%s: '%s' is not a number", flag, arg);
+            return 0;
+        }
+        *(c == OPT_PRESSURE ? &opt->sky.pressure_mbar
+                            : (c == OPT_TEMPERATURE ? &opt->sky.temperature_c : &opt->sky.delta_t_s)) = d;
+        return 1;
+    }
+}
+
+static const char *option_name(int id)
+{
+    for (size_t i = 0; i < sizeof long_options / sizeof long_options[0] - 1; i++)
+        if (long_options[i].val == id)
+            return long_options[i].name;
+    return "?";
+}
+
+static int finish_time_options(options *opt, const time_options *t, int have_latitude, char *msg, size_t msg_size)
+{
+    const char *first = t->time ? "--time" : (t->start ? "--time-start" : (t->end ? "--time-end" : "--step"));
+    /* a given value equal to the library's "from the time" sentinel is out of range, not a request */
+    const struct {
+        int given;
+        double v;
+        const char *flag, *range;
+    } sentinel[] = {{t->sun_elevation, opt->sky.sun_elevation_deg, "--sun-elevation", "[-90, 90] degrees"},
+                    {t->sun_azimuth, opt->sky.sun_azimuth_deg, "--sun-azimuth", "[-360, 360] degrees"},
+                    {t->distance, opt->sky.earth_sun_distance_au, "--earth-sun-distance", "[0.95, 1.05] AU"}};
+    for (int i = 0; i < 3; i++)
+        if (sentinel[i].given && sentinel[i].v == FM_SUN_FROM_TIME) {
+            snprintf(msg, msg_size, "%s: %g is outside %s", sentinel[i].flag, sentinel[i].v, sentinel[i].range);
+            return 0;
+        }
+    if (!(t->time || t->start || t->end || t->step)) {
+        if (t->solar_only) {
+            snprintf(msg, msg_size, "--%s: applies only with --time or --time-start", option_name(t->solar_only));
+            return 0;
+        }
+        if (opt->sky.utc_offset_min != 0) {
+            snprintf(msg, msg_size, "--utc-offset: applies only with --time or --time-start");
+            return 0;
+        }
+        return 1;
+    }
+    if (t->time && (t->start || t->end || t->step)) {
+        snprintf(msg, msg_size, "--time: give either --time or --time-start, --time-end and --step (a series)");
+        return 0;
+    }
+    if (!t->time && !(t->start && t->end && t->step)) {
+        snprintf(msg, msg_size, "%s: a time series needs --time-start, --time-end and --step", first);
+        return 0;
+    }
+    if (opt->sky.year == 0) {
+        snprintf(msg, msg_size, "%s: needs --date", first);
+        return 0;
+    }
+    if (!have_latitude || !t->longitude) {
+        snprintf(msg, msg_size, "%s: needs --latitude and --longitude", first);
+        return 0;
+    }
+    if (!t->time) {
+        char a[16], b[16];
+        format_time_of_day(opt->time_start_s, a, sizeof a);
+        format_time_of_day(opt->time_end_s, b, sizeof b);
+        if (opt->time_start_s > opt->time_end_s) {
+            snprintf(msg, msg_size, "--time-start: %s is after --time-end %s (a series stays within the date)", a, b);
+            return 0;
+        }
+        double frames = floor((opt->time_end_s - opt->time_start_s) / (60.0 * opt->step_min) + 1e-9) + 1.0;
+        if (frames > FM_MAX_FRAMES) {
+            snprintf(msg, msg_size, "--step: %g min from %s to %s makes %.0f frames (at most %d)", opt->step_min, a, b,
+                     frames, FM_MAX_FRAMES);
+            return 0;
+        }
+        opt->frames = (int)frames;
+    }
+    opt->sky.hour = opt->time_start_s / 3600;
+    opt->sky.minute = opt->time_start_s / 60 % 60;
+    opt->sky.second = opt->time_start_s % 60;
+    /* what was not given comes from the time */
+    if (!t->sun_elevation)
+        opt->sky.sun_elevation_deg = FM_SUN_FROM_TIME;
+    if (!t->sun_azimuth)
+        opt->sky.sun_azimuth_deg = FM_SUN_FROM_TIME;
+    if (!t->distance)
+        opt->sky.earth_sun_distance_au = FM_SUN_FROM_TIME;
+    return 1;
+}
+
 parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_t msg_size)
 {
     opt->sky = fm_sky_params_default();
@@ -202,6 +388,8 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     opterr = 0; /* we print our own, one-line messages */
     optind = 1;
     int c, index = -1, have_ozone = 0, have_latitude = 0;
+    time_options times = {0};
+    opt->frames = 0;
     const char *builtin_only = NULL; /* an option about the built-in atmosphere that was given */
     while ((c = getopt_long(argc, argv, ":o:h", long_options, &index)) != -1) {
         const char *name = index >= 0 ? long_options[index].name : NULL;
@@ -217,9 +405,11 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             options_print_usage();
             return PARSE_EXIT_OK;
         case OPT_SUN_ELEVATION:
+            times.sun_elevation = 1;
             bad_number = !parse_double(arg, &opt->sky.sun_elevation_deg);
             break;
         case OPT_SUN_AZIMUTH:
+            times.sun_azimuth = 1;
             bad_number = !parse_double(arg, &opt->sky.sun_azimuth_deg);
             break;
         case OPT_ALTITUDE:
@@ -237,6 +427,7 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             have_ozone = 1;
             break;
         case OPT_EARTH_SUN_DISTANCE:
+            times.distance = 1;
             bad_number = !parse_double(arg, &opt->sky.earth_sun_distance_au);
             break;
         case OPT_WAVELENGTH:
@@ -282,22 +473,16 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
                 return PARSE_ERROR;
             }
             break;
-        case OPT_DATE: {
-            int y, m, dd, used = 0;
-            if (sscanf(arg, "%4d-%2d-%2d%n", &y, &m, &dd, &used) != 3 || used != 10 || arg[used] != '\0') {
-                snprintf(msg, msg_size, "--date: '%s' is not a date YYYY-MM-DD", arg);
+        case OPT_DATE:
+            if (!parse_date_arg("--date", arg, &opt->sky.year, &opt->sky.month, &opt->sky.day, msg, msg_size))
                 return PARSE_ERROR;
-            }
-            opt->sky.year = y;
-            opt->sky.month = m;
-            opt->sky.day = dd;
             break;
-        }
         case OPT_LATITUDE:
             bad_number = !parse_double(arg, &opt->sky.latitude_deg);
             have_latitude = 1;
             break;
         case OPT_LONGITUDE:
+            times.longitude = 1;
             bad_number = !parse_double(arg, &opt->sky.longitude_deg);
             break;
         case OPT_SAMPLE_SCALE:
@@ -366,6 +551,18 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
         case OPT_SIDECAR:
             opt->sidecar = arg;
             break;
+        case OPT_TIME:
+        case OPT_UTC_OFFSET:
+        case OPT_REFRACTION:
+        case OPT_PRESSURE:
+        case OPT_TEMPERATURE:
+        case OPT_DELTA_T:
+        case OPT_TIME_START:
+        case OPT_TIME_END:
+        case OPT_STEP:
+            if (!parse_time_option(c, name, arg, opt, &times, msg, msg_size))
+                return PARSE_ERROR;
+            break;
         case ':':
             snprintf(msg, msg_size, "%s needs a value", argv[optind - 1]);
             return PARSE_ERROR;
@@ -378,7 +575,7 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             return PARSE_ERROR;
         }
         if (c == OPT_BIOME || c == OPT_TURBIDITY || c == OPT_AOD550 || c == OPT_HUMIDITY || c == OPT_AEROSOL_PHASE ||
-            c == OPT_OZONE || c == OPT_DATE)
+            c == OPT_OZONE)
             builtin_only = name;
         if (bad_number) {
             snprintf(msg, msg_size, "--%s: '%s' is not a number", name ? name : "?", arg);
@@ -390,6 +587,10 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
         snprintf(msg, msg_size, "unexpected argument '%s' (options start with --)", argv[optind]);
         return PARSE_ERROR;
     }
+    if (!finish_time_options(opt, &times, have_latitude, msg, msg_size))
+        return PARSE_ERROR;
+    if (opt->sky.atmosphere_file && !builtin_only && opt->sky.year != 0 && opt->sky.hour == FM_NO_TIME)
+        builtin_only = "date"; /* without a time, the date is for the ozone climatology only */
     if (opt->sky.atmosphere_file && builtin_only) {
         snprintf(msg, msg_size, "--%s: does not apply with --atmosphere (the file defines every constituent)",
                  builtin_only);

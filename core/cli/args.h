@@ -16,6 +16,11 @@ typedef struct options {
     const char *output;      /* EXR path */
     const char *sidecar;     /* JSON path, or NULL for the default (output with .json) */
     progress_mode progress;
+    /* A time series (--time-start, --time-end, --step): frames > 0 maps at time_start_s +
+     * round(i * step_min * 60) seconds of the local day; sky.hour..second hold the first. */
+    int frames;
+    int time_start_s, time_end_s;
+    double step_min;
 } options;
 
 typedef enum parse_result { PARSE_RUN, PARSE_EXIT_OK, PARSE_ERROR } parse_result;

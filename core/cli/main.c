@@ -3,9 +3,12 @@
 #define _POSIX_C_SOURCE 200809L
 #include "args.h"
 #include "report.h"
+#include "sun_command.h"
+#include "time_args.h"
 
 #include "firmament/firmament.h"
 
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -68,6 +71,97 @@ static int exit_code_for(fm_status s)
     return s == FM_ERR_INVALID_ARGUMENT ? EXIT_USAGE : EXIT_RUNTIME;
 }
 
+/* ---- time series: render --time-start HH:MM --time-end HH:MM --step MIN ------------------------ */
+
+/* path with _NNNN before its extension: sky.exr -> sky_0003.exr, out -> out_0003 */
+static char *numbered_path(const char *path, int index)
+{
+    size_t n = strlen(path), stem = n;
+    const char *slash = strrchr(path, '/');
+    const char *dot = strrchr(path, '.');
+    if (dot && (!slash || dot > slash) && dot != path && dot[-1] != '/')
+        stem = (size_t)(dot - path);
+    char *s = malloc(n + 16);
+    if (s)
+        snprintf(s, n + 16, "%.*s_%04d%s", (int)stem, path, index, path + stem);
+    return s;
+}
+
+/* One fm_sky for the whole series: its atmosphere and tables are built once, and fm_sky_set_time
+ * moves the sun for each frame (the maps are the same bits as separate runs at those times). */
+static int run_series(options *opt)
+{
+    fm_error err = {0};
+    fm_sky *sky = NULL;
+    int code = 0, written = 0, night = 0;
+    char *first = NULL, *last = NULL;
+    reporter rep;
+    reporter_init(&rep, opt->progress);
+    opt->render.progress = reporter_progress;
+    opt->render.progress_user = &rep;
+    opt->render.cancel = &cancel_signal;
+    install_signal_handlers();
+
+    fm_status s = fm_sky_create(&opt->sky, &sky, &err);
+    if (s) {
+        report_library_error(&err);
+        return exit_code_for(s);
+    }
+    for (int i = 0; i < opt->frames && !code; i++) {
+        int t = opt->time_start_s + (int)lround(i * opt->step_min * 60.0);
+        char *exr = numbered_path(opt->output, i);
+        char *json = exr ? (opt->sidecar ? numbered_path(opt->sidecar, i) : default_sidecar(exr)) : NULL;
+        fm_output *out = NULL;
+        fm_image *img = NULL;
+        if (!exr || !json) {
+            report_error("out of memory");
+            code = EXIT_RUNTIME;
+        } else if ((s = fm_sky_set_time(sky, t / 3600, t / 60 % 60, t % 60, &err))) {
+            report_library_error(&err);
+            code = exit_code_for(s);
+        } else {
+            const fm_sky_params *sp = fm_sky_get_params(sky);
+            char when[16];
+            format_time_of_day(t, when, sizeof when);
+            int dark = sp->sun_elevation_deg < -18.0;
+            night += dark;
+            reporter_frame_start(&rep, i, opt->frames, when, sp->sun_elevation_deg, sp->sun_azimuth_deg, dark);
+            if ((s = fm_output_open(exr, json, &out, &err))) {
+                report_library_error(&err);
+                code = s == FM_ERR_IO ? EXIT_USAGE : exit_code_for(s);
+            } else if ((s = fm_render(sky, &opt->render, &img, &err)) ||
+                       (img->content == FM_IMAGE_XYZ && (s = fm_image_to_rec709(img, &err))) ||
+                       (s = fm_output_commit(out, sky, &opt->render, img, &cancel_signal, &err))) {
+                reporter_finish_line(&rep);
+                if (s == FM_ERR_CANCELLED)
+                    report_error("interrupted; frame %d was not written (%d before it were)", i, written);
+                else
+                    report_library_error(&err);
+                code = exit_code_for(s);
+            } else {
+                reporter_frame_done(&rep, i, exr, json);
+                written++;
+            }
+        }
+        fm_output_close(out);
+        fm_image_destroy(img);
+        free(json);
+        if (!code && i == 0)
+            first = exr;
+        else if (!code) {
+            free(last);
+            last = exr;
+        } else
+            free(exr);
+    }
+    if (!code)
+        reporter_series_done(&rep, written, night, first, last ? last : first);
+    free(first);
+    free(last);
+    fm_sky_destroy(sky);
+    return code;
+}
+
 static int run_render(int argc, char **argv)
 {
     options opt;
@@ -81,6 +175,8 @@ static int run_render(int argc, char **argv)
     case PARSE_RUN:
         break;
     }
+    if (opt.frames > 0)
+        return run_series(&opt);
     char *sidecar = opt.sidecar ? NULL : default_sidecar(opt.output);
     const char *sidecar_path = opt.sidecar ? opt.sidecar : sidecar;
     if (!sidecar_path) {
@@ -194,7 +290,7 @@ static int run_compare(int argc, char **argv)
 int main(int argc, char **argv)
 {
     if (argc < 2) {
-        report_error("no command (try: firmament render, or firmament --help)");
+        report_error("no command (try: firmament render, firmament sun, or firmament --help)");
         return EXIT_USAGE;
     }
     const char *cmd = argv[1];
@@ -210,6 +306,8 @@ int main(int argc, char **argv)
         return run_render(argc - 1, argv + 1);
     if (strcmp(cmd, "compare") == 0)
         return run_compare(argc - 1, argv + 1);
+    if (strcmp(cmd, "sun") == 0)
+        return run_sun(argc - 1, argv + 1);
     report_error("unknown command '%s' (try: firmament render, or firmament --help)", cmd);
     return EXIT_USAGE;
 }

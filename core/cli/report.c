@@ -23,6 +23,7 @@ void reporter_init(reporter *r, progress_mode mode)
     r->last_fraction = -1.0;
     r->last_time = 0.0;
     r->start_time = now_seconds();
+    r->frame_start_time = r->start_time;
     r->last_stage = NULL;
 }
 
@@ -91,6 +92,61 @@ void reporter_done(reporter *r, const char *output, const char *sidecar)
         fflush(stdout);
     } else if (r->mode == PROGRESS_TTY) {
         fprintf(stderr, "wrote %s and %s in %.1f s\n", output, sidecar, seconds);
+    }
+}
+
+/* ---- time series ------------------------------------------------------------------------------ */
+
+void reporter_frame_start(reporter *r, int index, int frames, const char *time, double elevation_deg,
+                          double azimuth_deg, int night)
+{
+    r->frame_start_time = now_seconds();
+    r->last_fraction = -1.0;
+    r->last_stage = NULL;
+    if (r->mode == PROGRESS_JSON) {
+        printf("{\"event\": \"frame\", \"index\": %d, \"frames\": %d, \"time\": ", index, frames);
+        print_json_string(stdout, time);
+        printf(", \"sun_elevation_deg\": %.4f, \"sun_azimuth_deg\": %.4f, \"night\": %s}\n", elevation_deg,
+               azimuth_deg, night ? "true" : "false");
+        fflush(stdout);
+    } else if (r->mode == PROGRESS_TTY) {
+        fprintf(stderr, "frame %d/%d  %s  sun %.2f deg up, azimuth %.2f deg%s\n", index + 1, frames, time,
+                elevation_deg, azimuth_deg, night ? "  (below -18 deg: night, dark sky)" : "");
+    }
+}
+
+void reporter_frame_done(reporter *r, int index, const char *output, const char *sidecar)
+{
+    double seconds = now_seconds() - r->frame_start_time;
+    reporter_finish_line(r);
+    if (r->mode == PROGRESS_JSON) {
+        printf("{\"event\": \"frame_done\", \"index\": %d, \"output\": ", index);
+        print_json_string(stdout, output);
+        printf(", \"sidecar\": ");
+        print_json_string(stdout, sidecar);
+        printf(", \"seconds\": %.3f}\n", seconds);
+        fflush(stdout);
+    } else if (r->mode == PROGRESS_TTY) {
+        fprintf(stderr, "wrote %s and %s in %.1f s\n", output, sidecar, seconds);
+    }
+}
+
+void reporter_series_done(reporter *r, int frames, int night_frames, const char *first, const char *last)
+{
+    double seconds = now_seconds() - r->start_time;
+    reporter_finish_line(r);
+    if (r->mode == PROGRESS_JSON) {
+        printf("{\"event\": \"done\", \"frames\": %d, \"night_frames\": %d, \"output\": ", frames, night_frames);
+        print_json_string(stdout, first);
+        printf(", \"last_output\": ");
+        print_json_string(stdout, last);
+        printf(", \"seconds\": %.3f, \"peak_memory_mib\": %.1f}\n", seconds, peak_memory_mib());
+        fflush(stdout);
+    } else if (r->mode == PROGRESS_TTY) {
+        fprintf(stderr, "wrote %d frames, %s to %s, in %.1f s", frames, first, last, seconds);
+        if (night_frames)
+            fprintf(stderr, "; %d with the sun below -18 deg (night: dark maps)", night_frames);
+        fputc('\n', stderr);
     }
 }
 

@@ -53,6 +53,14 @@ fm_sky_params fm_sky_params_default(void)
         .aerosol_phase = FM_AEROSOL_PHASE_MIE,
         .atmosphere_file = NULL,
         .presets_dir = NULL,
+        .hour = FM_NO_TIME,
+        .minute = 0,
+        .second = 0.0,
+        .utc_offset_min = 0,
+        .refraction = 1,
+        .pressure_mbar = 1010.0,
+        .temperature_c = 10.0,
+        .delta_t_s = FM_DELTA_T_ESTIMATE,
     };
 }
 
@@ -263,13 +271,26 @@ path_context sky_path_context(const fm_sky *sky, int min_order, int max_order)
 fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err)
 {
     *out = NULL;
-    fm_status s = validate(params, err);
-    if (s)
+    /* the sun from the date, time and place (sky_sun.c); from here on params is the resolved copy */
+    fm_sky_params resolved;
+    fm_solar_position solar;
+    unsigned sun_computed = 0;
+    int has_solar = 0;
+    fm_status s;
+    if ((s = validate_date(params, err)) ||
+        (s = sky_resolve_sun(params, &resolved, &solar, &sun_computed, &has_solar, err)))
+        return s;
+    params = &resolved;
+    if ((s = validate(params, err)))
         return s;
     fm_sky *sky = calloc(1, sizeof *sky);
     if (!sky)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
     sky->params = *params;
+    sky->has_solar = has_solar;
+    sky->sun_computed = sun_computed;
+    if (has_solar)
+        sky->solar = solar;
 
     spectral_grid grid;
     if (params->wavelength_nm > 0.0)

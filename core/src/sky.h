@@ -20,7 +20,16 @@ struct fm_sky {
     vec3 sun_dir;      /* toward the sun's centre; at the observer the Earth-centred frame is the map frame */
     vec3 observer;     /* Earth-centred position (0, 0, R + altitude) */
     fm_composition composition;
+    /* The sun from the date, time and place (sky_sun.c), when the sky has a time of day. */
+    int has_solar;
+    unsigned sun_computed; /* FM_SUN_COMPUTED_* bits: which sun parameters came from `solar` */
+    fm_solar_position solar;
 };
+
+/* Resolves the FM_SUN_FROM_TIME fields of `in` into `out` (a copy of in) from the solar position
+ * of its date, time and place, which also goes to *solar, *computed and *has_solar. */
+fm_status sky_resolve_sun(const fm_sky_params *in, fm_sky_params *out, fm_solar_position *solar,
+                          unsigned *computed, int *has_solar, fm_error *err);
 
 /* A path context for the sky with the given order range. */
 path_context sky_path_context(const fm_sky *sky, int min_order, int max_order);

@@ -150,6 +150,104 @@ grep -q '"event": "progress"' "$work/progress" && tail -n 1 "$work/progress" | g
 "$FM" compare "$work/out/sky.exr" "$work/out/noext" >/dev/null 2>"$work/stderr"
 [ $? -eq 2 ] && grep -q 'differ in size' "$work/stderr" && ok || fail "compare different sizes"
 
+# --- the sun from the date and time (firmament sun, render --time, time series) -----------------
+grep -q -- '--utc-offset' "$work/help" && ok || fail "render --help lists --utc-offset"
+sunargs=(--date 2003-10-17 --time 12:30:30 --utc-offset -07:00 --latitude 39.742476 --longitude -105.1786)
+# SPA's published example (Reda & Andreas 2004): zenith 50.11162, azimuth 194.34024
+"$FM" sun "${sunargs[@]}" --altitude 1830.14 --pressure 820 --temperature 11 --delta-t 67 --json >"$work/sun.json" 2>"$work/stderr" && ok ||
+    fail "sun: $(cat "$work/stderr")"
+python3 - "$work/sun.json" <<'PY' && ok || fail "sun --json values: $(cat "$work/sun.json")"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert abs(d["zenith_deg"] - 50.11162) < 1e-3 and abs(d["azimuth_deg"] - 194.34024) < 1e-3, d
+assert d["day"] == "normal" and d["sunrise"] == "06:12:43" and d["solar_noon"] == "11:46:05", d
+assert abs(d["earth_sun_distance_au"] - 0.996542) < 1e-6 and d["refraction"] is True, d
+PY
+"$FM" sun "${sunargs[@]}" | grep -q '^azimuth  *194\.34' && ok || fail "sun text output"
+# polar night and polar day at Longyearbyen: reported, exit 0
+"$FM" sun --date 2023-12-21 --time 12:00 --utc-offset +01:00 --latitude 78.2 --longitude 15.6 >"$work/out.txt" 2>&1 &&
+    grep -q '^sunrise  *none (polar night)' "$work/out.txt" && grep -q '^sunset  *none (polar night)' "$work/out.txt" && ok ||
+    fail "polar night: $(cat "$work/out.txt")"
+"$FM" sun --date 2023-06-21 --time 12:00 --utc-offset +02:00 --latitude 78.2 --longitude 15.6 --json >"$work/out.txt" 2>&1 &&
+    grep -q '"day": "polar day"' "$work/out.txt" && grep -q '"sunrise": null' "$work/out.txt" && grep -q '"sunset": null' "$work/out.txt" && ok ||
+    fail "polar day: $(cat "$work/out.txt")"
+# bad input: exit 2 and one line naming the problem
+for bad in "--date 2023-02-30" "--date 2023-13-01" "--time 25:00" "--time 12:61" "--utc-offset +15:00" "--utc-offset abc" \
+    "--latitude 90.5" "--longitude 181" "--refraction maybe" "--pressure -5"; do
+    # shellcheck disable=SC2086
+    expect_usage_error "sun $bad" sun --date 2023-06-01 --time 12:00 --latitude 45 --longitude 7 $bad
+    grep -q -- "${bad%% *}" "$work/stderr" && ok || fail "sun $bad: message names ${bad%% *}: $(cat "$work/stderr")"
+done
+expect_usage_error "sun without --time" sun --date 2023-06-01 --latitude 45 --longitude 7
+r=(render --width 16 --quality preview)
+for bad in "--date 2023-02-30" "--date 2023-13-01" "--time 25:00" "--time 12:61" "--utc-offset +15:00" "--utc-offset abc" \
+    "--latitude 91" "--longitude -181"; do
+    # shellcheck disable=SC2086
+    expect_usage_error "render $bad" "${r[@]}" --date 2023-06-01 --time 12:00 --latitude 45 --longitude 7 $bad
+    grep -q -- "${bad%% *}" "$work/stderr" && ok || fail "render $bad: message names ${bad%% *}: $(cat "$work/stderr")"
+done
+expect_usage_error "--time without --date" "${r[@]}" --time 12:00 --latitude 45 --longitude 7
+grep -q -- '--time: needs --date' "$work/stderr" && ok || fail "time without date: $(cat "$work/stderr")"
+expect_usage_error "--time without --latitude" "${r[@]}" --date 2023-06-01 --time 12:00 --longitude 7 --ozone-du 300
+grep -q -- '--time: needs --latitude and --longitude' "$work/stderr" && ok || fail "time without latitude: $(cat "$work/stderr")"
+expect_usage_error "--refraction without a time" "${r[@]}" --refraction off
+expect_usage_error "time-start after time-end" "${r[@]}" --date 2023-06-01 --latitude 45 --longitude 7 --time-start 18:00 --time-end 06:00 --step 60
+grep -q -- '--time-start: 18:00:00 is after --time-end 06:00:00' "$work/stderr" && ok || fail "start after end: $(cat "$work/stderr")"
+expect_usage_error "step 0" "${r[@]}" --date 2023-06-01 --latitude 45 --longitude 7 --time-start 06:00 --time-end 18:00 --step 0
+expect_usage_error "negative step" "${r[@]}" --date 2023-06-01 --latitude 45 --longitude 7 --time-start 06:00 --time-end 18:00 --step -5
+expect_usage_error "more than 10000 frames" "${r[@]}" --date 2023-06-01 --latitude 45 --longitude 7 --time-start 00:00 --time-end 23:59 --step 0.1
+grep -q 'makes 14391 frames (at most 10000)' "$work/stderr" && ok || fail "frame count: $(cat "$work/stderr")"
+expect_usage_error "--time with a series" "${r[@]}" --date 2023-06-01 --latitude 45 --longitude 7 --time 12:00 --time-start 06:00 --time-end 18:00 --step 60
+expect_usage_error "series without --step" "${r[@]}" --date 2023-06-01 --latitude 45 --longitude 7 --time-start 06:00 --time-end 18:00
+
+# render --time: the sidecar records the time and the computed sun (apparent elevation)
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$FM" "${r[@]}" "${sunargs[@]}" --progress none -o "$work/out/golden.exr" 2>"$work/stderr" && ok || fail "render --time: $(cat "$work/stderr")"
+python3 - "$work/out/golden.json" <<'PY' && ok || fail "render --time sidecar: $(cat "$work/out/golden.json")"
+import json, sys
+d = json.load(open(sys.argv[1]))
+p, s, sp = d["parameters"], d["sun"], d["solar_position"]
+assert p["date"] == "2003-10-17" and p["time"] == "12:30:30" and p["utc_offset"] == "-07:00" and p["refraction"] == "on", p
+assert abs(s["elevation_deg"] - sp["elevation_deg"]) < 1e-12 and sp["elevation_deg"] > sp["elevation_without_refraction_deg"], sp
+assert abs(sp["elevation_without_refraction_deg"] - 39.8720) < 2e-3 and abs(sp["azimuth_deg"] - 194.3402) < 2e-3, sp
+assert sp["used_for"] == "elevation, azimuth, earth_sun_distance" and abs(p["earth_sun_distance_au"] - 0.99654) < 2e-4, p
+PY
+# given --sun-elevation/--sun-azimuth override the time
+"$FM" "${r[@]}" "${sunargs[@]}" --sun-elevation 12 --sun-azimuth 100 --refraction off --progress none -o "$work/out/given.exr" &&
+    python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["sun"]["elevation_deg"] == 12 and d["sun"]["azimuth_deg"] == 100 and d["solar_position"]["used_for"] == "earth_sun_distance" and d["parameters"]["refraction"] == "off", d' "$work/out/given.json" &&
+    ok || fail "--sun-elevation overrides --time"
+
+# a time series: numbered maps and sidecars, each with its own time and sun; a night frame is reported
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$FM" "${r[@]}" --date 2023-06-21 --utc-offset +02:00 --latitude 48.8566 --longitude 2.3522 --time-start 00:30 --time-end 12:30 \
+    --step 240 --progress json -o "$work/out/day.exr" >"$work/progress" 2>"$work/stderr" && ok || fail "time series: $(cat "$work/stderr")"
+[ "$(ls "$work/out" | tr '\n' ' ')" = "day_0000.exr day_0000.json day_0001.exr day_0001.json day_0002.exr day_0002.json day_0003.exr day_0003.json " ] && ok ||
+    fail "time series files: $(ls "$work/out")"
+tail -n 1 "$work/progress" | grep -q '"event": "done", "frames": 4' && ok || fail "series done event: $(tail -n 1 "$work/progress")"
+grep -c '"event": "frame_done"' "$work/progress" | grep -qx 4 && ok || fail "four frame_done events"
+for i in 0 1 2 3; do
+    t=$(printf '%02d:30' $((4 * i)))
+    "$FM" sun --date 2023-06-21 --time "$t" --utc-offset +02:00 --latitude 48.8566 --longitude 2.3522 --json >"$work/sun$i.json"
+done
+python3 - "$work/out" "$work" <<'PY' && ok || fail "series sidecars carry each frame's time and sun"
+import json, sys
+for i, t in enumerate(["00:30:00", "04:30:00", "08:30:00", "12:30:00"]):
+    d = json.load(open("%s/day_%04d.json" % (sys.argv[1], i)))
+    ref = json.load(open("%s/sun%d.json" % (sys.argv[2], i)))
+    assert d["parameters"]["time"] == t and d["image"]["file"] == "day_%04d.exr" % i, d["parameters"]
+    assert abs(d["sun"]["elevation_deg"] - ref["elevation_deg"]) < 1e-5, (d["sun"], ref)
+    assert abs(d["sun"]["azimuth_deg"] - ref["azimuth_deg"]) < 1e-5, (d["sun"], ref)
+PY
+# 00:30 in Paris in June: the sun about 17 deg down, not yet night; a December night frame is flagged
+grep '"event": "frame"' "$work/progress" | head -n 1 | grep -q '"night": false' && ok || fail "June night is twilight"
+"$FM" "${r[@]}" --date 2023-12-21 --utc-offset +01:00 --latitude 48.8566 --longitude 2.3522 --time-start 00:00 --time-end 00:00 \
+    --step 60 --progress json -o "$work/out/dec.exr" >"$work/progress" 2>&1 &&
+    grep -q '"night": true' "$work/progress" && grep -q '"night_frames": 1' "$work/progress" && [ -s "$work/out/dec_0000.exr" ] && ok ||
+    fail "a night frame renders and is reported: $(cat "$work/progress")"
+# the series frame is the same map as a separate run at that time
+"$FM" "${r[@]}" --date 2023-06-21 --utc-offset +02:00 --latitude 48.8566 --longitude 2.3522 --time 08:30 --progress none -o "$work/out/single.exr" &&
+    "$FM" compare "$work/out/day_0002.exr" "$work/out/single.exr" --json | grep -q '"max": 0,' && ok || fail "series frame = separate run"
+
 # --- interruption: SIGINT and SIGTERM leave nothing, and never replace an existing file ---------
 interrupt() {
     local sig=$1 expect=$2

@@ -54,13 +54,20 @@ typedef struct fm_error {
 const char *fm_status_name(fm_status status);
 
 /* ---------------------------------------------------------------------------------------------
- * The sky: atmosphere, sun and observer.  Immutable once created; shared by render threads. */
+ * The sky: atmosphere, sun and observer.  Shared read-only by render threads; only fm_sky_set_sun and
+ * fm_sky_set_time (below) change it, between renders. */
 
 typedef enum fm_aerosol_phase {
     FM_AEROSOL_PHASE_MIE = 0, /* the tabulated Mie phase function of the mixture, per wavelength */
     FM_AEROSOL_PHASE_HG       /* Henyey-Greenstein with the mixture's Mie asymmetry parameter g */
 } fm_aerosol_phase;
 
+/* sun_elevation_deg, sun_azimuth_deg, earth_sun_distance_au: from the date, time and place. */
+#define FM_SUN_FROM_TIME (-1000.0)
+/* hour: no time of day. */
+#define FM_NO_TIME (-1)
+/* delta_t_s: the Espenak & Meeus estimate for the date. */
+#define FM_DELTA_T_ESTIMATE (-1.0e9)
 /* ozone_column_du: take the column from the climatology for the date and place. */
 #define FM_OZONE_FROM_CLIMATOLOGY (-1.0)
 /* humidity_percent: the biome's own default humidity. */
@@ -81,6 +88,20 @@ typedef struct fm_sky_params {
     int year, month, day;         /* [1900, 2100], [1, 12], [1, days in month] */
     double latitude_deg;          /* [-90, 90], north positive */
     double longitude_deg;         /* [-180, 180], east positive */
+
+    /* Time of day at that date and place (see "Solar position" below).  With a time, every one of
+     * sun_elevation_deg, sun_azimuth_deg and earth_sun_distance_au that holds FM_SUN_FROM_TIME is
+     * computed: the apparent (refracted, when refraction is on) topocentric elevation and azimuth of
+     * the sun's centre, and the Earth-Sun distance of the day (at 12:00 local time, so that every
+     * time of one date shares it).  A value given instead of FM_SUN_FROM_TIME overrides. */
+    int hour;                     /* local clock time [0, 23]; FM_NO_TIME: none */
+    int minute;                   /* [0, 59] */
+    double second;                /* [0, 60) */
+    int utc_offset_min;           /* local time minus UTC in minutes, [-720, 840] (-12:00 to +14:00) */
+    int refraction;               /* nonzero: atmospheric refraction lifts the sun (default on) */
+    double pressure_mbar;         /* air pressure at the observer for refraction, [0, 2000] (default 1010) */
+    double temperature_c;         /* air temperature at the observer for refraction, [-100, 100] (default 10) */
+    double delta_t_s;             /* TT - UT in seconds, [-8000, 8000]; FM_DELTA_T_ESTIMATE: estimated */
 
     /* Aerosols. */
     const char *biome;            /* NULL or "none": no aerosols; else a name in presets/biomes/
@@ -137,6 +158,86 @@ typedef struct fm_composition {
 } fm_composition;
 
 void fm_sky_composition(const fm_sky *sky, fm_composition *out);
+
+/* ---------------------------------------------------------------------------------------------
+ * Solar position: NREL's Solar Position Algorithm (I. Reda and A. Andreas, Solar Energy 76 (2004)
+ * 577-589; NREL/TP-560-34302), uncertainty +-0.0003 degrees for the years -2000 to 6000 with the
+ * right Delta T (the estimate's error, e.g. 1 s, moves the sun by 1 s / 240 s per degree = 0.004
+ * degrees).  Refraction: SPA's Saemundsson-type formula scaled by pressure and temperature, applied
+ * while the true elevation is at least -0.8333 degrees (below, none).  Sunrise and sunset: the sun's
+ * centre at -0.8333 degrees apparent elevation (refraction 34' plus the radius 16'), for the local
+ * date. */
+
+typedef struct fm_solar_params {
+    int year, month, day;         /* local date, years [-2000, 6000]: Gregorian calendar from
+                                   * 1582-10-15, Julian before (as SPA) */
+    int hour, minute;             /* local clock time, [0, 23], [0, 59] */
+    double second;                /* [0, 60) */
+    int utc_offset_min;           /* local time minus UTC in minutes, [-720, 840] */
+    double latitude_deg;          /* [-90, 90], north positive */
+    double longitude_deg;         /* [-180, 180], east positive */
+    double elevation_m;           /* observer above sea level, [-1000, 100000] */
+    double pressure_mbar;         /* for refraction, [0, 2000] */
+    double temperature_c;         /* for refraction, [-100, 100] */
+    double delta_t_s;             /* TT - UT, [-8000, 8000] s, or FM_DELTA_T_ESTIMATE */
+    int refraction;               /* nonzero: apply refraction */
+} fm_solar_params;
+
+/* 2000-01-01 12:00 UTC at 0 N 0 E, sea level, 1010 mbar, 10 C, Delta T estimated, refraction on. */
+fm_solar_params fm_solar_params_default(void);
+
+typedef enum fm_daylight {
+    FM_DAYLIGHT_NORMAL = 0,       /* the sun rises and sets on this date */
+    FM_DAYLIGHT_POLAR_DAY,        /* it stays above -0.8333 degrees all day */
+    FM_DAYLIGHT_POLAR_NIGHT       /* it stays below all day */
+} fm_daylight;
+
+typedef struct fm_solar_position {
+    double zenith_deg;            /* topocentric, of the sun's centre; refracted when refraction is on */
+    double azimuth_deg;           /* [0, 360), from north toward east */
+    double elevation_deg;         /* 90 - zenith_deg: the apparent elevation with refraction on */
+    double elevation_true_deg;    /* topocentric elevation without refraction */
+    double declination_deg;       /* geocentric apparent declination */
+    double right_ascension_deg;   /* geocentric apparent right ascension, [0, 360) */
+    double earth_sun_distance_au; /* at the given time */
+    double equation_of_time_min;  /* apparent minus mean solar time */
+    double delta_t_s;             /* the Delta T used */
+    double julian_day;            /* of the given time, UT */
+    fm_daylight daylight;
+    double sunrise_h;             /* local clock hours of the date, [0, 24); -1 in polar day or night */
+    double transit_h;             /* solar noon (the sun on the meridian), always given */
+    double sunset_h;              /* as sunrise_h */
+} fm_solar_position;
+
+/* Computes the sun's position for the time and place; fails naming the field of a bad input
+ * ("date", "time", "utc_offset_min", "latitude_deg", ...). */
+fm_status fm_solar_position_compute(const fm_solar_params *params, fm_solar_position *out, fm_error *err);
+
+/* ---------------------------------------------------------------------------------------------
+ * Changing the sun of an existing sky.  What depends on the sun's direction is only the direction
+ * itself (and the parameters that record it): the atmosphere, the aerosol optics, the column and
+ * sun-transmittance tables (tabulated over every sun zenith angle) and the sun disk (its size
+ * depends on the Earth-Sun distance only) are kept, so a time series renders from one fm_sky.  A
+ * render after a change is bit-identical to one from a new fm_sky with that sun.  Not while a render
+ * of this sky runs. */
+
+/* Puts the sun's centre at the given elevation and azimuth (ranges as in fm_sky_params); from now
+ * on the sun counts as given, not computed from the time. */
+fm_status fm_sky_set_sun(fm_sky *sky, double elevation_deg, double azimuth_deg, fm_error *err);
+
+/* Sets a new local time of day on the sky's date (it needs a date and a place, and keeps them):
+ * the sun's elevation and azimuth follow when they came from the time (FM_SUN_FROM_TIME); the
+ * Earth-Sun distance is the day's and stays. */
+fm_status fm_sky_set_time(fm_sky *sky, int hour, int minute, double second, fm_error *err);
+
+/* Which sky parameters came from the solar position. */
+#define FM_SUN_COMPUTED_ELEVATION 1u
+#define FM_SUN_COMPUTED_AZIMUTH 2u
+#define FM_SUN_COMPUTED_DISTANCE 4u
+
+/* The solar position of a sky with a time of day: fills *out, *computed (may be NULL) with the
+ * FM_SUN_COMPUTED_* bits, and returns 1; returns 0 for a sky without a time. */
+int fm_sky_solar_position(const fm_sky *sky, fm_solar_position *out, unsigned *computed);
 
 /* ---------------------------------------------------------------------------------------------
  * Rendering. */

@@ -3,6 +3,7 @@
 #include "base/units.h"
 #include "colour/colour.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -40,6 +41,63 @@ static void add_vec3(metadata *m, const char *group, const char *key, const doub
 static const char *quality_name(fm_quality q)
 {
     return q == FM_QUALITY_PREVIEW ? "preview" : (q == FM_QUALITY_REFERENCE ? "reference" : "final");
+}
+
+/* "HH:MM:SS" of local clock hours (rounded to the second). */
+static void clock_text(char *buf, size_t size, double hours)
+{
+    long t = lround(hours * 3600.0) % 86400;
+    snprintf(buf, size, "%02ld:%02ld:%02ld", t / 3600, t / 60 % 60, t % 60);
+}
+
+/* The date's time of day and the solar position it gives (README, "Solar position"). */
+static void collect_solar_position(metadata *m, const fm_sky *sky, const fm_sky_params *sp)
+{
+    fm_solar_position o;
+    unsigned computed = 0;
+    if (!fm_sky_solar_position(sky, &o, &computed))
+        return;
+    clock_text(m->time_text, sizeof m->time_text, sp->hour + sp->minute / 60.0 + sp->second / 3600.0);
+    int off = sp->utc_offset_min < 0 ? -sp->utc_offset_min : sp->utc_offset_min;
+    snprintf(m->offset_text, sizeof m->offset_text, "%c%02d:%02d", sp->utc_offset_min < 0 ? '-' : '+', off / 60 % 100,
+             off % 60);
+    add_string(m, "parameters", "time", m->time_text);
+    add_string(m, "parameters", "utc_offset", m->offset_text);
+    add_string(m, "parameters", "refraction", sp->refraction ? "on" : "off");
+    add_double(m, "parameters", "pressure_mbar", sp->pressure_mbar);
+    add_double(m, "parameters", "temperature_c", sp->temperature_c);
+    add_double(m, "parameters", "delta_t_s", o.delta_t_s);
+
+    /* which of the sky's sun parameters came from this position, e.g. "elevation, azimuth" */
+    static const char *const names[3] = {"elevation", "azimuth", "earth_sun_distance"};
+    m->from_time_text[0] = '\0';
+    for (int i = 0; i < 3; i++)
+        if (computed & (1u << i)) {
+            size_t n = strlen(m->from_time_text);
+            snprintf(m->from_time_text + n, sizeof m->from_time_text - n, "%s%s", n ? ", " : "", names[i]);
+        }
+    if (!computed)
+        snprintf(m->from_time_text, sizeof m->from_time_text, "none (the sun was given)");
+    add_string(m, "solar_position", "algorithm", "NREL SPA (Reda & Andreas 2004)");
+    add_string(m, "solar_position", "used_for", m->from_time_text);
+    add_double(m, "solar_position", "elevation_deg", o.elevation_deg);
+    add_double(m, "solar_position", "elevation_without_refraction_deg", o.elevation_true_deg);
+    add_double(m, "solar_position", "azimuth_deg", o.azimuth_deg);
+    add_double(m, "solar_position", "zenith_deg", o.zenith_deg);
+    add_double(m, "solar_position", "earth_sun_distance_au", o.earth_sun_distance_au);
+    add_double(m, "solar_position", "equation_of_time_min", o.equation_of_time_min);
+    add_string(m, "solar_position", "day",
+               o.daylight == FM_DAYLIGHT_POLAR_DAY ? "polar day"
+                                                   : (o.daylight == FM_DAYLIGHT_POLAR_NIGHT ? "polar night" : "normal"));
+    clock_text(m->noon_text, sizeof m->noon_text, o.transit_h);
+    if (o.daylight == FM_DAYLIGHT_NORMAL) { /* polar day or night: no sunrise or sunset keys */
+        clock_text(m->sunrise_text, sizeof m->sunrise_text, o.sunrise_h);
+        clock_text(m->sunset_text, sizeof m->sunset_text, o.sunset_h);
+        add_string(m, "solar_position", "sunrise", m->sunrise_text);
+    }
+    add_string(m, "solar_position", "solar_noon", m->noon_text);
+    if (o.daylight == FM_DAYLIGHT_NORMAL)
+        add_string(m, "solar_position", "sunset", m->sunset_text);
 }
 
 void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *params, const fm_image *img,
@@ -95,6 +153,7 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
         add_string(m, "parameters", "date", m->date_text);
         add_double(m, "parameters", "latitude_deg", sp->latitude_deg);
         add_double(m, "parameters", "longitude_deg", sp->longitude_deg);
+        collect_solar_position(m, sky, sp);
     }
     if (sp->atmosphere_file) {
         add_string(m, "parameters", "atmosphere_file", sp->atmosphere_file);

@@ -5,12 +5,12 @@
 
 #include "firmament/firmament.h"
 
-#define FM_META_MAX 80
+#define FM_META_MAX 112
 
 typedef enum meta_type { META_DOUBLE, META_INT, META_STRING, META_VEC3 } meta_type;
 
 typedef struct meta_entry {
-    const char *group; /* "parameters", "image", "atmosphere", "sun" or "sky" */
+    const char *group; /* "parameters", "image", "atmosphere", "sun", "sky" or "solar_position" */
     const char *key;
     meta_type type;
     double v[3];
@@ -24,6 +24,8 @@ typedef struct metadata {
     char out_name[256];
     char date_text[16];
     fm_composition composition;
+    /* the sun from the date and time */
+    char time_text[16], offset_text[8], sunrise_text[16], noon_text[16], sunset_text[16], from_time_text[64];
 } metadata;
 
 /* Gathers parameters and derived quantities (direct sunlight, diffuse horizontal illuminance). */

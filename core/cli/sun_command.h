@@ -1,0 +1,9 @@
+/* `firmament sun`: the sun's position and the day's sunrise, solar noon and sunset for a date, time
+ * and place, as text or JSON.  Exit 0, or 2 with one line naming the problem. */
+#ifndef FM_CLI_SUN_COMMAND_H
+#define FM_CLI_SUN_COMMAND_H
+
+/* argv[0] is "sun". */
+int run_sun(int argc, char **argv);
+
+#endif
