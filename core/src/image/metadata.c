@@ -133,7 +133,10 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
     add_double(m, "parameters", "sun_azimuth_deg", sp->sun_azimuth_deg);
     add_double(m, "parameters", "observer_altitude_m", sp->observer_altitude_m);
     add_double(m, "parameters", "ground_albedo", sp->ground_albedo);
-    add_double(m, "parameters", "ozone_column_du", sp->ozone_column_du);
+    if (sp->ozone_column_du == FM_OZONE_FROM_CLIMATOLOGY) /* the column used is atmosphere.ozone_column_du */
+        add_string(m, "parameters", "ozone_column_du", "climatology");
+    else
+        add_double(m, "parameters", "ozone_column_du", sp->ozone_column_du);
     add_double(m, "parameters", "earth_sun_distance_au", sp->earth_sun_distance_au);
     if (!colour)
         add_double(m, "parameters", "wavelength_nm", sp->wavelength_nm);
