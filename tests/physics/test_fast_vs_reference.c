@@ -1,6 +1,6 @@
 /* The fast path (radiance tables) against the reference mode (per-pixel path tracing, no tables),
  * on small maps of a noon sky, a sunset and a noon sky seen from eye height (2 m: the horizon dips
- * 0.045 degrees, a sliver of sky below the horizontal), and with aerosols (rural noon, urban
+ * 0.045 degrees, a sliver of sky below the horizontal) and from 10 km, and with aerosols (rural noon, urban
  * sunset at turbidity 2), at the default final quality.
  *
  * Metric: for each pixel's luminance, z = (Y_fast - Y_ref) / se_ref with se_ref the reference's own
@@ -93,6 +93,8 @@ static void compare(double sun_elevation, double altitude_m, const char *biome_n
 static void noon(void **state) { compare(30.0, 0.0, "none", 1.0, 4096); }
 static void sunset(void **state) { compare(2.0, 0.0, "none", 1.0, 4096); }
 static void eye_height(void **state) { compare(30.0, 2.0, "none", 1.0, 2048); }
+/* an aircraft at 10 km: the horizon dips 3.2 degrees and the ground is seen through the air below */
+static void aircraft(void **state) { compare(30.0, 10000.0, "none", 1.0, 1024); }
 /* aerosols: the forward peak and absorption through both estimators */
 static void rural_noon(void **state) { compare(30.0, 0.0, "rural", 1.0, 2048); }
 static void urban_sunset(void **state) { compare(2.0, 0.0, "urban", 2.0, 2048); }
@@ -103,6 +105,7 @@ int main(void)
         cmocka_unit_test(noon),
         cmocka_unit_test(sunset),
         cmocka_unit_test(eye_height),
+        cmocka_unit_test(aircraft),
         cmocka_unit_test(rural_noon),
         cmocka_unit_test(urban_sunset),
     };
