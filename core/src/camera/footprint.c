@@ -1,0 +1,114 @@
+#include "camera/footprint.h"
+
+#include "base/units.h"
+
+#include <math.h>
+
+footprint_settings footprint_default_settings(int samples, double horizon)
+{
+    return (footprint_settings){
+        .samples = samples,
+        .horizon = horizon,
+        .fine = 0.2 * FM_DEG,
+        .band_below = 3.0 * FM_DEG,
+        .band_above = 10.0 * FM_DEG,
+        .max_samples = 64,
+    };
+}
+
+static double elevation_at(const camera *c, double x, double y)
+{
+    vec3 d;
+    camera_direction(c, x, y, &d);
+    return asin(clamp_cosine(d.z));
+}
+
+static double angle_between(const camera *c, double xa, double ya, double xb, double yb)
+{
+    vec3 a, b;
+    camera_direction(c, xa, ya, &a);
+    camera_direction(c, xb, yb, &b);
+    return 2.0 * asin(fmin(1.0, 0.5 * v3_length(v3_sub(a, b))));
+}
+
+static int count_for(double angle, const footprint_settings *s, int near)
+{
+    int n = s->samples;
+    if (near) {
+        double need = ceil(angle / s->fine);
+        if (need > n)
+            n = need > s->max_samples ? s->max_samples : (int)need;
+    }
+    return n;
+}
+
+/* y in [lo, hi] where the elevation along the column x crosses the horizon, if it does. */
+static int horizon_crossing(const camera *c, double x, double lo, double hi, double horizon, double *y)
+{
+    double a = elevation_at(c, x, lo) - horizon, b = elevation_at(c, x, hi) - horizon;
+    if ((a < 0.0) == (b < 0.0))
+        return 0;
+    for (int i = 0; i < 60 && hi - lo > 1e-12; i++) {
+        double m = 0.5 * (lo + hi), v = elevation_at(c, x, m) - horizon;
+        if ((v < 0.0) == (a < 0.0))
+            lo = m;
+        else
+            hi = m;
+    }
+    *y = 0.5 * (lo + hi);
+    return 1;
+}
+
+int footprint_average(const camera *c, int px, int py, const footprint_settings *s, footprint_radiance f, void *ctx,
+                      int channels, double *out)
+{
+    for (int k = 0; k < channels; k++)
+        out[k] = 0.0;
+    /* near the horizon?  the elevations over a 3 x 3 lattice of the pixel bound its range well enough
+     * for a band many pixels wide */
+    double e_min = INFINITY, e_max = -INFINITY;
+    for (int j = 0; j <= 2; j++)
+        for (int i = 0; i <= 2; i++) {
+            double e = elevation_at(c, px + 0.5 * i, py + 0.5 * j);
+            e_min = fmin(e_min, e);
+            e_max = fmax(e_max, e);
+        }
+    int near = e_max > s->horizon - s->band_below && e_min < s->horizon + s->band_above;
+    int nx = count_for(angle_between(c, px, py + 0.5, px + 1.0, py + 0.5), s, near);
+    int ny = count_for(angle_between(c, px + 0.5, py, px + 0.5, py + 1.0), s, near);
+
+    double acc[4] = {0, 0, 0, 0}, wsum = 0.0;
+    float v[4];
+    int evaluations = 0;
+    for (int i = 0; i < nx; i++) {
+        double x = px + (i + 0.5) / nx, lo, hi;
+        if (!camera_column_span(c, x, py, py + 1.0, &lo, &hi))
+            continue;
+        double cuts[3] = {lo, hi, hi};
+        int parts = 1;
+        if (near && horizon_crossing(c, x, lo, hi, s->horizon, &cuts[1]))
+            parts = 2;
+        for (int p = 0; p < parts; p++) {
+            double a = cuts[p], b = cuts[p + 1];
+            int n = (int)ceil(ny * (b - a)); /* the column's share of ny */
+            n = n < 1 ? 1 : n;
+            for (int j = 0; j < n; j++) {
+                double y = a + (b - a) * (j + 0.5) / n;
+                vec3 d;
+                camera_direction(c, x, y, &d);
+                double w = camera_jacobian(c, x, y) * (b - a) / n;
+                if (!(w > 0.0))
+                    continue;
+                f(ctx, d, asin(clamp_cosine(d.z)), v);
+                evaluations++;
+                for (int k = 0; k < channels; k++)
+                    acc[k] += w * v[k];
+                wsum += w;
+            }
+        }
+    }
+    if (wsum > 0.0)
+        for (int k = 0; k < channels; k++)
+            out[k] = acc[k] / wsum;
+    return evaluations;
+}
