@@ -185,3 +185,12 @@ int camera_column_span(const camera *c, double x, double y0, double y1, double *
     *hi = fmin(y1, c->height);
     return *hi > *lo;
 }
+
+int camera_row_span(const camera *c, double y, double x0, double x1, double *lo, double *hi)
+{
+    if (c->type == FM_CAMERA_FISHEYE) /* the circle is symmetric in x and y */
+        return fisheye_column_span(&c->fish, y, x0, x1, lo, hi);
+    *lo = fmax(x0, 0.0);
+    *hi = fmin(x1, c->width);
+    return *hi > *lo;
+}

@@ -47,5 +47,7 @@ double camera_solid_angle(const camera *c);
 /* The part [lo, hi] of the vertical segment at x, y in [y0, y1], that belongs to the image; 0 when
  * none does. */
 int camera_column_span(const camera *c, double x, double y0, double y1, double *lo, double *hi);
+/* The same for the horizontal segment at y, x in [x0, x1]. */
+int camera_row_span(const camera *c, double y, double x0, double x1, double *lo, double *hi);
 
 #endif

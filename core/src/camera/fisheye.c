@@ -111,15 +111,17 @@ static double g_over_rho2(const fisheye *f, double rho2, int cosine)
 
 static double edge_integral(const fisheye *f, double ax, double ay, double bx, double by, int cosine)
 {
-    double dx = bx - ax, dy = by - ay;
-    double a = dx * dx + dy * dy, b = 2.0 * (ax * dx + ay * dy), c = ax * ax + ay * ay - 1.0;
-    double disc = b * b - 4.0 * a * c;
-    if (disc <= 0.0)
-        return 0.0;
-    double sq = sqrt(disc);
-    double t0 = fmax(0.0, (-b - sq) / (2.0 * a)), t1 = fmin(1.0, (-b + sq) / (2.0 * a));
+    double dx = bx - ax, dy = by - ay, dd = dx * dx + dy * dy;
     double cross = ax * dy - ay * dx;
-    if (!(t1 > t0) || cross == 0.0)
+    /* the chord of the unit circle on this line, from the line's distance to the centre, |cross| / |D|
+     * (exactly 1 for the image's edges, tangent to the circle: no chord, where the quadratic formula
+     * would leave one of rounding size) */
+    double chord2 = 1.0 - cross * cross / dd;
+    if (!(chord2 > 0.0) || cross == 0.0)
+        return 0.0;
+    double mid_t = -(ax * dx + ay * dy) / dd, half_t = sqrt(chord2 / dd);
+    double t0 = fmax(0.0, mid_t - half_t), t1 = fmin(1.0, mid_t + half_t);
+    if (!(t1 > t0))
         return 0.0;
     const gauss_rule *g = gauss_legendre_cached(EDGE_POINTS);
     double sum = 0.0, half = 0.5 * (t1 - t0), mid = 0.5 * (t1 + t0);

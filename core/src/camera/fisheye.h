@@ -39,7 +39,8 @@ double fisheye_jacobian(const fisheye *f, double x, double y);
  * cos(theta) dOmega (cosine = 1): exact to rounding, by Green's theorem (see fisheye.c). */
 double fisheye_pixel_integral(const fisheye *f, int px, int py, int cosine);
 
-/* The part [lo, hi] of the vertical segment x, y in [y0, y1] inside the circle; 0 when none. */
+/* The part [lo, hi] of the vertical segment x, y in [y0, y1] inside the circle; 0 when none (by
+ * symmetry, also the horizontal segment y = x, x in [y0, y1]). */
 int fisheye_column_span(const fisheye *f, double x, double y0, double y1, double *lo, double *hi);
 
 #endif

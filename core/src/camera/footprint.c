@@ -9,11 +9,23 @@ footprint_settings footprint_default_settings(int samples, double horizon)
     return (footprint_settings){
         .samples = samples,
         .horizon = horizon,
-        .fine = 0.2 * FM_DEG,
+        .fine = 0.1 * FM_DEG,
         .band_below = 3.0 * FM_DEG,
         .band_above = 10.0 * FM_DEG,
         .max_samples = 64,
     };
+}
+
+/* Positions in slice coordinates: u across the slices, v along them; rows (slices of constant y)
+ * or columns (constant x). */
+typedef struct slicing {
+    int rows;
+} slicing;
+
+static void position(slicing sl, double u, double v, double *x, double *y)
+{
+    *x = sl.rows ? v : u;
+    *y = sl.rows ? u : v;
 }
 
 static double elevation_at(const camera *c, double x, double y)
@@ -42,20 +54,25 @@ static int count_for(double angle, const footprint_settings *s, int near)
     return n;
 }
 
-/* y in [lo, hi] where the elevation along the column x crosses the horizon, if it does. */
-static int horizon_crossing(const camera *c, double x, double lo, double hi, double horizon, double *y)
+/* v in [lo, hi] where the elevation along the slice u crosses the horizon, if it does. */
+static int horizon_crossing(const camera *c, slicing sl, double u, double lo, double hi, double horizon, double *v)
 {
-    double a = elevation_at(c, x, lo) - horizon, b = elevation_at(c, x, hi) - horizon;
+    double x, y;
+    position(sl, u, lo, &x, &y);
+    double a = elevation_at(c, x, y) - horizon;
+    position(sl, u, hi, &x, &y);
+    double b = elevation_at(c, x, y) - horizon;
     if ((a < 0.0) == (b < 0.0))
         return 0;
     for (int i = 0; i < 60 && hi - lo > 1e-12; i++) {
-        double m = 0.5 * (lo + hi), v = elevation_at(c, x, m) - horizon;
-        if ((v < 0.0) == (a < 0.0))
+        double m = 0.5 * (lo + hi);
+        position(sl, u, m, &x, &y);
+        if ((elevation_at(c, x, y) - horizon < 0.0) == (a < 0.0))
             lo = m;
         else
             hi = m;
     }
-    *y = 0.5 * (lo + hi);
+    *v = 0.5 * (lo + hi);
     return 1;
 }
 
@@ -66,43 +83,50 @@ int footprint_average(const camera *c, int px, int py, const footprint_settings 
         out[k] = 0.0;
     /* near the horizon?  the elevations over a 3 x 3 lattice of the pixel bound its range well enough
      * for a band many pixels wide */
-    double e_min = INFINITY, e_max = -INFINITY;
+    double e[3][3], e_min = INFINITY, e_max = -INFINITY;
     for (int j = 0; j <= 2; j++)
         for (int i = 0; i <= 2; i++) {
-            double e = elevation_at(c, px + 0.5 * i, py + 0.5 * j);
-            e_min = fmin(e_min, e);
-            e_max = fmax(e_max, e);
+            e[j][i] = elevation_at(c, px + 0.5 * i, py + 0.5 * j);
+            e_min = fmin(e_min, e[j][i]);
+            e_max = fmax(e_max, e[j][i]);
         }
     int near = e_max > s->horizon - s->band_below && e_min < s->horizon + s->band_above;
-    int nx = count_for(angle_between(c, px, py + 0.5, px + 1.0, py + 0.5), s, near);
-    int ny = count_for(angle_between(c, px + 0.5, py, px + 0.5, py + 1.0), s, near);
+    /* slices cross the lines of equal elevation (the horizon, the fisheye's rim) rather than run along
+     * them: where a slice grazes the boundary, the slices' sum converges slowly */
+    slicing sl = {fabs(e[1][2] - e[1][0]) > fabs(e[2][1] - e[0][1])};
+    double across_x = angle_between(c, px, py + 0.5, px + 1.0, py + 0.5);
+    double across_y = angle_between(c, px + 0.5, py, px + 0.5, py + 1.0);
+    int nu = count_for(sl.rows ? across_y : across_x, s, near);
+    int nv = count_for(sl.rows ? across_x : across_y, s, near);
+    double u0 = sl.rows ? py : px, v0 = sl.rows ? px : py;
 
     double acc[4] = {0, 0, 0, 0}, wsum = 0.0;
-    float v[4];
+    float val[4];
     int evaluations = 0;
-    for (int i = 0; i < nx; i++) {
-        double x = px + (i + 0.5) / nx, lo, hi;
-        if (!camera_column_span(c, x, py, py + 1.0, &lo, &hi))
+    for (int i = 0; i < nu; i++) {
+        double u = u0 + (i + 0.5) / nu, lo, hi;
+        if (!(sl.rows ? camera_row_span(c, u, v0, v0 + 1.0, &lo, &hi) : camera_column_span(c, u, v0, v0 + 1.0, &lo, &hi)))
             continue;
         double cuts[3] = {lo, hi, hi};
         int parts = 1;
-        if (near && horizon_crossing(c, x, lo, hi, s->horizon, &cuts[1]))
+        if (near && horizon_crossing(c, sl, u, lo, hi, s->horizon, &cuts[1]))
             parts = 2;
         for (int p = 0; p < parts; p++) {
             double a = cuts[p], b = cuts[p + 1];
-            int n = (int)ceil(ny * (b - a)); /* the column's share of ny */
+            int n = (int)ceil(nv * (b - a)); /* the slice's share of nv */
             n = n < 1 ? 1 : n;
             for (int j = 0; j < n; j++) {
-                double y = a + (b - a) * (j + 0.5) / n;
+                double x, y;
+                position(sl, u, a + (b - a) * (j + 0.5) / n, &x, &y);
                 vec3 d;
                 camera_direction(c, x, y, &d);
                 double w = camera_jacobian(c, x, y) * (b - a) / n;
                 if (!(w > 0.0))
                     continue;
-                f(ctx, d, asin(clamp_cosine(d.z)), v);
+                f(ctx, d, asin(clamp_cosine(d.z)), val);
                 evaluations++;
                 for (int k = 0; k < channels; k++)
-                    acc[k] += w * v[k];
+                    acc[k] += w * val[k];
                 wsum += w;
             }
         }

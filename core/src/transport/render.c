@@ -203,8 +203,8 @@ static void table_radiance(void *ctx, vec3 d, double elevation, float *out)
 }
 
 /* The fast path through the fisheye and pinhole cameras: footprint averages of the tables with the
- * same rule as the equirect rows (the quality's samples per axis, 0.2 degrees near the horizon, the
- * horizon split exactly; camera/footprint.h). */
+ * equirect rows' rule (the quality's samples per axis, fine steps near the horizon, the horizon split
+ * exactly; camera/footprint.h). */
 static void fast_rows_camera(void *ctx, int64_t begin, int64_t end, int thread)
 {
     render_job *job = ctx;
