@@ -151,6 +151,20 @@ double camera_jacobian(const camera *c, double x, double y)
     }
 }
 
+double camera_sample(const camera *c, double x, double y, vec3 *d)
+{
+    switch (c->type) {
+    case FM_CAMERA_FISHEYE:
+        return fisheye_sample(&c->fish, x, y, d);
+    case FM_CAMERA_PINHOLE:
+        return pinhole_sample(&c->pin, x, y, d);
+    case FM_CAMERA_EQUIRECT:
+    default:
+        camera_direction(c, x, y, d);
+        return camera_jacobian(c, x, y);
+    }
+}
+
 double camera_pixel_solid_angle(const camera *c, int px, int py)
 {
     switch (c->type) {

@@ -37,6 +37,10 @@ int camera_pixel(const camera *c, vec3 d, int *px, int *py);
 /* Solid angle per square pixel (sr) at (x, y); 0 outside the image. */
 double camera_jacobian(const camera *c, double x, double y);
 
+/* camera_direction and camera_jacobian in one: the direction into *d, the Jacobian returned (0
+ * outside the image). */
+double camera_sample(const camera *c, double x, double y, vec3 *d);
+
 /* Solid angle (sr) of the part of pixel (px, py) that belongs to the image: closed forms for the
  * equirect and pinhole cameras, Green's theorem for the fisheye (exact to rounding). */
 double camera_pixel_solid_angle(const camera *c, int px, int py);

@@ -37,16 +37,23 @@ int fisheye_direction(const fisheye *f, double x, double y, vec3 *d)
 {
     double X, Y;
     normalised(f, x, y, &X, &Y);
-    double rho = hypot(X, Y);
-    double theta = fisheye_theta(f, rho);
-    if (rho > 0.0) {
-        /* east (a = 90 deg) to the left: X = -rho sin a, Y = rho cos a */
-        double s = sin(theta) / rho;
-        *d = v3(-X * s, Y * s, cos(theta));
-    } else {
-        *d = v3(0.0, 0.0, 1.0);
-    }
-    return rho <= 1.0;
+    fisheye_sample(f, x, y, d);
+    return X * X + Y * Y <= 1.0;
+}
+
+double fisheye_sample(const fisheye *f, double x, double y, vec3 *d)
+{
+    double X, Y;
+    normalised(f, x, y, &X, &Y);
+    double rho2 = X * X + Y * Y, rho = sqrt(rho2);
+    double theta = fisheye_theta(f, rho), s = sin(theta), c = cos(theta);
+    /* east (a = 90 deg) to the left: X = -rho sin a, Y = rho cos a */
+    *d = rho > 0.0 ? v3(-X * s / rho, Y * s / rho, c) : v3(0.0, 0.0, 1.0);
+    if (rho > 1.0)
+        return 0.0;
+    /* solid angle per unit normalised area, (sin theta / rho) d theta / d rho, per square pixel */
+    double j = f->equisolid ? 2.0 : (rho > 1e-12 ? 0.5 * FM_PI * s / rho : 0.25 * FM_PI * FM_PI);
+    return j / (f->radius_px * f->radius_px);
 }
 
 int fisheye_project(const fisheye *f, vec3 d, double *x, double *y)
@@ -180,9 +187,13 @@ static double interior_integral(const fisheye *f, double x0, double x1, double y
     for (int j = 0; j < 3; j++)
         for (int i = 0; i < 3; i++) {
             double X = 0.5 * (x0 + x1) + hx * g->x[i], Y = 0.5 * (y0 + y1) + hy * g->x[j];
-            double rho = hypot(X, Y), v = jacobian_normalised(f, rho);
-            if (cosine)
-                v *= cos(fisheye_theta(f, rho));
+            double rho2 = X * X + Y * Y, v;
+            if (f->equisolid) /* j = 2, cos theta = 1 - rho^2 */
+                v = cosine ? 2.0 * (1.0 - rho2) : 2.0;
+            else if (cosine) /* j cos theta = (pi/2) sin(k rho) cos(k rho) / rho = (pi/4) sin(2 k rho) / rho */
+                v = rho2 > 1e-24 ? 0.25 * FM_PI * sin(FM_PI * sqrt(rho2)) / sqrt(rho2) : 0.25 * FM_PI * FM_PI;
+            else
+                v = jacobian_normalised(f, sqrt(rho2));
             sum += g->w[i] * g->w[j] * v;
         }
     return sum * hx * hy;

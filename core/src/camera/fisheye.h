@@ -29,6 +29,10 @@ double fisheye_rho(const fisheye *f, double theta);
 /* Direction through image position (x, y) in pixel units; returns 1 inside the image circle. */
 int fisheye_direction(const fisheye *f, double x, double y, vec3 *d);
 
+/* The direction through (x, y) into *d, and the solid angle per square pixel there (sr), 0 outside
+ * the circle: fisheye_direction and fisheye_jacobian in one. */
+double fisheye_sample(const fisheye *f, double x, double y, vec3 *d);
+
 /* Image position of direction d (any length > 0); returns 0 for the nadir, where it is undefined. */
 int fisheye_project(const fisheye *f, vec3 d, double *x, double *y);
 

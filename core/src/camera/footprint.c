@@ -35,11 +35,8 @@ static double elevation_at(const camera *c, double x, double y)
     return asin(clamp_cosine(d.z));
 }
 
-static double angle_between(const camera *c, double xa, double ya, double xb, double yb)
+static double angle_between(vec3 a, vec3 b)
 {
-    vec3 a, b;
-    camera_direction(c, xa, ya, &a);
-    camera_direction(c, xb, yb, &b);
     return 2.0 * asin(fmin(1.0, 0.5 * v3_length(v3_sub(a, b))));
 }
 
@@ -81,23 +78,32 @@ int footprint_average(const camera *c, int px, int py, const footprint_settings 
 {
     for (int k = 0; k < channels; k++)
         out[k] = 0.0;
-    /* near the horizon?  the elevations over a 3 x 3 lattice of the pixel bound its range well enough
-     * for a band many pixels wide */
-    double e[3][3], e_min = INFINITY, e_max = -INFINITY;
-    for (int j = 0; j <= 2; j++)
-        for (int i = 0; i <= 2; i++) {
-            e[j][i] = elevation_at(c, px + 0.5 * i, py + 0.5 * j);
-            e_min = fmin(e_min, e[j][i]);
-            e_max = fmax(e_max, e[j][i]);
-        }
-    int near = e_max > s->horizon - s->band_below && e_min < s->horizon + s->band_above;
-    /* slices cross the lines of equal elevation (the horizon, the fisheye's rim) rather than run along
-     * them: where a slice grazes the boundary, the slices' sum converges slowly */
-    slicing sl = {fabs(e[1][2] - e[1][0]) > fabs(e[2][1] - e[0][1])};
-    double across_x = angle_between(c, px, py + 0.5, px + 1.0, py + 0.5);
-    double across_y = angle_between(c, px + 0.5, py, px + 0.5, py + 1.0);
-    int nu = count_for(sl.rows ? across_y : across_x, s, near);
-    int nv = count_for(sl.rows ? across_x : across_y, s, near);
+    /* the corners: directions k = 2 j + i at (px + i, py + j) */
+    vec3 corner[4];
+    double z_min = INFINITY, z_max = -INFINITY;
+    for (int k = 0; k < 4; k++) {
+        camera_direction(c, px + (k & 1), py + (k >> 1), &corner[k]);
+        z_min = fmin(z_min, corner[k].z);
+        z_max = fmax(z_max, corner[k].z);
+    }
+    /* near the horizon?  (the corners bound the elevations of a pixel well enough for a band many
+     * pixels wide) */
+    int near = z_max > sin(fmax(-0.5 * FM_PI, s->horizon - s->band_below)) &&
+               z_min < sin(fmin(0.5 * FM_PI, s->horizon + s->band_above));
+    slicing sl = {0};
+    int nu = s->samples, nv = s->samples;
+    if (near) {
+        /* slices cross the lines of equal elevation (the horizon, the fisheye's rim) rather than run
+         * along them: where a slice grazes the boundary, the slices' sum converges slowly */
+        double e[4];
+        for (int k = 0; k < 4; k++)
+            e[k] = asin(clamp_cosine(corner[k].z));
+        sl.rows = fabs(e[1] + e[3] - e[0] - e[2]) > fabs(e[2] + e[3] - e[0] - e[1]);
+        double across_x = 0.5 * (angle_between(corner[0], corner[1]) + angle_between(corner[2], corner[3]));
+        double across_y = 0.5 * (angle_between(corner[0], corner[2]) + angle_between(corner[1], corner[3]));
+        nu = count_for(sl.rows ? across_y : across_x, s, near);
+        nv = count_for(sl.rows ? across_x : across_y, s, near);
+    }
     double u0 = sl.rows ? py : px, v0 = sl.rows ? px : py;
 
     double acc[4] = {0, 0, 0, 0}, wsum = 0.0;
@@ -119,8 +125,7 @@ int footprint_average(const camera *c, int px, int py, const footprint_settings 
                 double x, y;
                 position(sl, u, a + (b - a) * (j + 0.5) / n, &x, &y);
                 vec3 d;
-                camera_direction(c, x, y, &d);
-                double w = camera_jacobian(c, x, y) * (b - a) / n;
+                double w = camera_sample(c, x, y, &d) * (b - a) / n;
                 if (!(w > 0.0))
                     continue;
                 f(ctx, d, asin(clamp_cosine(d.z)), val);

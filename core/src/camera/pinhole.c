@@ -60,3 +60,12 @@ double pinhole_vertical_fov(const pinhole *p)
 {
     return 2.0 * atan(0.5 * p->height * p->scale);
 }
+
+double pinhole_sample(const pinhole *p, double x, double y, vec3 *d)
+{
+    double X, Y;
+    plane(p, x, y, &X, &Y);
+    double q = 1.0 + X * X + Y * Y, inv = 1.0 / sqrt(q);
+    *d = v3_scale(v3_add(p->forward, v3_add(v3_scale(p->right, X), v3_scale(p->up, Y))), inv);
+    return p->scale * p->scale * inv / q;
+}

@@ -29,6 +29,9 @@ int pinhole_project(const pinhole *p, vec3 d, double *x, double *y);
 /* Solid angle per square pixel (sr) at (x, y). */
 double pinhole_jacobian(const pinhole *p, double x, double y);
 
+/* The direction through (x, y) into *d, and the solid angle per square pixel there (sr). */
+double pinhole_sample(const pinhole *p, double x, double y, vec3 *d);
+
 /* Solid angle (sr) of the image rectangle [x0, x1] x [y0, y1] (pixel units). */
 double pinhole_rect_solid_angle(const pinhole *p, double x0, double y0, double x1, double y1);
 

@@ -283,9 +283,9 @@ static void reference_rows_camera(void *ctx, int64_t begin, int64_t end, int thr
                 rng r = rng_for(job->seed, item, (uint64_t)p);
                 double jx = rng_uniform(&r), jy = rng_uniform(&r);
                 vec3 d;
-                double w = camera_jacobian(&job->cam, x + jx, y + jy);
-                if (!camera_direction(&job->cam, x + jx, y + jy, &d) || !(w > 0.0))
-                    continue;
+                double w = camera_sample(&job->cam, x + jx, y + jy, &d);
+                if (!(w > 0.0))
+                    continue; /* outside the fisheye's circle */
                 double L[FM_MAX_WAVELENGTHS] = {0};
                 path_trace(&pc, sky->observer, d, (p + offset) % K, &r, L);
                 float v[3];
