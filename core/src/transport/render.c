@@ -270,14 +270,12 @@ static void reference_rows_camera(void *ctx, int64_t begin, int64_t end, int thr
     const int W = img->width, C = job->channels, K = sky->atm.grid.count;
     const int N = job->q.reference_paths;
     path_context pc = sky_path_context(sky, 1, 0);
-    double *wv = malloc(sizeof(double) * (size_t)N * 4); /* per path: weight and C values */
-    if (!wv)
-        return; /* leaves the rows black; fm_render checks the allocation beforehand */
     for (int64_t y = begin; y < end; y++) {
         for (int x = 0; x < W; x++) {
             uint64_t item = ITEM_PIXEL + (uint64_t)y * W + x;
             int offset = (int)(mix64(job->seed ^ item) % (uint64_t)K);
-            double wsum = 0.0, sum[3] = {0, 0, 0};
+            /* sums of w v, and of w^2, w^2 v, w^2 v^2 for the spread */
+            double wsum = 0.0, w2sum = 0.0, sum[3] = {0, 0, 0}, w2v[3] = {0, 0, 0}, w2v2[3] = {0, 0, 0};
             int used = 0;
             for (int p = 0; p < N; p++) {
                 rng r = rng_for(job->seed, item, (uint64_t)p);
@@ -290,30 +288,26 @@ static void reference_rows_camera(void *ctx, int64_t begin, int64_t end, int thr
                 path_trace(&pc, sky->observer, d, (p + offset) % K, &r, L);
                 float v[3];
                 to_channels(&sky->atm, L, v);
-                double *e = &wv[(size_t)used * 4];
-                e[0] = w;
                 for (int c = 0; c < C; c++) {
-                    e[1 + c] = v[c];
                     sum[c] += w * v[c];
+                    w2v[c] += w * w * v[c];
+                    w2v2[c] += w * w * (double)v[c] * v[c];
                 }
                 wsum += w;
+                w2sum += w * w;
                 used++;
             }
             size_t i = ((size_t)y * W + x) * C;
             for (int c = 0; c < C; c++) {
-                double mean = wsum > 0.0 ? sum[c] / wsum : 0.0, var = 0.0;
-                for (int k = 0; k < used && used > 1; k++) {
-                    double dv = wv[(size_t)k * 4] * (wv[(size_t)k * 4 + 1 + c] - mean);
-                    var += dv * dv;
-                }
+                double mean = wsum > 0.0 ? sum[c] / wsum : 0.0;
                 /* sum w^2 (v - mean)^2 / (sum w)^2, with the n / (n - 1) of the unweighted case */
-                var = used > 1 ? var / (wsum * wsum) * used / (used - 1) : 0.0;
+                double spread = w2v2[c] - 2.0 * mean * w2v[c] + mean * mean * w2sum;
+                double var = used > 1 ? fmax(0.0, spread) / (wsum * wsum) * used / (used - 1) : 0.0;
                 img->pixels[i + c] = (float)mean;
                 img->std_error[i + c] = (float)sqrt(var);
             }
         }
     }
-    free(wv);
 }
 
 /* The sun disk, integrated over each pixel's footprint: a regular grid of points over the disk
@@ -530,14 +524,6 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     double horizon = asin(horizon_mu(atm, v3_length(sky->observer))); /* elevation, <= 0 */
     if (reference) {
         parallel_progress pr = {params->progress, params->progress_user, "path tracing", 0.0, 0.98};
-        if (!equirect) { /* reference_rows_camera's per-path scratch */
-            void *probe = malloc(sizeof(double) * (size_t)job.q.reference_paths * 4);
-            if (!probe) {
-                s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for %d paths per pixel", job.q.reference_paths);
-                goto done;
-            }
-            free(probe);
-        }
         s = parallel_for(params->threads, H, 1, equirect ? reference_rows : reference_rows_camera, &job, params->cancel,
                          &pr);
     } else {
