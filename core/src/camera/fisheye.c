@@ -179,13 +179,16 @@ static double arcs_inside(double x0, double x1, double y0, double y1)
 }
 
 /* A pixel wholly inside the circle: the integrand is smooth over it, and 3 x 3 Gauss-Legendre points
- * (exact for degree 5 in each variable) are as good as the boundary integral, at a seventh of the cost. */
+ * (exact for degree 5 in each variable) are as good as the boundary integral, at a seventh of the cost;
+ * the cosine-weighted integral, summed over every pixel for the sidecar, takes 2 x 2 (its sum over a
+ * 30-pixel image is off by 1.2e-7, falling as the fourth power of the pixel size). */
 static double interior_integral(const fisheye *f, double x0, double x1, double y0, double y1, int cosine)
 {
-    const gauss_rule *g = gauss_legendre_cached(3);
+    const int n = cosine ? 2 : 3;
+    const gauss_rule *g = gauss_legendre_cached(n);
     double hx = 0.5 * (x1 - x0), hy = 0.5 * (y1 - y0), sum = 0.0;
-    for (int j = 0; j < 3; j++)
-        for (int i = 0; i < 3; i++) {
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++) {
             double X = 0.5 * (x0 + x1) + hx * g->x[i], Y = 0.5 * (y0 + y1) + hy * g->x[j];
             double rho2 = X * X + Y * Y, v;
             if (f->equisolid) /* j = 2, cos theta = 1 - rho^2 */
