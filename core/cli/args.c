@@ -44,6 +44,13 @@ enum {
     OPT_TIME_START,
     OPT_TIME_END,
     OPT_STEP,
+    /* cameras */
+    OPT_CAMERA,
+    OPT_FISHEYE_PROJECTION,
+    OPT_FOV,
+    OPT_LOOK_AZIMUTH,
+    OPT_LOOK_ELEVATION,
+    OPT_ASPECT,
 };
 
 /* Each option with the library field it sets (for error messages). */
@@ -83,6 +90,12 @@ static const option_doc docs[] = {
     {OPT_PRESSURE, "pressure", "pressure_mbar"},
     {OPT_TEMPERATURE, "temperature", "temperature_c"},
     {OPT_DELTA_T, "delta-t", "delta_t_s"},
+    {OPT_CAMERA, "camera", "camera.type"},
+    {OPT_FISHEYE_PROJECTION, "fisheye-projection", "camera.fisheye_projection"},
+    {OPT_FOV, "fov", "camera.fov_deg"},
+    {OPT_LOOK_AZIMUTH, "look-azimuth", "camera.look_azimuth_deg"},
+    {OPT_LOOK_ELEVATION, "look-elevation", "camera.look_elevation_deg"},
+    {OPT_ASPECT, "aspect", "camera.aspect"},
 };
 
 static const struct option long_options[] = {
@@ -121,6 +134,12 @@ static const struct option long_options[] = {
     {"time-start", required_argument, NULL, OPT_TIME_START},
     {"time-end", required_argument, NULL, OPT_TIME_END},
     {"step", required_argument, NULL, OPT_STEP},
+    {"camera", required_argument, NULL, OPT_CAMERA},
+    {"fisheye-projection", required_argument, NULL, OPT_FISHEYE_PROJECTION},
+    {"fov", required_argument, NULL, OPT_FOV},
+    {"look-azimuth", required_argument, NULL, OPT_LOOK_AZIMUTH},
+    {"look-elevation", required_argument, NULL, OPT_LOOK_ELEVATION},
+    {"aspect", required_argument, NULL, OPT_ASPECT},
     {"help", no_argument, NULL, 'h'},
     {NULL, 0, NULL, 0},
 };
@@ -146,9 +165,10 @@ void options_print_usage(void)
           "       firmament --help | --version\n"
           "\n"
           "Renders the sky seen from one place as an equirectangular OpenEXR map (Blender's\n"
-          "Environment Texture layout: north at u = 0.25, east at the centre, zenith at the top) and a\n"
-          "JSON sidecar with the sun's direction and light.  Values are CIE-weighted radiance in\n"
-          "linear Rec.709 (Y x 683 = cd/m^2), or spectral radiance with --wavelength.\n"
+          "Environment Texture layout: north at u = 0.25, east at the centre, zenith at the top), or\n"
+          "through a fisheye or pinhole camera, and a JSON sidecar with the sun's direction and light.\n"
+          "Values are CIE-weighted radiance in linear Rec.709 (Y x 683 = cd/m^2), or spectral radiance\n"
+          "with --wavelength.\n"
           "\n"
           "Sky:\n"
           "  --sun-elevation DEG    elevation of the sun's centre, [-90, 90] (default 30)\n"
@@ -198,8 +218,24 @@ void options_print_usage(void)
           "Image:\n"
           "  -o, --output FILE      output EXR (default sky.exr); the sidecar is FILE with .json\n"
           "  --sidecar FILE         sidecar path instead of the default\n"
-          "  --width W              even, [8, 16384]; height = W/2 (default 2048)\n"
-          "  --no-sun-disk          leave the sun disk out of the map (its aureole stays)\n"
+          "  --width W              even, [8, 16384]; height = W/2 for equirect, W for fisheye,\n"
+          "                         W/aspect for pinhole (default 2048)\n"
+          "  --no-sun-disk          leave the sun disk out of the map (its aureole stays)\n",
+          stdout);
+    /* (in parts: C17 compilers need only accept string literals of 4095 characters) */
+    fputs("Camera:\n"
+          "  --camera TYPE          equirect (default) | fisheye | pinhole\n"
+          "  --fisheye-projection P fisheye: equidistant (r ~ zenith angle, default) | equisolid\n"
+          "                         (r ~ 2 sin(zenith angle / 2), equal-area); upward hemisphere in the\n"
+          "                         inscribed circle, zenith at the centre, north up and east LEFT as seen\n"
+          "                         looking up; pixels outside the circle are 0\n"
+          "  --fov DEG              pinhole: horizontal field of view, (0, 170] (default 90)\n"
+          "  --look-azimuth DEG     pinhole: view direction from north toward east, [-360, 360]\n"
+          "                         (default 180, south)\n"
+          "  --look-elevation DEG   pinhole: view direction above the horizontal, [-90, 90] (default 15);\n"
+          "                         level horizon, no roll\n"
+          "  --aspect W:H | X       pinhole: width / height, e.g. 16:9 or 1.5; height = W/aspect rounded\n"
+          "                         to even, [8, 16384] (default 16:9)\n"
           "Quality:\n"
           "  --quality LEVEL        preview | final | reference (default final)\n"
           "  --samples N            reference quality: paths per pixel (default 256; slow by design,\n"
@@ -377,6 +413,83 @@ static int finish_time_options(options *opt, const time_options *t, int have_lat
     return 1;
 }
 
+/* "W:H" or a number: width / height, positive. */
+static int parse_aspect(const char *s, double *out)
+{
+    const char *colon = strchr(s, ':');
+    double w, h;
+    if (!colon)
+        return parse_double(s, out) && *out > 0.0;
+    char left[64];
+    size_t n = (size_t)(colon - s);
+    if (n == 0 || n >= sizeof left)
+        return 0;
+    memcpy(left, s, n);
+    left[n] = '\0';
+    if (!parse_double(left, &w) || !parse_double(colon + 1, &h) || !(w > 0.0) || !(h > 0.0))
+        return 0;
+    *out = w / h;
+    return isfinite(*out) && *out > 0.0;
+}
+
+/* The camera options; returns 0 when c is not one of them, -1 on a bad value (msg filled), else 1.
+ * *specific records the last option that belongs to one camera only, and that camera. */
+static int camera_option(int c, const char *arg, options *opt, const char **specific, fm_camera_type *needs,
+                         char *msg, size_t msg_size)
+{
+    fm_camera *cam = &opt->render.camera;
+    switch (c) {
+    case OPT_CAMERA:
+        if (strcmp(arg, "equirect") == 0)
+            cam->type = FM_CAMERA_EQUIRECT;
+        else if (strcmp(arg, "fisheye") == 0)
+            cam->type = FM_CAMERA_FISHEYE;
+        else if (strcmp(arg, "pinhole") == 0)
+            cam->type = FM_CAMERA_PINHOLE;
+        else {
+            snprintf(msg, msg_size, "--camera: '%s' is not one of equirect, fisheye, pinhole", arg);
+            return -1;
+        }
+        return 1;
+    case OPT_FISHEYE_PROJECTION:
+        if (strcmp(arg, "equidistant") == 0)
+            cam->fisheye_projection = FM_FISHEYE_EQUIDISTANT;
+        else if (strcmp(arg, "equisolid") == 0)
+            cam->fisheye_projection = FM_FISHEYE_EQUISOLID;
+        else {
+            snprintf(msg, msg_size, "--fisheye-projection: '%s' is not one of equidistant, equisolid", arg);
+            return -1;
+        }
+        *specific = "fisheye-projection";
+        *needs = FM_CAMERA_FISHEYE;
+        return 1;
+    case OPT_FOV:
+    case OPT_LOOK_AZIMUTH:
+    case OPT_LOOK_ELEVATION: {
+        double *field = c == OPT_FOV ? &cam->fov_deg
+                                     : (c == OPT_LOOK_AZIMUTH ? &cam->look_azimuth_deg : &cam->look_elevation_deg);
+        const char *name = c == OPT_FOV ? "fov" : (c == OPT_LOOK_AZIMUTH ? "look-azimuth" : "look-elevation");
+        if (!parse_double(arg, field)) {
+            snprintf(msg, msg_size, "--%s: '%s' is not a number", name, arg);
+            return -1;
+        }
+        *specific = name;
+        *needs = FM_CAMERA_PINHOLE;
+        return 1;
+    }
+    case OPT_ASPECT:
+        if (!parse_aspect(arg, &cam->aspect)) {
+            snprintf(msg, msg_size, "--aspect: '%s' is not a ratio W:H or a positive number", arg);
+            return -1;
+        }
+        *specific = "aspect";
+        *needs = FM_CAMERA_PINHOLE;
+        return 1;
+    default:
+        return 0;
+    }
+}
+
 parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_t msg_size)
 {
     opt->sky = fm_sky_params_default();
@@ -391,9 +504,18 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     time_options times = {0};
     opt->frames = 0;
     const char *builtin_only = NULL; /* an option about the built-in atmosphere that was given */
+    const char *camera_specific = NULL; /* an option of one camera only that was given, and its camera */
+    fm_camera_type camera_needed = FM_CAMERA_EQUIRECT;
     while ((c = getopt_long(argc, argv, ":o:h", long_options, &index)) != -1) {
         const char *name = index >= 0 ? long_options[index].name : NULL;
         const char *arg = optarg;
+        int camera = camera_option(c, arg, opt, &camera_specific, &camera_needed, msg, msg_size);
+        if (camera < 0)
+            return PARSE_ERROR;
+        if (camera > 0) {
+            index = -1;
+            continue;
+        }
         double d = 0.0;
         long long n = 0;
         int bad_number = 0;
@@ -591,6 +713,11 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
         return PARSE_ERROR;
     if (opt->sky.atmosphere_file && !builtin_only && opt->sky.year != 0 && opt->sky.hour == FM_NO_TIME)
         builtin_only = "date"; /* without a time, the date is for the ozone climatology only */
+    if (camera_specific && opt->render.camera.type != camera_needed) {
+        snprintf(msg, msg_size, "--%s: applies only to --camera %s", camera_specific,
+                 camera_needed == FM_CAMERA_FISHEYE ? "fisheye" : "pinhole");
+        return PARSE_ERROR;
+    }
     if (opt->sky.atmosphere_file && builtin_only) {
         snprintf(msg, msg_size, "--%s: does not apply with --atmosphere (the file defines every constituent)",
                  builtin_only);

@@ -247,6 +247,61 @@ grep '"event": "frame"' "$work/progress" | head -n 1 | grep -q '"night": false' 
 # the series frame is the same map as a separate run at that time
 "$FM" "${r[@]}" --date 2023-06-21 --utc-offset +02:00 --latitude 48.8566 --longitude 2.3522 --time 08:30 --progress none -o "$work/out/single.exr" &&
     "$FM" compare "$work/out/day_0002.exr" "$work/out/single.exr" --json | grep -q '"max": 0,' && ok || fail "series frame = separate run"
+# --- cameras ------------------------------------------------------------------------------------
+grep -q -- '--camera TYPE' "$work/help" && grep -q -- '--look-elevation' "$work/help" && ok || fail "render --help lists the camera options"
+expect_usage_error "unknown camera" render --camera spherical
+grep -q -- "--camera: 'spherical' is not one of equirect, fisheye, pinhole" "$work/stderr" && ok || fail "camera message: $(cat "$work/stderr")"
+expect_usage_error "unknown fisheye projection" render --camera fisheye --fisheye-projection stereographic
+expect_usage_error "fov of 0" render --camera pinhole --fov 0
+expect_usage_error "fov beyond 170" render --camera pinhole --fov 171
+grep -q -- '--fov: 171 is outside (0, 170] degrees' "$work/stderr" && ok || fail "fov message: $(cat "$work/stderr")"
+expect_usage_error "fov not a number" render --camera pinhole --fov wide
+expect_usage_error "look elevation beyond 90" render --camera pinhole --look-elevation 91
+grep -q -- '--look-elevation: 91 is outside \[-90, 90\] degrees' "$work/stderr" && ok || fail "look-elevation message: $(cat "$work/stderr")"
+expect_usage_error "look elevation beyond -90" render --camera pinhole --look-elevation -90.5
+expect_usage_error "look azimuth out of range" render --camera pinhole --look-azimuth 400
+expect_usage_error "aspect with an empty side" render --camera pinhole --aspect 16:
+expect_usage_error "aspect zero" render --camera pinhole --aspect 0
+expect_usage_error "aspect negative" render --camera pinhole --aspect -1.5
+expect_usage_error "aspect not a ratio" render --camera pinhole --aspect wide
+grep -q -- "--aspect: 'wide' is not a ratio W:H or a positive number" "$work/stderr" && ok || fail "aspect message: $(cat "$work/stderr")"
+expect_usage_error "aspect too wide for the width" render --camera pinhole --width 64 --aspect 20:1
+grep -q -- '--aspect: 20 gives a height of 4 pixels for width 64, outside \[8, 16384\]' "$work/stderr" && ok || fail "aspect height message: $(cat "$work/stderr")"
+expect_usage_error "fov with equirect" render --fov 60
+grep -q -- '--fov: applies only to --camera pinhole' "$work/stderr" && ok || fail "fov with equirect: $(cat "$work/stderr")"
+expect_usage_error "look direction with fisheye" render --camera fisheye --look-azimuth 90
+expect_usage_error "aspect with equirect" render --camera equirect --aspect 4:3
+expect_usage_error "fisheye projection with pinhole" render --camera pinhole --fisheye-projection equisolid
+grep -q -- '--fisheye-projection: applies only to --camera fisheye' "$work/stderr" && ok || fail "projection with pinhole: $(cat "$work/stderr")"
+expect_usage_error "fisheye projection without a camera" render --fisheye-projection equidistant
+# sizes, and the camera in the sidecar and the EXR header
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$FM" render --camera fisheye --fisheye-projection equisolid --width 24 --quality preview --sample-scale 0.1 --progress none \
+    -o "$work/out/fish.exr" 2>"$work/stderr" && ok || fail "fisheye render: $(cat "$work/stderr")"
+"$FM" render --camera pinhole --fov 60 --look-azimuth 200 --look-elevation 10 --aspect 16:9 --width 32 --quality preview \
+    --sample-scale 0.1 --progress none -o "$work/out/pin.exr" 2>"$work/stderr" && ok || fail "pinhole render: $(cat "$work/stderr")"
+"$FM" render --camera pinhole --aspect 1.5 --width 30 --quality preview --sample-scale 0.1 --progress none \
+    -o "$work/out/pin15.exr" 2>"$work/stderr" && ok || fail "pinhole render with a numeric aspect: $(cat "$work/stderr")"
+tr -d ' \t\n' <"$work/out/fish.json" >"$work/fish.flat"
+tr -d ' \t\n' <"$work/out/pin.json" >"$work/pin.flat"
+tr -d ' \t\n' <"$work/out/pin15.json" >"$work/pin15.flat"
+grep -q '"width":24,"height":24,"projection":"fisheyeequisolid"' "$work/fish.flat" && ok || fail "fisheye image keys: $(head -c 300 "$work/fish.flat")"
+grep -q '"camera":{"type":"fisheye","fisheye_projection":"equisolid","field_of_view_deg":180}' "$work/fish.flat" && ok ||
+    fail "fisheye camera keys: $(grep -o '"camera":{[^}]*}' "$work/fish.flat")"
+grep -q '"diffuse_horizontal_illuminance_lux"' "$work/fish.flat" && ok || fail "a fisheye holds the hemisphere: diffuse illuminance"
+grep -q '"width":32,"height":18,"projection":"pinhole(rectilinear)"' "$work/pin.flat" && ok || fail "pinhole image keys: $(head -c 300 "$work/pin.flat")"
+grep -q '"camera":{"type":"pinhole","horizontal_fov_deg":60,"vertical_fov_deg":35.' "$work/pin.flat" &&
+    grep -q '"look_azimuth_deg":200,"look_elevation_deg":10,"look_direction":\[' "$work/pin.flat" && ok ||
+    fail "pinhole camera keys: $(grep -o '"camera":{[^}]*}' "$work/pin.flat")"
+! grep -q '"diffuse_horizontal' "$work/pin.flat" && ok || fail "a pinhole view reports no diffuse horizontal irradiance"
+grep -q '"width":30,"height":20,' "$work/pin15.flat" && ok || fail "pinhole --aspect 1.5: $(head -c 200 "$work/pin15.flat")"
+if command -v exrheader >/dev/null; then
+    exrheader "$work/out/fish.exr" >"$work/fish.header"
+    grep -q 'firmament.camera.type (type string): "fisheye"' "$work/fish.header" && ok || fail "EXR camera attribute"
+    ! grep -q '^envmap' "$work/fish.header" && ok || fail "a fisheye is no latlong environment map"
+    "$FM" render --width 16 --quality preview --sample-scale 0.1 --progress none -o "$work/out/map.exr" &&
+        exrheader "$work/out/map.exr" | grep -q '^envmap.*latitude-longitude' && ok || fail "the equirect map keeps envmap = latlong"
+fi
 
 # --- interruption: SIGINT and SIGTERM leave nothing, and never replace an existing file ---------
 interrupt() {

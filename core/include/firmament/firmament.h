@@ -251,8 +251,38 @@ typedef enum fm_quality {
 /* Called from the rendering thread that owns the call, never concurrently. */
 typedef void (*fm_progress_fn)(void *user, double fraction, const char *stage);
 
+/* Cameras (README, "Cameras").  Every camera is a view of the same radiance: a pixel holds the mean
+ * radiance over the directions it covers (its footprint), the sun disk included with its energy. */
+typedef enum fm_camera_type {
+    FM_CAMERA_EQUIRECT = 0, /* the whole sphere in Blender's Environment Texture layout; height = width/2 */
+    FM_CAMERA_FISHEYE,      /* the upper hemisphere looking up, square: zenith at the centre, the horizontal
+                             * on the inscribed circle, north up and east LEFT (as seen looking up, the
+                             * equirect map's unmirrored view); pixels wholly outside the circle are 0 */
+    FM_CAMERA_PINHOLE       /* a rectilinear view along a look direction, level horizon (no roll) */
+} fm_camera_type;
+
+typedef enum fm_fisheye_projection {
+    FM_FISHEYE_EQUIDISTANT = 0, /* radius proportional to the zenith angle theta: r = R theta / 90 deg */
+    FM_FISHEYE_EQUISOLID        /* equal-area: r = R sqrt(2) sin(theta / 2) */
+} fm_fisheye_projection;
+
+typedef struct fm_camera {
+    fm_camera_type type;
+    fm_fisheye_projection fisheye_projection; /* fisheye only */
+    double fov_deg;            /* pinhole: horizontal field of view, (0, 170] */
+    double look_azimuth_deg;   /* pinhole: image centre, from north toward east, [-360, 360] */
+    double look_elevation_deg; /* pinhole: image centre, [-90, 90]; the image's up is toward the zenith */
+    double aspect;             /* pinhole: width / height > 0; height = width / aspect rounded to an even
+                                * number in [8, 16384] */
+} fm_camera;
+
+/* Image height for a camera and width (width / 2, width, or width / aspect rounded to even);
+ * 0 when the camera's parameters give none. */
+int fm_camera_height(const fm_camera *camera, int width);
+
 typedef struct fm_render_params {
-    int width;                /* equirectangular width in pixels, even, [8, 16384]; height = width/2 */
+    int width;                /* image width in pixels, even, [8, 16384]; height from the camera */
+    fm_camera camera;         /* default: equirect (and, for a pinhole, 90 deg looking south 15 deg up, 16:9) */
     fm_quality quality;
     uint64_t seed;            /* same seed and thread count: bit-identical output */
     int threads;              /* worker threads, [0, 256]; 0 = one per online core */
@@ -281,9 +311,12 @@ typedef struct fm_image {
                               * firmament.sun.direction attribute), else 0, 0, 0 */
     float *std_error;     /* reference quality only: standard error of each pixel's XYZ (or spectral)
                            * value, left in XYZ by fm_image_to_rec709; else NULL */
+    fm_camera camera;     /* the camera that made it (read back from firmament's attributes; equirect
+                           * for other files) */
 } fm_image;
 
-/* Renders the equirectangular map.  The result holds XYZ (colour skies) or spectral radiance. */
+/* Renders the sky through the camera of params (an equirectangular map by default).  The result holds
+ * XYZ (colour skies) or spectral radiance. */
 fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image **out, fm_error *err);
 void fm_image_destroy(fm_image *image); /* accepts NULL */
 
@@ -291,8 +324,10 @@ void fm_image_destroy(fm_image *image); /* accepts NULL */
 fm_status fm_image_to_rec709(fm_image *image, fm_error *err);
 
 /* Illuminance-like integral of the sky part (sun disk excluded) over the upper hemisphere seen by a
- * horizontal surface: sum of L cos(zenith) dOmega per channel, in the image's units. */
-void fm_image_diffuse_horizontal(const fm_image *image, double out[3]);
+ * horizontal surface: sum of L cos(zenith) dOmega per channel, in the image's units.  Returns 1 for
+ * the cameras that hold the whole upper hemisphere (equirect, fisheye); 0, with out = 0, for a
+ * pinhole view. */
+int fm_image_diffuse_horizontal(const fm_image *image, double out[3]);
 
 /* Reads a scanline EXR with R, G, B (linear Rec.709) or Y channels, float or half (and the sun's
  * direction from firmament's attributes, when present). */

@@ -3,7 +3,7 @@
 
 #include "base/status.h"
 #include "base/units.h"
-#include "camera/equirect.h"
+#include "camera/camera.h"
 #include "colour/colour.h"
 
 #include <math.h>
@@ -43,12 +43,18 @@ fm_status fm_image_compare(const fm_image *a, const fm_image *b, double exclude_
     if (!errs)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
     double cos_exclude = exclude_deg > 0.0 ? cos(exclude_deg * FM_DEG) : 2.0;
+    camera cam; /* the reference's: where its pixels look */
+    if (cos_exclude <= 1.0 && (camera_init(&cam, &b->camera, W, NULL) != FM_OK || cam.height != H)) {
+        free(errs);
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the reference's camera does not fit its %d x %d pixels", W, H);
+    }
     long n = 0;
     double sum = 0.0, sum2 = 0.0, chroma = 0.0, worst = 0.0;
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++) {
             if (cos_exclude <= 1.0) {
-                vec3 d = equirect_direction(W, H, x + 0.5, y + 0.5);
+                vec3 d;
+                camera_direction(&cam, x + 0.5, y + 0.5, &d);
                 if (d.x * around[0] + d.y * around[1] + d.z * around[2] > cos_exclude)
                     continue;
             }

@@ -12,6 +12,36 @@ static void capture(exr_const_context_t ctxt, exr_result_t code, const char *msg
     strncpy(read_message, msg ? msg : "", sizeof read_message - 1);
 }
 
+static int attribute_is(exr_context_t c, const char *name, const char *value)
+{
+    const char *str = NULL;
+    int32_t length = 0;
+    return exr_attr_get_string(c, 0, name, &length, &str) == EXR_ERR_SUCCESS && str &&
+           (size_t)length == strlen(value) && strncmp(str, value, (size_t)length) == 0;
+}
+
+/* The camera from firmament's attributes (metadata.c); equirect when there are none. */
+static void read_camera(exr_context_t c, fm_image *img)
+{
+    fm_camera *cam = &img->camera;
+    double v;
+    if (attribute_is(c, "firmament.camera.type", "fisheye")) {
+        cam->type = FM_CAMERA_FISHEYE;
+        cam->fisheye_projection = attribute_is(c, "firmament.camera.fisheye_projection", "equisolid")
+                                      ? FM_FISHEYE_EQUISOLID
+                                      : FM_FISHEYE_EQUIDISTANT;
+    } else if (attribute_is(c, "firmament.camera.type", "pinhole")) {
+        cam->type = FM_CAMERA_PINHOLE;
+        cam->aspect = (double)img->width / img->height;
+        if (exr_attr_get_double(c, 0, "firmament.camera.horizontal_fov_deg", &v) == EXR_ERR_SUCCESS)
+            cam->fov_deg = v;
+        if (exr_attr_get_double(c, 0, "firmament.camera.look_azimuth_deg", &v) == EXR_ERR_SUCCESS)
+            cam->look_azimuth_deg = v;
+        if (exr_attr_get_double(c, 0, "firmament.camera.look_elevation_deg", &v) == EXR_ERR_SUCCESS)
+            cam->look_elevation_deg = v;
+    }
+}
+
 fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
 {
     *out = NULL;
@@ -60,6 +90,7 @@ fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
         img->sun_direction[1] = sun.y;
         img->sun_direction[2] = sun.z;
     }
+    read_camera(c, img);
     exr_decode_pipeline_t d = EXR_DECODE_PIPELINE_INITIALIZER;
     int started = 0;
     for (int y = 0; y < H && !s; y += lines) {

@@ -1,6 +1,7 @@
 /* fm_image: allocation, colour conversion and the hemispherical integral used by the sidecar. */
 #include "base/status.h"
 #include "base/units.h"
+#include "camera/camera.h"
 #include "colour/colour.h"
 #include "image/image.h"
 
@@ -63,10 +64,33 @@ fm_status fm_image_to_rec709(fm_image *image, fm_error *err)
     return FM_OK;
 }
 
-void fm_image_diffuse_horizontal(const fm_image *image, double out[3])
+/* The fisheye: each pixel's integral of cos(theta) dOmega over its part inside the circle, by
+ * Green's theorem (fisheye.h), with radiance constant over the pixel. */
+static void fisheye_diffuse_horizontal(const fm_image *image, const camera *cam, double out[3])
+{
+    const int W = image->width, H = image->height, C = image->channels;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            double weight = fisheye_pixel_integral(&cam->fish, x, y, 1);
+            size_t i = ((size_t)y * W + x) * C;
+            for (int c = 0; c < C && c < 3; c++)
+                out[c] += weight * (image->pixels[i + c] - (image->sun_disk ? image->sun_disk[i + c] : 0.0f));
+        }
+}
+
+int fm_image_diffuse_horizontal(const fm_image *image, double out[3])
 {
     const int W = image->width, H = image->height, C = image->channels;
     out[0] = out[1] = out[2] = 0.0;
+    if (image->camera.type == FM_CAMERA_FISHEYE) {
+        camera cam;
+        if (camera_init(&cam, &image->camera, W, NULL) || cam.height != H)
+            return 0;
+        fisheye_diffuse_horizontal(image, &cam, out);
+        return 1;
+    }
+    if (image->camera.type != FM_CAMERA_EQUIRECT)
+        return 0; /* a pinhole view does not hold the hemisphere */
     for (int y = 0; y < H; y++) {
         /* the part of the row above the horizontal plane; with radiance constant over a pixel, its
          * cos(zenith)-weighted solid angle is (2 pi / W) * (sin^2 top - sin^2 bottom) / 2 */
@@ -80,4 +104,5 @@ void fm_image_diffuse_horizontal(const fm_image *image, double out[3])
                 out[c] += weight * (image->pixels[i + c] - (image->sun_disk ? image->sun_disk[i + c] : 0.0f));
         }
     }
+    return 1;
 }

@@ -1,5 +1,5 @@
 /* OpenEXR output through OpenEXR's C API (OpenEXRCore): scanline, ZIP, 32-bit float (the sun disk
- * exceeds half-float range), chromaticities of the colour space, envmap = latlong, whiteLuminance
+ * exceeds half-float range), chromaticities of the colour space, envmap = latlong (equirectangular maps only), whiteLuminance
  * (683 cd/m^2 for RGB = 1), and every metadata entry as a typed "firmament.<group>.<key>" attribute.
  * The file is written to the given path as is; output.c chooses a temporary path and renames. */
 #ifndef FM_IMAGE_IMAGE_EXR_H

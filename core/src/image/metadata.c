@@ -1,9 +1,11 @@
 #include "image/metadata.h"
 
 #include "base/units.h"
+#include "camera/camera.h"
 #include "colour/colour.h"
 
 #include <math.h>
+
 #include <stdio.h>
 #include <string.h>
 
@@ -100,6 +102,58 @@ static void collect_solar_position(metadata *m, const fm_sky *sky, const fm_sky_
         add_string(m, "solar_position", "sunset", m->sunset_text);
 }
 
+/* The camera: image.projection and image.layout say how to read the pixels, the "camera" group holds
+ * the camera's parameters (README, "Cameras"). */
+static void add_camera(metadata *m, const fm_image *img)
+{
+    const fm_camera *p = &img->camera;
+    add_string(m, "camera", "type", camera_type_name(p->type));
+    switch (p->type) {
+    case FM_CAMERA_FISHEYE: {
+        int equisolid = p->fisheye_projection == FM_FISHEYE_EQUISOLID;
+        add_string(m, "image", "projection", equisolid ? "fisheye equisolid" : "fisheye equidistant");
+        add_string(m, "image", "layout",
+                   equisolid ? "upward hemisphere in the inscribed circle: zenith at the centre, horizontal on the "
+                               "circle, r/R = sqrt(2) sin(zenith angle / 2); north up, east LEFT (as seen looking "
+                               "up); pixels outside the circle are 0; axes +X east, +Y north, +Z up"
+                             : "upward hemisphere in the inscribed circle: zenith at the centre, horizontal on the "
+                               "circle, r/R = zenith angle / 90 deg; north up, east LEFT (as seen looking up); "
+                               "pixels outside the circle are 0; axes +X east, +Y north, +Z up");
+        add_string(m, "camera", "fisheye_projection", camera_fisheye_projection_name(p->fisheye_projection));
+        add_double(m, "camera", "field_of_view_deg", 180.0);
+        break;
+    }
+    case FM_CAMERA_PINHOLE: {
+        camera cam;
+        double vertical = 0.0;
+        if (camera_init(&cam, p, img->width, NULL) == FM_OK)
+            vertical = pinhole_vertical_fov(&cam.pin) / FM_DEG;
+        double look[3] = {cos(p->look_elevation_deg * FM_DEG) * sin(p->look_azimuth_deg * FM_DEG),
+                          cos(p->look_elevation_deg * FM_DEG) * cos(p->look_azimuth_deg * FM_DEG),
+                          sin(p->look_elevation_deg * FM_DEG)};
+        add_string(m, "image", "projection", "pinhole (rectilinear)");
+        add_string(m, "image", "layout",
+                   "the image centre looks along camera.look_direction; level horizon (no roll), up toward the "
+                   "zenith; square pixels; axes +X east, +Y north, +Z up");
+        add_double(m, "camera", "horizontal_fov_deg", p->fov_deg);
+        add_double(m, "camera", "vertical_fov_deg", vertical);
+        add_double(m, "camera", "look_azimuth_deg", p->look_azimuth_deg);
+        add_double(m, "camera", "look_elevation_deg", p->look_elevation_deg);
+        add_vec3(m, "camera", "look_direction", look);
+        add_double(m, "camera", "aspect", (double)img->width / img->height);
+        break;
+    }
+    case FM_CAMERA_EQUIRECT:
+    default:
+        add_string(m, "image", "projection", "equirectangular");
+        add_string(m, "image", "layout",
+                   "Blender Environment Texture: column u = 0.25 + azimuth/360 (north at u = 0.25, east at the "
+                   "centre), top row = zenith; axes +X east, +Y north, +Z up");
+        add_double(m, "image", "azimuth_at_center_deg", 90.0);
+        break;
+    }
+}
+
 void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *params, const fm_image *img,
                       const char *exr_path)
 {
@@ -115,11 +169,7 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
     add_string(m, "image", "file", m->out_name);
     add_int(m, "image", "width", img->width);
     add_int(m, "image", "height", img->height);
-    add_string(m, "image", "projection", "equirectangular");
-    add_string(m, "image", "layout",
-               "Blender Environment Texture: column u = 0.25 + azimuth/360 (north at u = 0.25, east at the centre), "
-               "top row = zenith; axes +X east, +Y north, +Z up");
-    add_double(m, "image", "azimuth_at_center_deg", 90.0);
+    add_camera(m, img);
     if (colour) {
         add_string(m, "image", "colorspace", "Linear Rec.709 (sRGB primaries, D65 white)");
         add_string(m, "image", "units", "CIE-weighted radiance, W m^-2 sr^-1 (Y x 683 = luminance in cd/m^2)");
@@ -185,17 +235,20 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
     fm_sun_light sun;
     fm_sky_sun_light(sky, &sun);
     double diffuse[3];
-    fm_image_diffuse_horizontal(img, diffuse);
+    int hemisphere = fm_image_diffuse_horizontal(img, diffuse); /* 0 for a pinhole view */
     add_vec3(m, "sun", "direction", sun.direction);
     add_double(m, "sun", "elevation_deg", sp->sun_elevation_deg);
     add_double(m, "sun", "azimuth_deg", sp->sun_azimuth_deg);
     add_double(m, "sun", "angular_diameter_deg", 2.0 * sun.angular_radius_deg);
     if (colour) {
-        double rgb[3], diffuse_xyz[3];
+        double rgb[3];
         colour_xyz_to_rec709(sun.normal_irradiance, rgb);
         add_vec3(m, "sun", "direct_normal_irradiance_rgb", rgb);
         add_double(m, "sun", "direct_normal_illuminance_lux", FM_LUMINOUS_EFFICACY * sun.normal_irradiance[1]);
         add_double(m, "sun", "direct_horizontal_illuminance_lux", FM_LUMINOUS_EFFICACY * sun.horizontal_irradiance[1]);
+    }
+    if (colour && hemisphere) {
+        double diffuse_xyz[3];
         if (img->content == FM_IMAGE_RGB_REC709)
             colour_rec709_to_xyz(diffuse, diffuse_xyz);
         else
@@ -206,9 +259,12 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
         add_double(m, "sky", "diffuse_horizontal_illuminance_lux", FM_LUMINOUS_EFFICACY * diffuse_xyz[1]);
         add_double(m, "sky", "global_horizontal_illuminance_lux",
                    FM_LUMINOUS_EFFICACY * (diffuse_xyz[1] + sun.horizontal_irradiance[1]));
-    } else {
+    }
+    if (!colour) {
         add_double(m, "sun", "direct_normal_spectral_irradiance", sun.normal_irradiance[0]);
         add_double(m, "sun", "direct_horizontal_spectral_irradiance", sun.horizontal_irradiance[0]);
+    }
+    if (!colour && hemisphere) {
         add_double(m, "sky", "diffuse_horizontal_spectral_irradiance", diffuse[0]);
         add_double(m, "sky", "global_horizontal_spectral_irradiance", diffuse[0] + sun.horizontal_irradiance[0]);
     }

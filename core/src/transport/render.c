@@ -5,7 +5,9 @@
 #include "base/status.h"
 #include "base/threads.h"
 #include "base/units.h"
+#include "camera/camera.h"
 #include "camera/equirect.h"
+#include "camera/footprint.h"
 #include "image/image.h"
 #include "sky.h"
 #include "transport/ground_irradiance.h"
@@ -46,6 +48,7 @@ typedef struct render_job {
     quality_settings q;
     uint64_t seed;
     int channels;
+    camera cam;
     sky_grid ss, ms;
     ground_irradiance ground;
     fm_image *img;
@@ -187,6 +190,37 @@ static void fast_rows(void *ctx, int64_t begin, int64_t end, int thread)
     }
 }
 
+/* Both tables' radiance toward d (footprint_radiance). */
+static void table_radiance(void *ctx, vec3 d, double elevation, float *out)
+{
+    const render_job *job = ctx;
+    double phi = relative_azimuth(job->sky, atan2(d.x, d.y));
+    float ss[3], ms[3];
+    sky_grid_lookup(&job->ss, elevation, phi, ss);
+    sky_grid_lookup(&job->ms, elevation, phi, ms);
+    for (int c = 0; c < job->channels; c++)
+        out[c] = (float)((double)ss[c] + ms[c]);
+}
+
+/* The fast path through the fisheye and pinhole cameras: footprint averages of the tables with the
+ * equirect rows' rule (the quality's samples per axis, fine steps near the horizon, the horizon split
+ * exactly; camera/footprint.h). */
+static void fast_rows_camera(void *ctx, int64_t begin, int64_t end, int thread)
+{
+    render_job *job = ctx;
+    fm_image *img = job->img;
+    const int W = img->width, C = job->channels;
+    footprint_settings fs = footprint_default_settings(job->q.subpixels, job->ss.horizon_elevation);
+    double v[3];
+    for (int64_t y = begin; y < end; y++)
+        for (int x = 0; x < W; x++) {
+            footprint_average(&job->cam, x, (int)y, &fs, table_radiance, job, C, v);
+            float *px = &img->pixels[((size_t)y * W + x) * C];
+            for (int c = 0; c < C; c++)
+                px[c] = (float)v[c];
+        }
+}
+
 static void reference_rows(void *ctx, int64_t begin, int64_t end, int thread)
 {
     render_job *job = ctx;
@@ -224,6 +258,58 @@ static void reference_rows(void *ctx, int64_t begin, int64_t end, int thread)
     }
 }
 
+/* Reference through the fisheye and pinhole cameras: paths through uniformly jittered positions in
+ * the pixel, weighted by the camera's solid angle per pixel area (the pixel's value is the
+ * solid-angle mean of radiance over its footprint, as in the fast path); positions outside the
+ * fisheye's circle carry no weight.  Standard error of the weighted mean from the weighted spread. */
+static void reference_rows_camera(void *ctx, int64_t begin, int64_t end, int thread)
+{
+    render_job *job = ctx;
+    const fm_sky *sky = job->sky;
+    fm_image *img = job->img;
+    const int W = img->width, C = job->channels, K = sky->atm.grid.count;
+    const int N = job->q.reference_paths;
+    path_context pc = sky_path_context(sky, 1, 0);
+    for (int64_t y = begin; y < end; y++) {
+        for (int x = 0; x < W; x++) {
+            uint64_t item = ITEM_PIXEL + (uint64_t)y * W + x;
+            int offset = (int)(mix64(job->seed ^ item) % (uint64_t)K);
+            /* sums of w v, and of w^2, w^2 v, w^2 v^2 for the spread */
+            double wsum = 0.0, w2sum = 0.0, sum[3] = {0, 0, 0}, w2v[3] = {0, 0, 0}, w2v2[3] = {0, 0, 0};
+            int used = 0;
+            for (int p = 0; p < N; p++) {
+                rng r = rng_for(job->seed, item, (uint64_t)p);
+                double jx = rng_uniform(&r), jy = rng_uniform(&r);
+                vec3 d;
+                double w = camera_sample(&job->cam, x + jx, y + jy, &d);
+                if (!(w > 0.0))
+                    continue; /* outside the fisheye's circle */
+                double L[FM_MAX_WAVELENGTHS] = {0};
+                path_trace(&pc, sky->observer, d, (p + offset) % K, &r, L);
+                float v[3];
+                to_channels(&sky->atm, L, v);
+                for (int c = 0; c < C; c++) {
+                    sum[c] += w * v[c];
+                    w2v[c] += w * w * v[c];
+                    w2v2[c] += w * w * (double)v[c] * v[c];
+                }
+                wsum += w;
+                w2sum += w * w;
+                used++;
+            }
+            size_t i = ((size_t)y * W + x) * C;
+            for (int c = 0; c < C; c++) {
+                double mean = wsum > 0.0 ? sum[c] / wsum : 0.0;
+                /* sum w^2 (v - mean)^2 / (sum w)^2, with the n / (n - 1) of the unweighted case */
+                double spread = w2v2[c] - 2.0 * mean * w2v[c] + mean * mean * w2sum;
+                double var = used > 1 ? fmax(0.0, spread) / (wsum * wsum) * used / (used - 1) : 0.0;
+                img->pixels[i + c] = (float)mean;
+                img->std_error[i + c] = (float)sqrt(var);
+            }
+        }
+    }
+}
+
 /* The sun disk, integrated over each pixel's footprint: a regular grid of points over the disk
  * (much finer than the pixels), each carrying its limb-darkened, attenuated share of the disk's
  * irradiance into the pixel that contains it, divided by that pixel's solid angle.  The disk's
@@ -232,22 +318,77 @@ static void reference_rows(void *ctx, int64_t begin, int64_t end, int thread)
  * depends only on its elevation: it is tabulated across the disk first. */
 #define DISK_DEPTH_SAMPLES 257
 
-static fm_status render_sun_disk(const fm_sky *sky, fm_image *img)
+/* Angular size (rad) of the camera's pixels around direction d: the smaller of the angles spanned by
+ * one pixel across and down at d's position; 0 when the camera cannot place d. */
+static double pixel_angle_at(const camera *cam, vec3 d)
+{
+    double x, y;
+    if (!camera_project(cam, d, &x, &y))
+        return 0.0;
+    vec3 a, b, c, e;
+    camera_direction(cam, x - 0.5, y, &a);
+    camera_direction(cam, x + 0.5, y, &b);
+    camera_direction(cam, x, y - 0.5, &c);
+    camera_direction(cam, x, y + 0.5, &e);
+    return fmin(v3_length(v3_sub(a, b)), v3_length(v3_sub(c, e)));
+}
+
+/* Pixel solid angles for the disk's points: direct-mapped by pixel index, since the disk covers few
+ * pixels and the fisheye's are computed by quadrature. */
+#define OMEGA_CACHE 4096
+
+typedef struct omega_cache {
+    int64_t pixel[OMEGA_CACHE];
+    double inv_omega[OMEGA_CACHE];
+} omega_cache;
+
+static double inverse_pixel_solid_angle(const camera *cam, omega_cache *cache, int px, int py)
+{
+    if (cam->type == FM_CAMERA_EQUIRECT) /* the closed form, exactly as before cameras existed */
+        return 1.0 / equirect_pixel_solid_angle(cam->width, cam->height, py);
+    int64_t index = (int64_t)py * cam->width + px;
+    int slot = (int)(index % OMEGA_CACHE);
+    if (cache->pixel[slot] != index) {
+        cache->pixel[slot] = index;
+        cache->inv_omega[slot] = 1.0 / camera_pixel_solid_angle(cam, px, py);
+    }
+    return cache->inv_omega[slot];
+}
+
+static fm_status render_sun_disk(const fm_sky *sky, const camera *cam, fm_image *img)
 {
     const atmosphere *atm = &sky->atm;
     const sun_disk *sun = &sky->sun;
     const int K = atm->grid.count, W = img->width, H = img->height, C = img->channels;
     const double a = sun->angular_radius;
-    int n = (int)ceil(2.0 * a / (2.0 * FM_PI / W) * 8.0);
+    /* points 8 per pixel across the disk (within 256 to 2048 across it) */
+    int n;
+    if (cam->type == FM_CAMERA_EQUIRECT) {
+        n = (int)ceil(2.0 * a / (2.0 * FM_PI / W) * 8.0);
+    } else {
+        double pixel = pixel_angle_at(cam, sky->sun_dir);
+        if (!(pixel > 0.0))
+            return FM_OK; /* behind the camera */
+        n = (int)fmin(4096.0, ceil(2.0 * a / pixel * 8.0));
+    }
     n = n < 256 ? 256 : (n > 2048 ? 2048 : n);
+    omega_cache *cache = NULL;
+    if (cam->type != FM_CAMERA_EQUIRECT) {
+        if (!(cache = malloc(sizeof *cache)))
+            return FM_ERR_OUT_OF_MEMORY;
+        for (int i = 0; i < OMEGA_CACHE; i++)
+            cache->pixel[i] = -1;
+    }
 
     /* optical depth (every wavelength) versus the cosine of the zenith angle across the disk */
     double robs = v3_length(sky->observer);
     double e0 = asin(clamp_cosine(sky->sun_dir.z));
     double mu_lo = sin(e0 - 1.01 * a), mu_hi = sin(fmin(e0 + 1.01 * a, 0.5 * FM_PI));
     double *depth = malloc(sizeof(double) * DISK_DEPTH_SAMPLES * (size_t)K);
-    if (!depth)
+    if (!depth) {
+        free(cache);
         return FM_ERR_OUT_OF_MEMORY;
+    }
     double col[FM_MAX_SPECIES];
     for (int i = 0; i < DISK_DEPTH_SAMPLES; i++) {
         double mu = mu_lo + (mu_hi - mu_lo) * i / (DISK_DEPTH_SAMPLES - 1);
@@ -278,13 +419,13 @@ static fm_status render_sun_disk(const fm_sky *sky, fm_image *img)
             if (ray_hits_ground(atm, robs, d.z)) /* the observer's zenith is +Z */
                 continue;
             int px, py;
-            if (!equirect_pixel(W, H, d, &px, &py))
+            if (!camera_pixel(cam, d, &px, &py))
                 continue;
             double fd = (d.z - mu_lo) / (mu_hi - mu_lo) * (DISK_DEPTH_SAMPLES - 1);
             int id = (int)fd;
             id = id < 0 ? 0 : (id > DISK_DEPTH_SAMPLES - 2 ? DISK_DEPTH_SAMPLES - 2 : id);
             double td = fd - id;
-            double inv_omega = 1.0 / equirect_pixel_solid_angle(W, H, py);
+            double inv_omega = inverse_pixel_solid_angle(cam, cache, px, py);
             double mu2 = sqrt(1.0 - rr);
             for (int k = 0; k < K; k++) {
                 double d0 = depth[id * K + k], d1 = depth[(id + 1) * K + k];
@@ -300,18 +441,22 @@ static fm_status render_sun_disk(const fm_sky *sky, fm_image *img)
                 img->sun_disk[idx + c] += v[c];
         }
     free(depth);
+    free(cache);
     size_t total = (size_t)W * H * C;
     for (size_t i = 0; i < total; i++)
         img->pixels[i] += img->sun_disk[i];
     return FM_OK;
 }
 
-static fm_status validate(const fm_render_params *p, fm_error *err)
+static fm_status validate(const fm_render_params *p, camera *cam, fm_error *err)
 {
     if (p->width < 8 || p->width > 16384)
         return fm_fail_parameter(err, "width", "%d is outside [8, 16384] pixels", p->width);
     if (p->width % 2)
-        return fm_fail_parameter(err, "width", "%d is odd (the height is width / 2)", p->width);
+        return fm_fail_parameter(err, "width", "%d is odd (it must be even)", p->width);
+    fm_status s = camera_init(cam, &p->camera, p->width, err);
+    if (s)
+        return s;
     if (p->quality < FM_QUALITY_PREVIEW || p->quality > FM_QUALITY_REFERENCE)
         return fm_fail_parameter(err, "quality", "unknown level %d", (int)p->quality);
     if (p->threads < 0 || p->threads > 256)
@@ -333,6 +478,12 @@ fm_render_params fm_render_params_default(void)
         .sun_disk = 1,
         .sample_scale = 1.0,
         .reference_samples = 0,
+        .camera = {.type = FM_CAMERA_EQUIRECT,
+                   .fisheye_projection = FM_FISHEYE_EQUIDISTANT,
+                   .fov_deg = 90.0,
+                   .look_azimuth_deg = 180.0,
+                   .look_elevation_deg = 15.0,
+                   .aspect = 16.0 / 9.0},
     };
 }
 
@@ -345,11 +496,11 @@ static void report(const fm_render_params *p, double fraction, const char *stage
 fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image **out, fm_error *err)
 {
     *out = NULL;
-    fm_status s = validate(params, err);
+    render_job job = {.sky = sky, .params = params};
+    fm_status s = validate(params, &job.cam, err);
     if (s)
         return s;
     const atmosphere *atm = &sky->atm;
-    render_job job = {.sky = sky, .params = params};
     job.q = render_quality_settings(params->quality, params->sample_scale);
     if (params->quality == FM_QUALITY_REFERENCE && params->reference_samples > 0)
         job.q.reference_paths = params->reference_samples;
@@ -358,12 +509,14 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     job.seed = params->seed;
     for (int k = 0; k < atm->grid.count; k++)
         job.seed = mix64(job.seed ^ (uint64_t)llround(atm->grid.lambda_nm[k] * 1000.0));
-    const int W = params->width, H = params->width / 2;
+    const int W = job.cam.width, H = job.cam.height;
+    const int equirect = job.cam.type == FM_CAMERA_EQUIRECT;
     const int reference = params->quality == FM_QUALITY_REFERENCE;
     job.img = image_create(W, H, job.channels, atm->grid.colour ? FM_IMAGE_XYZ : FM_IMAGE_SPECTRAL_RADIANCE,
                            params->sun_disk, reference);
     if (!job.img)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for a %d x %d image", W, H);
+    job.img->camera = params->camera;
     job.img->sun_direction[0] = sky->sun_dir.x;
     job.img->sun_direction[1] = sky->sun_dir.y;
     job.img->sun_direction[2] = sky->sun_dir.z;
@@ -371,7 +524,8 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     double horizon = asin(horizon_mu(atm, v3_length(sky->observer))); /* elevation, <= 0 */
     if (reference) {
         parallel_progress pr = {params->progress, params->progress_user, "path tracing", 0.0, 0.98};
-        s = parallel_for(params->threads, H, 1, reference_rows, &job, params->cancel, &pr);
+        s = parallel_for(params->threads, H, 1, equirect ? reference_rows : reference_rows_camera, &job, params->cancel,
+                         &pr);
     } else {
         const quality_settings *q = &job.q;
         /* deterministic single scattering interpolates in log space; the noisy higher orders do not
@@ -396,7 +550,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
         parallel_progress ppx = {params->progress, params->progress_user, "pixels", 0.9, 0.08};
         if (!s && !(s = parallel_for(params->threads, sky_grid_nodes(&job.ss), 8, ss_nodes, &job, params->cancel, &pss)) &&
             !(s = parallel_for(params->threads, sky_grid_nodes(&job.ms), 1, ms_nodes, &job, params->cancel, &pms)))
-            s = parallel_for(params->threads, H, 4, fast_rows, &job, params->cancel, &ppx);
+            s = parallel_for(params->threads, H, 4, equirect ? fast_rows : fast_rows_camera, &job, params->cancel, &ppx);
     }
     if (s == FM_ERR_CANCELLED) {
         s = fm_fail(err, FM_ERR_CANCELLED, "render cancelled");
@@ -408,7 +562,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     }
     if (params->sun_disk) {
         report(params, 0.98, "sun disk");
-        if (render_sun_disk(sky, job.img)) {
+        if (render_sun_disk(sky, &job.cam, job.img)) {
             s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the sun disk");
             goto done;
         }
