@@ -4,6 +4,7 @@
 
 #include "base/units.h"
 #include "camera/equirect.h"
+#include "transport/sky_grid.h"
 
 #include <math.h>
 
@@ -60,12 +61,37 @@ static void round_trip_pixel_centres(void **state)
         }
 }
 
+/* The radiance table's zenith and nadir rows look one way in every column: pooling replaces them by
+ * the columns' mean and leaves every other row alone. */
+static void sky_grid_pools_the_poles(void **state)
+{
+    sky_grid g;
+    assert_int_equal(sky_grid_init(&g, -0.01, 5, 4, 6, 2, 0), FM_OK);
+    for (int i = 0; i < sky_grid_nodes(&g); i++)
+        for (int c = 0; c < 2; c++)
+            sky_grid_set(&g, i, c, (float)(i * 2 + c));
+    double e, phi;
+    sky_grid_node_angles(&g, 4 * 6, &e, &phi);
+    assert_float_equal(e, 0.5 * FM_PI, 1e-12); /* row 4 is the zenith */
+    sky_grid_node_angles(&g, 9 * 6 - 1, &e, &phi);
+    assert_float_equal(e, -0.5 * FM_PI, 1e-12); /* the last row is the nadir */
+    sky_grid_average_poles(&g);
+    for (int j = 0; j < 6; j++)
+        for (int c = 0; c < 2; c++) {
+            assert_float_equal(g.values[(4 * 6 + j) * 2 + c], (4 * 6 + 2.5) * 2 + c, 1e-4);
+            assert_float_equal(g.values[(8 * 6 + j) * 2 + c], (8 * 6 + 2.5) * 2 + c, 1e-4);
+            assert_float_equal(g.values[(3 * 6 + j) * 2 + c], (3 * 6 + j) * 2 + c, 0.0);
+        }
+    sky_grid_free(&g);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(blender_orientation),
         cmocka_unit_test(pixel_solid_angles_cover_the_sphere),
         cmocka_unit_test(round_trip_pixel_centres),
+        cmocka_unit_test(sky_grid_pools_the_poles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -549,8 +549,10 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
         parallel_progress pms = {params->progress, params->progress_user, "multiple scattering", 0.15, 0.75};
         parallel_progress ppx = {params->progress, params->progress_user, "pixels", 0.9, 0.08};
         if (!s && !(s = parallel_for(params->threads, sky_grid_nodes(&job.ss), 8, ss_nodes, &job, params->cancel, &pss)) &&
-            !(s = parallel_for(params->threads, sky_grid_nodes(&job.ms), 1, ms_nodes, &job, params->cancel, &pms)))
+            !(s = parallel_for(params->threads, sky_grid_nodes(&job.ms), 1, ms_nodes, &job, params->cancel, &pms))) {
+            sky_grid_average_poles(&job.ms);
             s = parallel_for(params->threads, H, 4, equirect ? fast_rows : fast_rows_camera, &job, params->cancel, &ppx);
+        }
     }
     if (s == FM_ERR_CANCELLED) {
         s = fm_fail(err, FM_ERR_CANCELLED, "render cancelled");

@@ -82,3 +82,17 @@ void sky_grid_lookup(const sky_grid *g, double elevation, double rel_azimuth, fl
         out[c] = (float)(g->logarithmic ? exp(v) : v);
     }
 }
+
+void sky_grid_average_poles(sky_grid *g)
+{
+    const int pole_rows[2] = {g->rows_sky - 1, g->rows_sky + g->rows_ground - 1};
+    for (int p = 0; p < 2; p++)
+        for (int c = 0; c < g->channels; c++) {
+            float *row = &g->values[(size_t)pole_rows[p] * g->cols * g->channels];
+            double sum = 0.0;
+            for (int j = 0; j < g->cols; j++)
+                sum += row[j * g->channels + c];
+            for (int j = 0; j < g->cols; j++)
+                row[j * g->channels + c] = (float)(sum / g->cols);
+        }
+}

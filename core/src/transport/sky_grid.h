@@ -31,6 +31,11 @@ fm_status sky_grid_init(sky_grid *g, double horizon_elevation, int rows_sky, int
 void sky_grid_set(sky_grid *g, int index, int c, float v);
 void sky_grid_free(sky_grid *g);
 
+/* The zenith row (top sky row) and the nadir row (last ground row) each hold one direction in every
+ * column: replaces their columns by the columns' mean, so independent Monte Carlo estimates of the
+ * same radiance pool into one (no azimuthal spokes at the zenith of a fisheye). */
+void sky_grid_average_poles(sky_grid *g);
+
 static inline int sky_grid_nodes(const sky_grid *g) { return (g->rows_sky + g->rows_ground) * g->cols; }
 
 /* View elevation and relative azimuth (rad) of node `index` (row-major over all rows). */
