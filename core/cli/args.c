@@ -24,6 +24,8 @@ enum {
     OPT_PROGRESS,
     OPT_WAVELENGTH,
     OPT_SIDECAR,
+    OPT_COLORSPACE,
+    OPT_LIST_COLORSPACES,
     OPT_EARTH_SUN_DISTANCE,
     OPT_ATMOSPHERE,
     OPT_BIOME,
@@ -112,6 +114,8 @@ static const struct option long_options[] = {
     {"no-sun-disk", no_argument, NULL, OPT_NO_SUN_DISK},
     {"progress", required_argument, NULL, OPT_PROGRESS},
     {"sidecar", required_argument, NULL, OPT_SIDECAR},
+    {"colorspace", required_argument, NULL, OPT_COLORSPACE},
+    {"list-colorspaces", no_argument, NULL, OPT_LIST_COLORSPACES},
     {"time", required_argument, NULL, OPT_TIME},
     {"utc-offset", required_argument, NULL, OPT_UTC_OFFSET},
     {"refraction", required_argument, NULL, OPT_REFRACTION},
@@ -148,7 +152,8 @@ void options_print_usage(void)
           "Renders the sky seen from one place as an equirectangular OpenEXR map (Blender's\n"
           "Environment Texture layout: north at u = 0.25, east at the centre, zenith at the top) and a\n"
           "JSON sidecar with the sun's direction and light.  Values are CIE-weighted radiance in\n"
-          "linear Rec.709 (Y x 683 = cd/m^2), or spectral radiance with --wavelength.\n"
+          "linear Rec.709 or the --colorspace chosen (Y x 683 = cd/m^2), or spectral radiance with\n"
+          "--wavelength.\n"
           "\n"
           "Sky:\n"
           "  --sun-elevation DEG    elevation of the sun's centre, [-90, 90] (default 30)\n"
@@ -200,6 +205,10 @@ void options_print_usage(void)
           "  --sidecar FILE         sidecar path instead of the default\n"
           "  --width W              even, [8, 16384]; height = W/2 (default 2048)\n"
           "  --no-sun-disk          leave the sun disk out of the map (its aureole stays)\n"
+          "Colour (OpenColorIO; config $OCIO, else firmament's presets/ocio/config.ocio):\n"
+          "  --colorspace NAME      scene-linear colour space of the EXR and of the sidecar's RGB values,\n"
+          "                         any of the config's (default \"Linear Rec.709\"; e.g. ACEScg)\n"
+          "  --list-colorspaces     print the config's colour spaces and exit\n"
           "Quality:\n"
           "  --quality LEVEL        preview | final | reference (default final)\n"
           "  --samples N            reference quality: paths per pixel (default 256; slow by design,\n"
@@ -383,6 +392,8 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     opt->render = fm_render_params_default();
     opt->output = "sky.exr";
     opt->sidecar = NULL;
+    opt->colorspace = "Linear Rec.709";
+    opt->list_colorspaces = 0;
     opt->progress = PROGRESS_AUTO;
 
     opterr = 0; /* we print our own, one-line messages */
@@ -550,6 +561,12 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             break;
         case OPT_SIDECAR:
             opt->sidecar = arg;
+            break;
+        case OPT_COLORSPACE:
+            opt->colorspace = arg;
+            break;
+        case OPT_LIST_COLORSPACES:
+            opt->list_colorspaces = 1;
             break;
         case OPT_TIME:
         case OPT_UTC_OFFSET:

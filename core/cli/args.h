@@ -16,6 +16,8 @@ typedef struct options {
     const char *output;      /* EXR path */
     const char *sidecar;     /* JSON path, or NULL for the default (output with .json) */
     progress_mode progress;
+    const char *colorspace; /* OpenColorIO colour space of the EXR (name or alias) */
+    int list_colorspaces;   /* --list-colorspaces: print them and exit */
     /* A time series (--time-start, --time-end, --step): frames > 0 maps at time_start_s +
      * round(i * step_min * 60) seconds of the local day; sky.hour..second hold the first. */
     int frames;

@@ -71,6 +71,26 @@ static int exit_code_for(fm_status s)
     return s == FM_ERR_INVALID_ARGUMENT ? EXIT_USAGE : EXIT_RUNTIME;
 }
 
+/* The colour config and the checked --colorspace; prints --list-colorspaces.  Returns -1 to go
+ * on, else the exit code. */
+static int open_colour(const options *opt, fm_colour_config **cfg)
+{
+    fm_error err = {0};
+    fm_status s = fm_colour_config_open(NULL, cfg, &err);
+    if (!s && opt->list_colorspaces) {
+        for (int i = 0; i < fm_colour_config_count(*cfg); i++)
+            printf("%s\n", fm_colour_config_name(*cfg, i));
+        return 0;
+    }
+    if (!s)
+        s = fm_colour_config_check(*cfg, opt->colorspace, &err);
+    if (s) {
+        report_library_error(&err);
+        return exit_code_for(s);
+    }
+    return -1;
+}
+
 /* ---- time series: render --time-start HH:MM --time-end HH:MM --step MIN ------------------------ */
 
 /* path with _NNNN before its extension: sky.exr -> sky_0003.exr, out -> out_0003 */
@@ -89,7 +109,7 @@ static char *numbered_path(const char *path, int index)
 
 /* One fm_sky for the whole series: its atmosphere and tables are built once, and fm_sky_set_time
  * moves the sun for each frame (the maps are the same bits as separate runs at those times). */
-static int run_series(options *opt)
+static int run_series(options *opt, const fm_colour_config *colour)
 {
     fm_error err = {0};
     fm_sky *sky = NULL;
@@ -130,7 +150,8 @@ static int run_series(options *opt)
                 report_library_error(&err);
                 code = s == FM_ERR_IO ? EXIT_USAGE : exit_code_for(s);
             } else if ((s = fm_render(sky, &opt->render, &img, &err)) ||
-                       (img->content == FM_IMAGE_XYZ && (s = fm_image_to_rec709(img, &err))) ||
+                       (img->content == FM_IMAGE_XYZ &&
+                        (s = fm_image_to_colorspace(img, colour, opt->colorspace, &err))) ||
                        (s = fm_output_commit(out, sky, &opt->render, img, &cancel_signal, &err))) {
                 reporter_finish_line(&rep);
                 if (s == FM_ERR_CANCELLED)
@@ -175,8 +196,13 @@ static int run_render(int argc, char **argv)
     case PARSE_RUN:
         break;
     }
-    if (opt.frames > 0)
-        return run_series(&opt);
+    fm_colour_config *colour = NULL;
+    int colour_code = open_colour(&opt, &colour);
+    if (colour_code >= 0 || opt.frames > 0) {
+        int series_code = colour_code >= 0 ? colour_code : run_series(&opt, colour);
+        fm_colour_config_close(colour);
+        return series_code;
+    }
     char *sidecar = opt.sidecar ? NULL : default_sidecar(opt.output);
     const char *sidecar_path = opt.sidecar ? opt.sidecar : sidecar;
     if (!sidecar_path) {
@@ -209,7 +235,7 @@ static int run_render(int argc, char **argv)
         goto done;
     }
     if ((s = fm_render(sky, &opt.render, &img, &err)) ||
-        (img->content == FM_IMAGE_XYZ && (s = fm_image_to_rec709(img, &err))) ||
+        (img->content == FM_IMAGE_XYZ && (s = fm_image_to_colorspace(img, colour, opt.colorspace, &err))) ||
         (s = fm_output_commit(out, sky, &opt.render, img, &cancel_signal, &err))) {
         reporter_finish_line(&rep);
         if (s == FM_ERR_CANCELLED)
@@ -222,6 +248,7 @@ static int run_render(int argc, char **argv)
     reporter_done(&rep, opt.output, sidecar_path);
 done:
     fm_output_close(out); /* removes temporary files left by a failure */
+    fm_colour_config_close(colour);
     fm_image_destroy(img);
     fm_sky_destroy(sky);
     free(sidecar);

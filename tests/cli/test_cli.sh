@@ -248,6 +248,52 @@ grep '"event": "frame"' "$work/progress" | head -n 1 | grep -q '"night": false' 
 "$FM" "${r[@]}" --date 2023-06-21 --utc-offset +02:00 --latitude 48.8566 --longitude 2.3522 --time 08:30 --progress none -o "$work/out/single.exr" &&
     "$FM" compare "$work/out/day_0002.exr" "$work/out/single.exr" --json | grep -q '"max": 0,' && ok || fail "series frame = separate run"
 
+# --- colour spaces (OpenColorIO) ---------------------------------------------------------------
+"$FM" render --list-colorspaces >"$work/spaces" 2>&1 && grep -qx 'Linear Rec.709' "$work/spaces" &&
+    grep -qx 'ACEScg' "$work/spaces" && grep -qx 'CIE XYZ D65' "$work/spaces" && ok || fail "--list-colorspaces: $(cat "$work/spaces")"
+expect_usage_error "unknown colour space" render --width 16 --quality preview --colorspace Rec.2020
+grep -q '"ACEScg"' "$work/stderr" && grep -q '"Linear Rec.709"' "$work/stderr" && ok || fail "unknown colour space lists the names: $(cat "$work/stderr")"
+expect_usage_error "display-encoded colour space" render --width 16 --quality preview --colorspace sRGB
+printf 'ocio_profile_version: 2\ncolorspaces: [broken\n' >"$work/broken.ocio"
+OCIO="$work/broken.ocio" expect_usage_error "broken \$OCIO" render --width 16 --quality preview
+grep -q "broken.ocio" "$work/stderr" && ok || fail "broken \$OCIO names the file: $(cat "$work/stderr")"
+# the EXR's chromaticities and the sidecar follow the chosen space; luminance is the same
+rm -rf "$work/out" && mkdir -p "$work/out"
+for cs in "Linear Rec.709" ACEScg "CIE XYZ D65"; do
+    "$FM" render --width 32 --quality preview --progress none --colorspace "$cs" -o "$work/out/${cs// /_}.exr" || fail "render --colorspace $cs"
+done
+python3 - "$work/out" <<'PY' && ok || fail "colour spaces: chromaticities, sidecar colorspace and luminance"
+import json, struct, sys
+d = sys.argv[1]
+def chromaticities(path):
+    data = open(path, "rb").read()
+    i = 8
+    while data[i] != 0:
+        name_end = data.index(b"\0", i); typ_end = data.index(b"\0", name_end + 1)
+        name, typ = data[i:name_end].decode(), data[name_end + 1:typ_end].decode()
+        size = struct.unpack("<i", data[typ_end + 1:typ_end + 5])[0]
+        value = data[typ_end + 5:typ_end + 5 + size]
+        if name == "chromaticities":
+            return struct.unpack("<8f", value)
+        i = typ_end + 5 + size
+expect = {"Linear_Rec.709": (0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290),
+          "CIE_XYZ_D65": (1, 0, 0, 1, 0, 0, 1 / 3, 1 / 3)}
+for name, e in expect.items():
+    c = chromaticities(f"{d}/{name}.exr")
+    assert all(abs(a - b) < 1e-5 for a, b in zip(c, e)), (name, c)
+c = chromaticities(f"{d}/ACEScg.exr")
+assert abs(c[6] - 0.3127) < 1e-4 and abs(c[7] - 0.3290) < 1e-4, c  # Bradford: white stays D65
+lux = []
+for name in ("Linear_Rec.709", "ACEScg", "CIE_XYZ_D65"):
+    j = json.load(open(f"{d}/{name}.json"))
+    assert j["image"]["colorspace"] == name.replace("_", " "), j["image"]
+    lux.append(j["sky"]["diffuse_horizontal_illuminance_lux"])
+assert max(lux) - min(lux) < 1e-4 * max(lux), lux
+# the sidecar's RGB is in the chosen space: in XYZ the middle value is Y, 683 Y = lux
+j = json.load(open(f"{d}/CIE_XYZ_D65.json"))
+assert abs(683 * j["sun"]["direct_normal_irradiance_rgb"][1] - j["sun"]["direct_normal_illuminance_lux"]) < 1e-3 * j["sun"]["direct_normal_illuminance_lux"], j["sun"]
+PY
+
 # --- interruption: SIGINT and SIGTERM leave nothing, and never replace an existing file ---------
 interrupt() {
     local sig=$1 expect=$2

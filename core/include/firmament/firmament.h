@@ -29,6 +29,7 @@
 #define FIRMAMENT_H
 
 #include <stdatomic.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #ifdef __cplusplus
@@ -269,7 +270,8 @@ fm_render_params fm_render_params_default(void);
 typedef enum fm_image_content {
     FM_IMAGE_XYZ = 0,          /* 3 channels, CIE 1931 XYZ of spectral radiance (Y * 683 = cd/m^2) */
     FM_IMAGE_RGB_REC709,       /* 3 channels, linear Rec.709 / sRGB primaries, D65, same scale */
-    FM_IMAGE_SPECTRAL_RADIANCE /* 1 channel, W m^-2 sr^-1 nm^-1 at the sky's single wavelength */
+    FM_IMAGE_SPECTRAL_RADIANCE, /* 1 channel, W m^-2 sr^-1 nm^-1 at the sky's single wavelength */
+    FM_IMAGE_RGB                /* 3 channels, the linear colour space named in fm_image.colorspace */
 } fm_image_content;
 
 typedef struct fm_image {
@@ -281,6 +283,12 @@ typedef struct fm_image {
                               * firmament.sun.direction attribute), else 0, 0, 0 */
     float *std_error;     /* reference quality only: standard error of each pixel's XYZ (or spectral)
                            * value, left in XYZ by fm_image_to_rec709; else NULL */
+    /* FM_IMAGE_RGB only (set by fm_image_to_colorspace): the OpenColorIO colour space, its CIE xy
+     * chromaticities R, G, B, W (XYZ spaces: R (1,0), G (0,1), B (0,0), W (1/3,1/3)) and the
+     * matrix from its values to CIE XYZ (rows X, Y, Z). */
+    char colorspace[64];
+    float chromaticities[8];
+    double rgb_to_xyz[3][3];
 } fm_image;
 
 /* Renders the equirectangular map.  The result holds XYZ (colour skies) or spectral radiance. */
@@ -289,6 +297,29 @@ void fm_image_destroy(fm_image *image); /* accepts NULL */
 
 /* Converts an XYZ image to linear Rec.709 in place (the fixed sRGB/D65 matrix, no adaptation). */
 fm_status fm_image_to_rec709(fm_image *image, fm_error *err);
+
+/* Colour management: every conversion goes through OpenColorIO.  The config is the given path,
+ * else $OCIO when set, else firmament's own presets/ocio/config.ocio ("CIE XYZ D65" reference,
+ * "CIE XYZ E", "Linear Rec.709", "ACEScg", "ACES2065-1", "sRGB"; display "sRGB", view "Standard").
+ * The config must hold the space of the rendered XYZ: a colour space named "CIE XYZ D65" or the
+ * role cie_xyz_d65_interchange.  An unreadable config fails with FM_ERR_INVALID_ARGUMENT. */
+typedef struct fm_colour_config fm_colour_config;
+fm_status fm_colour_config_open(const char *path, fm_colour_config **out, fm_error *err);
+void fm_colour_config_close(fm_colour_config *cfg); /* accepts NULL */
+const char *fm_colour_config_path(const fm_colour_config *cfg);
+int fm_colour_config_count(const fm_colour_config *cfg);
+const char *fm_colour_config_name(const fm_colour_config *cfg, int index);
+
+/* Converts an XYZ image in place to a scene-linear colour space of the config (name or alias); the
+ * image becomes FM_IMAGE_RGB.  An unknown name fails with a message listing the config's spaces; a
+ * non-linear (display-encoded) space is refused: the EXR holds radiance.  std_error stays in XYZ. */
+fm_status fm_image_to_colorspace(fm_image *image, const fm_colour_config *cfg, const char *name, fm_error *err);
+/* The same checks on the name alone (before a render): FM_OK when fm_image_to_colorspace accepts it. */
+fm_status fm_colour_config_check(const fm_colour_config *cfg, const char *name, fm_error *err);
+
+/* Converts n float triples in place between two colour spaces of the config. */
+fm_status fm_colour_convert(const fm_colour_config *cfg, const char *src, const char *dst, float *rgb, size_t n,
+                            fm_error *err);
 
 /* Illuminance-like integral of the sky part (sun disk excluded) over the upper hemisphere seen by a
  * horizontal surface: sum of L cos(zenith) dOmega per channel, in the image's units. */

@@ -13,6 +13,28 @@ const float fm_rec709_chromaticities[8] = {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.
 static double xyz_to_rec709[3][3];
 static pthread_once_t inverse_once = PTHREAD_ONCE_INIT;
 
+void colour_matrix_inverse(const double *m9, double inv[3][3])
+{
+    const double(*m)[3] = (const double(*)[3])m9;
+    double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                 m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                 m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            /* cofactor of m[j][i] */
+            int r0 = (j + 1) % 3, r1 = (j + 2) % 3, c0 = (i + 1) % 3, c1 = (i + 2) % 3;
+            inv[i][j] = (m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]) / det;
+        }
+    }
+}
+
+void colour_matrix_apply(const double *m9, const double in[3], double out[3])
+{
+    const double(*m)[3] = (const double(*)[3])m9;
+    for (int i = 0; i < 3; i++)
+        out[i] = m[i][0] * in[0] + m[i][1] * in[1] + m[i][2] * in[2];
+}
+
 /* The inverse is computed from the forward matrix so the round trip is exact to rounding. */
 static void compute_inverse(void)
 {

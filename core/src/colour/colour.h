@@ -10,6 +10,10 @@ extern const double fm_rec709_to_xyz[3][3];
 void colour_xyz_to_rec709(const double xyz[3], double rgb[3]);
 void colour_rec709_to_xyz(const double rgb[3], double xyz[3]);
 
+/* inv = m^-1 and out = m in, for a row-major 3x3 matrix m given as &m[0][0]. */
+void colour_matrix_inverse(const double *m, double inv[3][3]);
+void colour_matrix_apply(const double *m, const double in[3], double out[3]);
+
 /* CIE xy chromaticities of the Rec.709 primaries and D65 white: R, G, B, W as (x, y) pairs. */
 extern const float fm_rec709_chromaticities[8];
 

@@ -31,8 +31,8 @@ static fm_status exr_failure(fm_error *err, const char *path, const char *step, 
 static exr_result_t write_attributes(exr_context_t ctxt, const fm_image *img, const metadata *meta)
 {
     exr_result_t rv = exr_attr_set_envmap(ctxt, 0, "envmap", EXR_ENVMAP_LATLONG);
-    if (rv == EXR_ERR_SUCCESS && img->content == FM_IMAGE_RGB_REC709) {
-        const float *c = fm_rec709_chromaticities;
+    if (rv == EXR_ERR_SUCCESS && (img->content == FM_IMAGE_RGB_REC709 || img->content == FM_IMAGE_RGB)) {
+        const float *c = img->content == FM_IMAGE_RGB ? img->chromaticities : fm_rec709_chromaticities;
         exr_attr_chromaticities_t chroma = {c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]};
         rv = exr_attr_set_chromaticities(ctxt, 0, "chromaticities", &chroma);
         if (rv == EXR_ERR_SUCCESS)
