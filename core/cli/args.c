@@ -26,6 +26,8 @@ enum {
     OPT_SIDECAR,
     OPT_COLORSPACE,
     OPT_LIST_COLORSPACES,
+    OPT_PREVIEW,
+    OPT_EXPOSURE,
     OPT_EARTH_SUN_DISTANCE,
     OPT_ATMOSPHERE,
     OPT_BIOME,
@@ -116,6 +118,8 @@ static const struct option long_options[] = {
     {"sidecar", required_argument, NULL, OPT_SIDECAR},
     {"colorspace", required_argument, NULL, OPT_COLORSPACE},
     {"list-colorspaces", no_argument, NULL, OPT_LIST_COLORSPACES},
+    {"preview", required_argument, NULL, OPT_PREVIEW},
+    {"exposure", required_argument, NULL, OPT_EXPOSURE},
     {"time", required_argument, NULL, OPT_TIME},
     {"utc-offset", required_argument, NULL, OPT_UTC_OFFSET},
     {"refraction", required_argument, NULL, OPT_REFRACTION},
@@ -209,6 +213,9 @@ void options_print_usage(void)
           "  --colorspace NAME      scene-linear colour space of the EXR and of the sidecar's RGB values,\n"
           "                         any of the config's (default \"Linear Rec.709\"; e.g. ACEScg)\n"
           "  --list-colorspaces     print the config's colour spaces and exit\n"
+          "  --preview FILE.png     also write an 8-bit sRGB preview (display \"sRGB\", view \"Standard\")\n"
+          "  --exposure EV          preview exposure: values x 2^EV before the display transform, [-100, 100]\n"
+          "                         (default: the sky's log-average luminance above the horizon -> 0.18)\n"
           "Quality:\n"
           "  --quality LEVEL        preview | final | reference (default final)\n"
           "  --samples N            reference quality: paths per pixel (default 256; slow by design,\n"
@@ -394,6 +401,9 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     opt->sidecar = NULL;
     opt->colorspace = "Linear Rec.709";
     opt->list_colorspaces = 0;
+    opt->preview = NULL;
+    opt->exposure_ev = 0.0;
+    opt->have_exposure = 0;
     opt->progress = PROGRESS_AUTO;
 
     opterr = 0; /* we print our own, one-line messages */
@@ -568,6 +578,17 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
         case OPT_LIST_COLORSPACES:
             opt->list_colorspaces = 1;
             break;
+        case OPT_PREVIEW:
+            opt->preview = arg;
+            break;
+        case OPT_EXPOSURE:
+            opt->have_exposure = 1;
+            bad_number = !parse_double(arg, &opt->exposure_ev);
+            if (!bad_number && !(fabs(opt->exposure_ev) <= 100.0)) {
+                snprintf(msg, msg_size, "--exposure: %s is out of range [-100, 100]", arg);
+                return PARSE_ERROR;
+            }
+            break;
         case OPT_TIME:
         case OPT_UTC_OFFSET:
         case OPT_REFRACTION:
@@ -620,6 +641,14 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             return PARSE_ERROR;
         }
         opt->sky.ozone_column_du = FM_OZONE_FROM_CLIMATOLOGY;
+    }
+    if (opt->preview && opt->sky.wavelength_nm > 0.0) {
+        snprintf(msg, msg_size, "--preview: needs a colour render (not --wavelength)");
+        return PARSE_ERROR;
+    }
+    if (opt->have_exposure && !opt->preview) {
+        snprintf(msg, msg_size, "--exposure: applies to --preview only");
+        return PARSE_ERROR;
     }
     return PARSE_RUN;
 }

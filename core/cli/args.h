@@ -18,6 +18,9 @@ typedef struct options {
     progress_mode progress;
     const char *colorspace; /* OpenColorIO colour space of the EXR (name or alias) */
     int list_colorspaces;   /* --list-colorspaces: print them and exit */
+    const char *preview;    /* PNG path or NULL */
+    double exposure_ev;     /* preview exposure when have_exposure, else automatic */
+    int have_exposure;
     /* A time series (--time-start, --time-end, --step): frames > 0 maps at time_start_s +
      * round(i * step_min * 60) seconds of the local day; sky.hour..second hold the first. */
     int frames;

@@ -91,6 +91,16 @@ static int open_colour(const options *opt, fm_colour_config **cfg)
     return -1;
 }
 
+/* The preview PNG of a written map, when asked for. */
+static fm_status write_preview(const options *opt, const fm_image *img, const fm_colour_config *colour,
+                               const char *path, fm_error *err)
+{
+    if (!path)
+        return FM_OK;
+    double ev = opt->have_exposure ? opt->exposure_ev : fm_image_auto_exposure(img);
+    return fm_image_write_preview(img, colour, path, ev, err);
+}
+
 /* ---- time series: render --time-start HH:MM --time-end HH:MM --step MIN ------------------------ */
 
 /* path with _NNNN before its extension: sky.exr -> sky_0003.exr, out -> out_0003 */
@@ -131,9 +141,10 @@ static int run_series(options *opt, const fm_colour_config *colour)
         int t = opt->time_start_s + (int)lround(i * opt->step_min * 60.0);
         char *exr = numbered_path(opt->output, i);
         char *json = exr ? (opt->sidecar ? numbered_path(opt->sidecar, i) : default_sidecar(exr)) : NULL;
+        char *preview = opt->preview ? numbered_path(opt->preview, i) : NULL;
         fm_output *out = NULL;
         fm_image *img = NULL;
-        if (!exr || !json) {
+        if (!exr || !json || (opt->preview && !preview)) {
             report_error("out of memory");
             code = EXIT_RUNTIME;
         } else if ((s = fm_sky_set_time(sky, t / 3600, t / 60 % 60, t % 60, &err))) {
@@ -152,7 +163,8 @@ static int run_series(options *opt, const fm_colour_config *colour)
             } else if ((s = fm_render(sky, &opt->render, &img, &err)) ||
                        (img->content == FM_IMAGE_XYZ &&
                         (s = fm_image_to_colorspace(img, colour, opt->colorspace, &err))) ||
-                       (s = fm_output_commit(out, sky, &opt->render, img, &cancel_signal, &err))) {
+                       (s = fm_output_commit(out, sky, &opt->render, img, &cancel_signal, &err)) ||
+                       (s = write_preview(opt, img, colour, preview, &err))) {
                 reporter_finish_line(&rep);
                 if (s == FM_ERR_CANCELLED)
                     report_error("interrupted; frame %d was not written (%d before it were)", i, written);
@@ -167,6 +179,7 @@ static int run_series(options *opt, const fm_colour_config *colour)
         fm_output_close(out);
         fm_image_destroy(img);
         free(json);
+        free(preview);
         if (!code && i == 0)
             first = exr;
         else if (!code) {
@@ -236,7 +249,8 @@ static int run_render(int argc, char **argv)
     }
     if ((s = fm_render(sky, &opt.render, &img, &err)) ||
         (img->content == FM_IMAGE_XYZ && (s = fm_image_to_colorspace(img, colour, opt.colorspace, &err))) ||
-        (s = fm_output_commit(out, sky, &opt.render, img, &cancel_signal, &err))) {
+        (s = fm_output_commit(out, sky, &opt.render, img, &cancel_signal, &err)) ||
+        (s = write_preview(&opt, img, colour, opt.preview, &err))) {
         reporter_finish_line(&rep);
         if (s == FM_ERR_CANCELLED)
             report_error("interrupted; nothing was written");

@@ -294,6 +294,38 @@ j = json.load(open(f"{d}/CIE_XYZ_D65.json"))
 assert abs(683 * j["sun"]["direct_normal_irradiance_rgb"][1] - j["sun"]["direct_normal_illuminance_lux"]) < 1e-3 * j["sun"]["direct_normal_illuminance_lux"], j["sun"]
 PY
 
+# --- previews ------------------------------------------------------------------------------------
+expect_usage_error "--exposure without --preview" render --width 16 --quality preview --exposure 2
+expect_usage_error "--exposure out of range" render --width 16 --quality preview --preview p.png --exposure 1000
+expect_usage_error "--exposure not a number" render --width 16 --quality preview --preview p.png --exposure bright
+expect_usage_error "--preview with --wavelength" render --width 16 --quality preview --preview p.png --wavelength 550
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$FM" render --width 32 --quality preview --progress none --preview "$work/out/sky.png" -o "$work/out/sky.exr" &&
+    "$FM" render --width 32 --quality preview --progress none --preview "$work/out/dark.png" --exposure -20 -o "$work/out/dark.exr" &&
+    python3 - "$work/out" <<'PY' && ok || fail "--preview writes a 32 x 16 8-bit RGB PNG; --exposure -20 is black"
+import struct, sys, zlib
+d = sys.argv[1]
+def png(path):
+    data = open(path, "rb").read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", path
+    i, idat, hdr = 8, b"", None
+    while i < len(data):
+        n, kind = struct.unpack(">I4s", data[i:i + 8])
+        body = data[i + 8:i + 8 + n]
+        if kind == b"IHDR":
+            hdr = struct.unpack(">IIBB", body[:10])
+        if kind == b"IDAT":
+            idat += body
+        i += 12 + n
+    return hdr, zlib.decompress(idat)
+hdr, _ = png(f"{d}/sky.png")
+assert hdr == (32, 16, 8, 2), hdr
+hdr, raw = png(f"{d}/dark.png")
+assert len(raw) == 16 * (1 + 96) and sum(raw) < 100, sum(raw)  # black but for a few sun-disk codes
+import os
+assert sorted(os.listdir(d)) == ["dark.exr", "dark.json", "dark.png", "sky.exr", "sky.json", "sky.png"], os.listdir(d)
+PY
+
 # --- interruption: SIGINT and SIGTERM leave nothing, and never replace an existing file ---------
 interrupt() {
     local sig=$1 expect=$2

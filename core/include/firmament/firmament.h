@@ -321,6 +321,20 @@ fm_status fm_colour_config_check(const fm_colour_config *cfg, const char *name, 
 fm_status fm_colour_convert(const fm_colour_config *cfg, const char *src, const char *dst, float *rgb, size_t n,
                             fm_error *err);
 
+/* Applies the config's display/view transform (e.g. "sRGB", "Standard") to n triples in place;
+ * src is a colour space of the config, or NULL for the rendered XYZ. */
+fm_status fm_colour_display(const fm_colour_config *cfg, const char *src, const char *display, const char *view,
+                            float *rgb, size_t n, fm_error *err);
+
+/* Previews: an 8-bit sRGB PNG through the config's display "sRGB", view "Standard", of a colour
+ * image (XYZ or FM_IMAGE_RGB) scaled by 2^exposure_ev before the display transform.  Written to
+ * a temporary file beside path and renamed: complete or not at all. */
+fm_status fm_image_write_preview(const fm_image *image, const fm_colour_config *cfg, const char *path,
+                                 double exposure_ev, fm_error *err);
+/* The automatic exposure: EV that maps the log-average (geometric mean) luminance of the sky above
+ * the horizon, weighted by solid angle and without the sun disk, to 0.18 (18% grey). */
+double fm_image_auto_exposure(const fm_image *image);
+
 /* Illuminance-like integral of the sky part (sun disk excluded) over the upper hemisphere seen by a
  * horizontal surface: sum of L cos(zenith) dOmega per channel, in the image's units. */
 void fm_image_diffuse_horizontal(const fm_image *image, double out[3]);

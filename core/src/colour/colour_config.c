@@ -82,6 +82,15 @@ fm_status fm_colour_convert(const fm_colour_config *cfg, const char *src, const 
     return FM_OK;
 }
 
+fm_status fm_colour_display(const fm_colour_config *cfg, const char *src, const char *display, const char *view,
+                            float *rgb, size_t n, fm_error *err)
+{
+    char msg[480];
+    if (ocio_display_view(cfg->ocio, src ? src : cfg->xyz, display, view, rgb, n, msg, sizeof msg))
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "%s", msg);
+    return FM_OK;
+}
+
 static fm_status unknown_space(const fm_colour_config *cfg, const char *name, fm_error *err)
 {
     char list[400] = "";

@@ -3,6 +3,7 @@
  * atomic) and renamed only after both are complete. */
 #define _POSIX_C_SOURCE 200809L
 #include "base/status.h"
+#include "image/image.h"
 #include "image/image_exr.h"
 #include "image/sidecar.h"
 
@@ -20,7 +21,7 @@ struct fm_output {
 };
 
 /* Creates "<dir>/.<name>.XXXXXX" and returns its path (malloc'd), or NULL with err filled. */
-static char *reserve_temp(const char *path, fm_error *err)
+char *image_reserve_temp(const char *path, fm_error *err)
 {
     struct stat st;
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
@@ -77,7 +78,7 @@ fm_status fm_output_open(const char *exr_path, const char *json_path, fm_output 
         fm_output_close(o);
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
     }
-    if (!(o->exr_tmp = reserve_temp(exr_path, err)) || !(o->json_tmp = reserve_temp(json_path, err))) {
+    if (!(o->exr_tmp = image_reserve_temp(exr_path, err)) || !(o->json_tmp = image_reserve_temp(json_path, err))) {
         fm_output_close(o);
         return err ? err->status : FM_ERR_IO;
     }
