@@ -27,6 +27,8 @@ enum {
     OPT_COLORSPACE,
     OPT_LIST_COLORSPACES,
     OPT_PREVIEW,
+    OPT_HALF,
+    OPT_COMPRESSION,
     OPT_EXPOSURE,
     OPT_EARTH_SUN_DISTANCE,
     OPT_ATMOSPHERE,
@@ -80,6 +82,7 @@ static const option_doc docs[] = {
     {OPT_SAMPLE_SCALE, "sample-scale", "sample_scale"},
     {OPT_SEED, "seed", "seed"},
     {OPT_THREADS, "threads", "threads"},
+    {OPT_HALF, "half", "half"},
     {OPT_TIME, "time", "time"},
     {OPT_TIME, "time", "hour"},
     {OPT_UTC_OFFSET, "utc-offset", "utc_offset_min"},
@@ -119,6 +122,8 @@ static const struct option long_options[] = {
     {"colorspace", required_argument, NULL, OPT_COLORSPACE},
     {"list-colorspaces", no_argument, NULL, OPT_LIST_COLORSPACES},
     {"preview", required_argument, NULL, OPT_PREVIEW},
+    {"half", no_argument, NULL, OPT_HALF},
+    {"compression", required_argument, NULL, OPT_COMPRESSION},
     {"exposure", required_argument, NULL, OPT_EXPOSURE},
     {"time", required_argument, NULL, OPT_TIME},
     {"utc-offset", required_argument, NULL, OPT_UTC_OFFSET},
@@ -209,6 +214,9 @@ void options_print_usage(void)
           "  --sidecar FILE         sidecar path instead of the default\n"
           "  --width W              even, [8, 16384]; height = W/2 (default 2048)\n"
           "  --no-sun-disk          leave the sun disk out of the map (its aureole stays)\n"
+          "  --half                 16-bit half-float EXR; refused (exit 2) when a value exceeds 65504,\n"
+          "                         as the sun disk does: add --no-sun-disk\n"
+          "  --compression METHOD   zip | piz, both lossless (default zip)\n"
           "Colour (OpenColorIO; config $OCIO, else firmament's presets/ocio/config.ocio):\n"
           "  --colorspace NAME      scene-linear colour space of the EXR and of the sidecar's RGB values,\n"
           "                         any of the config's (default \"Linear Rec.709\"; e.g. ACEScg)\n"
@@ -402,6 +410,8 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     opt->colorspace = "Linear Rec.709";
     opt->list_colorspaces = 0;
     opt->preview = NULL;
+    opt->half = 0;
+    opt->compression = FM_EXR_ZIP;
     opt->exposure_ev = 0.0;
     opt->have_exposure = 0;
     opt->progress = PROGRESS_AUTO;
@@ -580,6 +590,23 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             break;
         case OPT_PREVIEW:
             opt->preview = arg;
+            break;
+        case OPT_HALF:
+            opt->half = 1;
+            break;
+        case OPT_COMPRESSION:
+            if (strcmp(arg, "zip") == 0)
+                opt->compression = FM_EXR_ZIP;
+            else if (strcmp(arg, "piz") == 0)
+                opt->compression = FM_EXR_PIZ;
+            else if (strcmp(arg, "dwaa") == 0) {
+                snprintf(msg, msg_size, "--compression: dwaa is not available (OpenEXR 3.1's C library, which "
+                                        "firmament writes with, cannot encode it); use zip or piz");
+                return PARSE_ERROR;
+            } else {
+                snprintf(msg, msg_size, "--compression: unknown method '%s' (known: zip, piz)", arg);
+                return PARSE_ERROR;
+            }
             break;
         case OPT_EXPOSURE:
             opt->have_exposure = 1;

@@ -19,6 +19,8 @@ typedef struct options {
     const char *colorspace; /* OpenColorIO colour space of the EXR (name or alias) */
     int list_colorspaces;   /* --list-colorspaces: print them and exit */
     const char *preview;    /* PNG path or NULL */
+    int half;               /* half-float EXR */
+    fm_exr_compression compression;
     double exposure_ev;     /* preview exposure when have_exposure, else automatic */
     int have_exposure;
     /* A time series (--time-start, --time-end, --step): frames > 0 maps at time_start_s +

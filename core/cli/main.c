@@ -160,7 +160,8 @@ static int run_series(options *opt, const fm_colour_config *colour)
             if ((s = fm_output_open(exr, json, &out, &err))) {
                 report_library_error(&err);
                 code = s == FM_ERR_IO ? EXIT_USAGE : exit_code_for(s);
-            } else if ((s = fm_render(sky, &opt->render, &img, &err)) ||
+            } else if ((s = fm_output_set_format(out, opt->half, opt->compression, &err)) ||
+                       (s = fm_render(sky, &opt->render, &img, &err)) ||
                        (img->content == FM_IMAGE_XYZ &&
                         (s = fm_image_to_colorspace(img, colour, opt->colorspace, &err))) ||
                        (s = fm_output_commit(out, sky, &opt->render, img, &cancel_signal, &err)) ||
@@ -247,7 +248,8 @@ static int run_render(int argc, char **argv)
         code = s == FM_ERR_IO ? EXIT_USAGE : exit_code_for(s);
         goto done;
     }
-    if ((s = fm_render(sky, &opt.render, &img, &err)) ||
+    if ((s = fm_output_set_format(out, opt.half, opt.compression, &err)) ||
+        (s = fm_render(sky, &opt.render, &img, &err)) ||
         (img->content == FM_IMAGE_XYZ && (s = fm_image_to_colorspace(img, colour, opt.colorspace, &err))) ||
         (s = fm_output_commit(out, sky, &opt.render, img, &cancel_signal, &err)) ||
         (s = write_preview(&opt, img, colour, opt.preview, &err))) {

@@ -326,6 +326,20 @@ import os
 assert sorted(os.listdir(d)) == ["dark.exr", "dark.json", "dark.png", "sky.exr", "sky.json", "sky.png"], os.listdir(d)
 PY
 
+# --- half-float and compression -----------------------------------------------------------------
+expect_usage_error "unknown compression" render --width 16 --quality preview --compression lzma
+expect_usage_error "dwaa is not available" render --width 16 --quality preview --compression dwaa
+grep -q 'use zip or piz' "$work/stderr" && ok || fail "dwaa message: $(cat "$work/stderr")"
+# at 256 pixels across the sun disk exceeds the half range: refused after the render, nothing written
+expect_usage_error "--half with the sun disk" render --width 256 --quality preview --sample-scale 0.05 --half
+grep -q -- '--half: .*65504.*--no-sun-disk' "$work/stderr" && ok || fail "half overflow message: $(cat "$work/stderr")"
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$FM" render --width 32 --quality preview --progress none --no-sun-disk --half --compression piz -o "$work/out/half.exr" &&
+    "$FM" render --width 32 --quality preview --progress none --no-sun-disk -o "$work/out/float.exr" &&
+    "$FM" compare "$work/out/half.exr" "$work/out/float.exr" --json >"$work/cmp" &&
+    python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["max"] < 1e-3, d' "$work/cmp" && ok ||
+    fail "--half --compression piz: readable and within half precision of float: $(cat "$work/cmp")"
+
 # --- interruption: SIGINT and SIGTERM leave nothing, and never replace an existing file ---------
 interrupt() {
     local sig=$1 expect=$2

@@ -374,6 +374,15 @@ fm_status fm_output_commit(fm_output *output, const fm_sky *sky, const fm_render
 /* Removes any temporary file left and frees the handle (accepts NULL). */
 void fm_output_close(fm_output *output);
 
+/* Lossless both.  (DWAA is not offered: OpenEXR 3.1's C library, which firmament writes with,
+ * cannot encode it.) */
+typedef enum fm_exr_compression { FM_EXR_ZIP = 0, FM_EXR_PIZ } fm_exr_compression;
+/* The EXR's pixel format, before fm_output_commit: half-float (16-bit) instead of 32-bit float,
+ * and the compression (default ZIP).
+ * A half map whose values exceed the half range (65504, e.g. the sun disk) is refused at commit
+ * with FM_ERR_INVALID_ARGUMENT (parameter "half"), nothing written. */
+fm_status fm_output_set_format(fm_output *output, int half, fm_exr_compression compression, fm_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -70,9 +70,10 @@ static int channel_offset(const fm_image *img, const char *name)
     return name[0] == 'R' ? 0 : (name[0] == 'G' ? 1 : 2);
 }
 
-fm_status image_write_exr(const char *path, const fm_image *img, const metadata *meta, const atomic_int *cancel,
-                          fm_error *err)
+fm_status image_write_exr(const char *path, const fm_image *img, const metadata *meta, int half,
+                          fm_exr_compression compression, const atomic_int *cancel, fm_error *err)
 {
+    const exr_compression_t method = compression == FM_EXR_PIZ ? EXR_COMPRESSION_PIZ : EXR_COMPRESSION_ZIP;
     exr_messages *msgs_ptr = &thread_messages;
     msgs_ptr->last[0] = '\0';
     const exr_messages *msgs_view = msgs_ptr;
@@ -90,11 +91,12 @@ fm_status image_write_exr(const char *path, const fm_image *img, const metadata 
     /* attribute names such as firmament.sun.direct_normal_illuminance_lux exceed 31 characters */
     if ((rv = exr_set_longname_support(ctxt, 1)) ||
         (rv = exr_add_part(ctxt, "", EXR_STORAGE_SCANLINE, &part)) ||
-        (rv = exr_initialize_required_attr_simple(ctxt, part, W, H, EXR_COMPRESSION_ZIP)))
+        (rv = exr_initialize_required_attr_simple(ctxt, part, W, H, method)))
         goto fail;
     for (int c = 0; c < C; c++) {
         const char *name = C == 1 ? "Y" : rgb[c];
-        if ((rv = exr_add_channel(ctxt, part, name, EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LINEAR, 1, 1)))
+        if ((rv = exr_add_channel(ctxt, part, name, half ? EXR_PIXEL_HALF : EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LINEAR,
+                                  1, 1)))
             goto fail;
     }
     if ((rv = write_attributes(ctxt, img, meta)) || (rv = exr_write_header(ctxt)))

@@ -8,6 +8,7 @@
 #include "image/sidecar.h"
 
 #include <errno.h>
+#include <math.h>
 #include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,7 +19,31 @@
 struct fm_output {
     char *exr_path, *json_path;
     char *exr_tmp, *json_tmp; /* NULL once renamed or removed */
+    int half;
+    fm_exr_compression compression;
 };
+
+fm_status fm_output_set_format(fm_output *o, int half, fm_exr_compression compression, fm_error *err)
+{
+    if (compression != FM_EXR_ZIP && compression != FM_EXR_PIZ)
+        return fm_fail_parameter(err, "compression", "unknown compression %d", (int)compression);
+    o->half = half;
+    o->compression = compression;
+    return FM_OK;
+}
+
+/* The largest magnitude of the pixels, for the half-float range check (NaN counts as too large). */
+static double largest_value(const fm_image *img)
+{
+    size_t n = (size_t)img->width * img->height * img->channels;
+    double m = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        double v = fabs((double)img->pixels[i]);
+        if (!(v <= m))
+            m = v != v ? INFINITY : v;
+    }
+    return m;
+}
 
 /* Creates "<dir>/.<name>.XXXXXX" and returns its path (malloc'd), or NULL with err filled. */
 char *image_reserve_temp(const char *path, fm_error *err)
@@ -91,9 +116,18 @@ fm_status fm_output_commit(fm_output *o, const fm_sky *sky, const fm_render_para
 {
     if (!o->exr_tmp || !o->json_tmp)
         return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "output already committed");
+    if (o->half) {
+        /* 65504 is the largest finite half; rounding to it starts at 65520 */
+        double m = largest_value(image);
+        if (m >= 65504.0)
+            return fm_fail_parameter(err, "half", "the map holds values up to %.4g (the sun disk), beyond the "
+                                                  "half-float range 65504; leave the sun disk out (--no-sun-disk) "
+                                                  "or write 32-bit float",
+                                     m);
+    }
     metadata meta;
     metadata_collect(&meta, sky, params, image, o->exr_path);
-    fm_status s = image_write_exr(o->exr_tmp, image, &meta, cancel, err);
+    fm_status s = image_write_exr(o->exr_tmp, image, &meta, o->half, o->compression, cancel, err);
     if (!s)
         s = sidecar_write(o->json_tmp, &meta, err);
     if (!s && cancel && atomic_load(cancel))
