@@ -28,6 +28,7 @@ enum {
     OPT_LIST_COLORSPACES,
     OPT_PREVIEW,
     OPT_HALF,
+    OPT_SPECTRAL,
     OPT_COMPRESSION,
     OPT_EXPOSURE,
     OPT_EARTH_SUN_DISTANCE,
@@ -123,6 +124,7 @@ static const struct option long_options[] = {
     {"list-colorspaces", no_argument, NULL, OPT_LIST_COLORSPACES},
     {"preview", required_argument, NULL, OPT_PREVIEW},
     {"half", no_argument, NULL, OPT_HALF},
+    {"spectral", required_argument, NULL, OPT_SPECTRAL},
     {"compression", required_argument, NULL, OPT_COMPRESSION},
     {"exposure", required_argument, NULL, OPT_EXPOSURE},
     {"time", required_argument, NULL, OPT_TIME},
@@ -217,6 +219,8 @@ void options_print_usage(void)
           "  --half                 16-bit half-float EXR; refused (exit 2) when a value exceeds 65504,\n"
           "                         as the sun disk does: add --no-sun-disk\n"
           "  --compression METHOD   zip | piz, both lossless (default zip)\n"
+          "  --spectral FILE.exr    also write the spectral radiance (41 wavelengths, 380-780 nm) in the\n"
+          "                         spectral OpenEXR layout of Fichet et al. 2021 (41 x the image memory)\n"
           "Colour (OpenColorIO; config $OCIO, else firmament's presets/ocio/config.ocio):\n"
           "  --colorspace NAME      scene-linear colour space of the EXR and of the sidecar's RGB values,\n"
           "                         any of the config's (default \"Linear Rec.709\"; e.g. ACEScg)\n"
@@ -411,6 +415,7 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     opt->list_colorspaces = 0;
     opt->preview = NULL;
     opt->half = 0;
+    opt->spectral = NULL;
     opt->compression = FM_EXR_ZIP;
     opt->exposure_ev = 0.0;
     opt->have_exposure = 0;
@@ -594,6 +599,10 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
         case OPT_HALF:
             opt->half = 1;
             break;
+        case OPT_SPECTRAL:
+            opt->spectral = arg;
+            opt->render.spectral = 1;
+            break;
         case OPT_COMPRESSION:
             if (strcmp(arg, "zip") == 0)
                 opt->compression = FM_EXR_ZIP;
@@ -671,6 +680,10 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     }
     if (opt->preview && opt->sky.wavelength_nm > 0.0) {
         snprintf(msg, msg_size, "--preview: needs a colour render (not --wavelength)");
+        return PARSE_ERROR;
+    }
+    if (opt->spectral && (opt->sky.wavelength_nm > 0.0 || opt->frames > 0)) {
+        snprintf(msg, msg_size, "--spectral: needs a single colour render (not --wavelength nor a time series)");
         return PARSE_ERROR;
     }
     if (opt->have_exposure && !opt->preview) {

@@ -20,6 +20,7 @@ typedef struct options {
     int list_colorspaces;   /* --list-colorspaces: print them and exit */
     const char *preview;    /* PNG path or NULL */
     int half;               /* half-float EXR */
+    const char *spectral;   /* spectral EXR path or NULL */
     fm_exr_compression compression;
     double exposure_ev;     /* preview exposure when have_exposure, else automatic */
     int have_exposure;

@@ -227,7 +227,7 @@ static int run_render(int argc, char **argv)
     fm_error err = {0};
     fm_sky *sky = NULL;
     fm_output *out = NULL;
-    fm_image *img = NULL;
+    fm_image *img = NULL, *spectral = NULL; /* spectral: the --spectral map, img made from it */
     int code = 0;
     reporter rep;
     reporter_init(&rep, opt.progress);
@@ -250,8 +250,11 @@ static int run_render(int argc, char **argv)
     }
     if ((s = fm_output_set_format(out, opt.half, opt.compression, &err)) ||
         (s = fm_render(sky, &opt.render, &img, &err)) ||
+        (opt.spectral && (spectral = img, img = NULL, s = fm_image_spectral_to_xyz(spectral, &img, &err))) ||
         (img->content == FM_IMAGE_XYZ && (s = fm_image_to_colorspace(img, colour, opt.colorspace, &err))) ||
         (s = fm_output_commit(out, sky, &opt.render, img, &cancel_signal, &err)) ||
+        (opt.spectral &&
+         (s = fm_output_write_spectral(opt.spectral, sky, &opt.render, spectral, img, &cancel_signal, &err))) ||
         (s = write_preview(&opt, img, colour, opt.preview, &err))) {
         reporter_finish_line(&rep);
         if (s == FM_ERR_CANCELLED)
@@ -265,6 +268,7 @@ static int run_render(int argc, char **argv)
 done:
     fm_output_close(out); /* removes temporary files left by a failure */
     fm_colour_config_close(colour);
+    fm_image_destroy(spectral);
     fm_image_destroy(img);
     fm_sky_destroy(sky);
     free(sidecar);

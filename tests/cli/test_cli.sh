@@ -340,6 +340,18 @@ rm -rf "$work/out" && mkdir -p "$work/out"
     python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["max"] < 1e-3, d' "$work/cmp" && ok ||
     fail "--half --compression piz: readable and within half precision of float: $(cat "$work/cmp")"
 
+# --- spectral EXR --------------------------------------------------------------------------------
+expect_usage_error "--spectral with --wavelength" render --width 16 --quality preview --spectral s.exr --wavelength 550
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$FM" render --width 32 --quality preview --progress none --spectral "$work/out/spectral.exr" -o "$work/out/sky.exr" &&
+    "$FM" render --width 32 --quality preview --progress none -o "$work/out/plain.exr" &&
+    [ -s "$work/out/spectral.exr" ] && [ "$(ls -A "$work/out" | wc -l)" -eq 5 ] &&
+    "$FM" compare "$work/out/sky.exr" "$work/out/plain.exr" --json >"$work/cmp" &&
+    python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["max"] < 1e-3, d' "$work/cmp" && ok ||
+    fail "--spectral writes the spectral EXR beside the same RGB map: $(ls -A "$work/out") $(cat "$work/cmp" 2>/dev/null)"
+grep -q 'S0.550,000000nm' "$work/out/spectral.exr" && grep -q 'W.m^-2.sr^-1.nm^-1' "$work/out/spectral.exr" && ok ||
+    fail "spectral EXR channel names and emissiveUnits"
+
 # --- interruption: SIGINT and SIGTERM leave nothing, and never replace an existing file ---------
 interrupt() {
     local sig=$1 expect=$2

@@ -258,6 +258,8 @@ typedef struct fm_render_params {
     uint64_t seed;            /* same seed and thread count: bit-identical output */
     int threads;              /* worker threads, [0, 256]; 0 = one per online core */
     int sun_disk;             /* nonzero: the sun disk is part of the map */
+    int spectral;             /* colour skies: keep the spectral radiance at every wavelength of the
+                               * grid (FM_IMAGE_SPECTRAL_GRID, 41 channels: 41 x the memory) */
     double sample_scale;      /* multiplies every sample count of the quality level, (0, 1024] */
     int reference_samples;    /* reference quality: paths per pixel; 0 = default */
     fm_progress_fn progress;  /* may be NULL */
@@ -271,8 +273,11 @@ typedef enum fm_image_content {
     FM_IMAGE_XYZ = 0,          /* 3 channels, CIE 1931 XYZ of spectral radiance (Y * 683 = cd/m^2) */
     FM_IMAGE_RGB_REC709,       /* 3 channels, linear Rec.709 / sRGB primaries, D65, same scale */
     FM_IMAGE_SPECTRAL_RADIANCE, /* 1 channel, W m^-2 sr^-1 nm^-1 at the sky's single wavelength */
-    FM_IMAGE_RGB                /* 3 channels, the linear colour space named in fm_image.colorspace */
+    FM_IMAGE_RGB,               /* 3 channels, the linear colour space named in fm_image.colorspace */
+    FM_IMAGE_SPECTRAL_GRID      /* `wavelengths` channels, W m^-2 sr^-1 nm^-1 at lambda_nm[] */
 } fm_image_content;
+
+#define FM_IMAGE_MAX_WAVELENGTHS 48
 
 typedef struct fm_image {
     int width, height, channels;
@@ -289,11 +294,21 @@ typedef struct fm_image {
     char colorspace[64];
     float chromaticities[8];
     double rgb_to_xyz[3][3];
+    /* FM_IMAGE_SPECTRAL_GRID only: the wavelengths of the channels and the weights that integrate
+     * them to XYZ (XYZ = sum over k of L_k xyz_weight[k], the renderer's own quadrature). */
+    int wavelengths;
+    double lambda_nm[FM_IMAGE_MAX_WAVELENGTHS];
+    double xyz_weight[FM_IMAGE_MAX_WAVELENGTHS][3];
 } fm_image;
 
 /* Renders the equirectangular map.  The result holds XYZ (colour skies) or spectral radiance. */
 fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image **out, fm_error *err);
 void fm_image_destroy(fm_image *image); /* accepts NULL */
+
+/* The XYZ image of a spectral map (FM_IMAGE_SPECTRAL_GRID): a new image, sun disk plane included,
+ * integrated with the image's own weights, so that it equals a colour render's XYZ from the same
+ * spectra. */
+fm_status fm_image_spectral_to_xyz(const fm_image *spectral, fm_image **xyz, fm_error *err);
 
 /* Converts an XYZ image to linear Rec.709 in place (the fixed sRGB/D65 matrix, no adaptation). */
 fm_status fm_image_to_rec709(fm_image *image, fm_error *err);
@@ -376,6 +391,14 @@ void fm_output_close(fm_output *output);
 
 /* Lossless both.  (DWAA is not offered: OpenEXR 3.1's C library, which firmament writes with,
  * cannot encode it.) */
+/* Writes a spectral map (FM_IMAGE_SPECTRAL_GRID) as an EXR in the layout of Fichet, Pacanowski &
+ * Wilkie (JCGT 10(3), 2021): one float channel per wavelength, "S0.550,000000nm", header
+ * emissiveUnits = "W.m^-2.sr^-1.nm^-1" and spectralLayoutVersion = "1.0", plus the firmament.*
+ * attributes of the colour image made from it.  Temporary file renamed: complete or nothing. */
+fm_status fm_output_write_spectral(const char *path, const fm_sky *sky, const fm_render_params *params,
+                                   const fm_image *spectral, const fm_image *colour, const atomic_int *cancel,
+                                   fm_error *err);
+
 typedef enum fm_exr_compression { FM_EXR_ZIP = 0, FM_EXR_PIZ } fm_exr_compression;
 /* The EXR's pixel format, before fm_output_commit: half-float (16-bit) instead of 32-bit float,
  * and the compression (default ZIP).

@@ -160,3 +160,23 @@ void fm_output_close(fm_output *o)
     free(o->json_path);
     free(o);
 }
+
+fm_status fm_output_write_spectral(const char *path, const fm_sky *sky, const fm_render_params *params,
+                                   const fm_image *spectral, const fm_image *colour, const atomic_int *cancel,
+                                   fm_error *err)
+{
+    if (spectral->content != FM_IMAGE_SPECTRAL_GRID)
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "not a spectral map");
+    char *tmp = image_reserve_temp(path, err);
+    if (!tmp)
+        return err ? err->status : FM_ERR_IO;
+    metadata meta;
+    metadata_collect(&meta, sky, params, colour, path);
+    fm_status s = image_write_exr(tmp, spectral, &meta, 0, FM_EXR_ZIP, cancel, err);
+    if (!s && rename(tmp, path) != 0)
+        s = fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
+    if (s)
+        unlink(tmp);
+    free(tmp);
+    return s;
+}

@@ -51,17 +51,19 @@ typedef struct render_job {
     fm_image *img;
 } render_job;
 
-/* Spectral radiance (K values) -> image channels. */
-static void to_channels(const atmosphere *atm, const double *L, float *out)
+/* Spectral radiance (K values) -> C image channels: XYZ (colour, C = 3), else the K values
+ * themselves (monochromatic C = K = 1; spectral maps C = K). */
+static void to_channels(const atmosphere *atm, int C, const double *L, float *out)
 {
-    if (atm->grid.colour) {
+    if (atm->grid.colour && C == 3) {
         double xyz[3];
         spectral_grid_to_xyz(&atm->grid, L, xyz);
         out[0] = (float)xyz[0];
         out[1] = (float)xyz[1];
         out[2] = (float)xyz[2];
     } else {
-        out[0] = (float)L[0];
+        for (int c = 0; c < C; c++)
+            out[c] = (float)L[c];
     }
 }
 
@@ -80,8 +82,8 @@ static void ss_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         double e, phi, L[FM_MAX_WAVELENGTHS] = {0};
         sky_grid_node_angles(&job->ss, (int)i, &e, &phi);
         single_scatter_radiance(&pc, sky->observer, view_direction(sky, e, phi), L);
-        float v[3];
-        to_channels(&sky->atm, L, v);
+        float v[FM_MAX_WAVELENGTHS];
+        to_channels(&sky->atm, job->channels, L, v);
         for (int c = 0; c < job->channels; c++)
             sky_grid_set(&job->ss, (int)i, c, v[c]);
     }
@@ -105,7 +107,7 @@ static void ms_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         }
         for (int k = 0; k < K; k++)
             L[k] /= job->q.ms_paths;
-        to_channels(&sky->atm, L, &job->ms.values[i * job->channels]);
+        to_channels(&sky->atm, job->channels, L, &job->ms.values[i * job->channels]);
     }
 }
 
@@ -165,8 +167,8 @@ static void fast_rows(void *ctx, int64_t begin, int64_t end, int thread)
     for (int64_t y = begin; y < end; y++) {
         const int ny = row_samples(job, (int)y, H, elevation, weight);
         for (int x = 0; x < W; x++) {
-            double acc[3] = {0, 0, 0};
-            float v[3];
+            double acc[FM_MAX_WAVELENGTHS] = {0};
+            float v[FM_MAX_WAVELENGTHS];
             for (int sy = 0; sy < ny; sy++) {
                 for (int sx = 0; sx < n; sx++) {
                     double e, a;
@@ -199,15 +201,15 @@ static void reference_rows(void *ctx, int64_t begin, int64_t end, int thread)
         for (int x = 0; x < W; x++) {
             uint64_t item = ITEM_PIXEL + (uint64_t)y * W + x;
             int offset = (int)(mix64(job->seed ^ item) % (uint64_t)K);
-            double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
+            double sum[FM_MAX_WAVELENGTHS] = {0}, sum2[FM_MAX_WAVELENGTHS] = {0};
             for (int p = 0; p < N; p++) {
                 rng r = rng_for(job->seed, item, (uint64_t)p);
                 double jx = rng_uniform(&r), jy = rng_uniform(&r);
                 vec3 d = equirect_direction(W, H, x + jx, y + jy);
                 double L[FM_MAX_WAVELENGTHS] = {0};
                 path_trace(&pc, sky->observer, d, (p + offset) % K, &r, L);
-                float v[3];
-                to_channels(&sky->atm, L, v);
+                float v[FM_MAX_WAVELENGTHS];
+                to_channels(&sky->atm, C, L, v);
                 for (int c = 0; c < C; c++) {
                     sum[c] += v[c];
                     sum2[c] += (double)v[c] * v[c];
@@ -293,8 +295,8 @@ static fm_status render_sun_disk(const fm_sky *sky, fm_image *img)
                 L[k] = atm->grid.solar_irradiance[k] * sun_limb_darkening(sun, k, mu2) / norm[k] * exp(-dk) *
                        inv_omega;
             }
-            float v[3];
-            to_channels(atm, L, v);
+            float v[FM_MAX_WAVELENGTHS];
+            to_channels(atm, C, L, v);
             size_t idx = ((size_t)py * W + px) * C;
             for (int c = 0; c < C; c++)
                 img->sun_disk[idx + c] += v[c];
@@ -353,17 +355,22 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     job.q = render_quality_settings(params->quality, params->sample_scale);
     if (params->quality == FM_QUALITY_REFERENCE && params->reference_samples > 0)
         job.q.reference_paths = params->reference_samples;
-    job.channels = atm->grid.colour ? 3 : 1;
+    const int spectral = atm->grid.colour && params->spectral;
+    job.channels = spectral ? atm->grid.count : (atm->grid.colour ? 3 : 1);
     /* the wavelengths are part of the seed: different wavelengths, independent random numbers */
     job.seed = params->seed;
     for (int k = 0; k < atm->grid.count; k++)
         job.seed = mix64(job.seed ^ (uint64_t)llround(atm->grid.lambda_nm[k] * 1000.0));
     const int W = params->width, H = params->width / 2;
     const int reference = params->quality == FM_QUALITY_REFERENCE;
-    job.img = image_create(W, H, job.channels, atm->grid.colour ? FM_IMAGE_XYZ : FM_IMAGE_SPECTRAL_RADIANCE,
+    job.img = image_create(W, H, job.channels,
+                           spectral ? FM_IMAGE_SPECTRAL_GRID
+                                    : (atm->grid.colour ? FM_IMAGE_XYZ : FM_IMAGE_SPECTRAL_RADIANCE),
                            params->sun_disk, reference);
     if (!job.img)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for a %d x %d image", W, H);
+    if (spectral)
+        image_set_wavelengths(job.img, atm->grid.count, atm->grid.lambda_nm, &atm->grid.xyz_weight[0][0]);
     job.img->sun_direction[0] = sky->sun_dir.x;
     job.img->sun_direction[1] = sky->sun_dir.y;
     job.img->sun_direction[2] = sky->sun_dir.z;
