@@ -158,6 +158,7 @@ void options_print_usage(void)
           "                     [--utc-offset +HH[:MM]] [--altitude M] [--refraction on|off] [--pressure MBAR]\n"
           "                     [--temperature C] [--delta-t S] [--json]\n"
           "       firmament compare IMAGE.exr REFERENCE.exr [--exclude-sun DEG] [--json]\n"
+          "       firmament info FILE.exr   (the EXR's header: standard and firmament.* attributes)\n"
           "       firmament --help | --version\n"
           "\n"
           "Renders the sky seen from one place as an equirectangular OpenEXR map (Blender's\n"

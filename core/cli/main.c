@@ -275,6 +275,27 @@ done:
     return code;
 }
 
+/* firmament info FILE.exr: the header, "name (type): value" per line. */
+static void print_attribute(void *user, const char *name, const char *type, const char *value)
+{
+    printf("%s (%s): %s\n", name, type, value);
+}
+
+static int run_info(int argc, char **argv)
+{
+    if (argc != 2 || argv[1][0] == '-') {
+        report_error("usage: firmament info FILE.exr");
+        return EXIT_USAGE;
+    }
+    fm_error err = {0};
+    fm_status s = fm_exr_attributes(argv[1], print_attribute, NULL, &err);
+    if (s) {
+        report_library_error(&err);
+        return exit_code_for(s);
+    }
+    return 0;
+}
+
 /* firmament compare A.exr REF.exr [--exclude-sun DEG] [--json]: relative luminance error of A
  * against the reference REF. */
 static int run_compare(int argc, char **argv)
@@ -353,6 +374,8 @@ int main(int argc, char **argv)
         return run_render(argc - 1, argv + 1);
     if (strcmp(cmd, "compare") == 0)
         return run_compare(argc - 1, argv + 1);
+    if (strcmp(cmd, "info") == 0)
+        return run_info(argc - 1, argv + 1);
     if (strcmp(cmd, "sun") == 0)
         return run_sun(argc - 1, argv + 1);
     report_error("unknown command '%s' (try: firmament render, or firmament --help)", cmd);

@@ -352,6 +352,19 @@ rm -rf "$work/out" && mkdir -p "$work/out"
 grep -q 'S0.550,000000nm' "$work/out/spectral.exr" && grep -q 'W.m^-2.sr^-1.nm^-1' "$work/out/spectral.exr" && ok ||
     fail "spectral EXR channel names and emissiveUnits"
 
+# --- info: the EXR's header ----------------------------------------------------------------------
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$FM" render --width 16 --quality preview --progress none --colorspace ACEScg -o "$work/out/sky.exr" &&
+    "$FM" info "$work/out/sky.exr" >"$work/info" && grep -q '^compression (compression): zip$' "$work/info" &&
+    grep -q '^chromaticities (chromaticities): red' "$work/info" && grep -q '^envmap (envmap): latlong$' "$work/info" &&
+    grep -q '^firmament.image.colorspace (string): ACEScg$' "$work/info" &&
+    grep -q '^firmament.sun.direction (v3d): (' "$work/info" && ok || fail "info lists the header: $(cat "$work/info")"
+[ "$(grep -n '^firmament' "$work/info" | head -n 1 | cut -d: -f1)" -gt "$(grep -n '^whiteLuminance' "$work/info" | cut -d: -f1)" ] &&
+    ok || fail "info: standard attributes first"
+expect_usage_error "info without a file" info
+expect_usage_error "info of a missing file" info missing.exr
+grep -q "missing.exr" "$work/stderr" && ok || fail "info names the missing file: $(cat "$work/stderr")"
+
 # --- interruption: SIGINT and SIGTERM leave nothing, and never replace an existing file ---------
 interrupt() {
     local sig=$1 expect=$2

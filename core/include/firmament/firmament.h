@@ -399,6 +399,12 @@ fm_status fm_output_write_spectral(const char *path, const fm_sky *sky, const fm
                                    const fm_image *spectral, const fm_image *colour, const atomic_int *cancel,
                                    fm_error *err);
 
+/* Every header attribute of an EXR's first part as text (name, OpenEXR type, value): the standard
+ * ones (channels, compression, chromaticities, ...) first, then firmament.*, each alphabetically.
+ * An unreadable file fails with FM_ERR_INVALID_ARGUMENT. */
+typedef void (*fm_exr_attribute_fn)(void *user, const char *name, const char *type, const char *value);
+fm_status fm_exr_attributes(const char *path, fm_exr_attribute_fn fn, void *user, fm_error *err);
+
 typedef enum fm_exr_compression { FM_EXR_ZIP = 0, FM_EXR_PIZ } fm_exr_compression;
 /* The EXR's pixel format, before fm_output_commit: half-float (16-bit) instead of 32-bit float,
  * and the compression (default ZIP).
