@@ -293,6 +293,12 @@ assert max(lux) - min(lux) < 1e-4 * max(lux), lux
 j = json.load(open(f"{d}/CIE_XYZ_D65.json"))
 assert abs(683 * j["sun"]["direct_normal_irradiance_rgb"][1] - j["sun"]["direct_normal_illuminance_lux"]) < 1e-3 * j["sun"]["direct_normal_illuminance_lux"], j["sun"]
 PY
+# compare reads each file's colour space from its chromaticities: the same sky in ACEScg and in XYZ
+for cs in ACEScg CIE_XYZ_D65; do
+    "$FM" compare "$work/out/$cs.exr" "$work/out/Linear_Rec.709.exr" --json >"$work/cmp" &&
+        python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["max"] < 1e-3 and d["chromaticity"] < 1e-4, d' "$work/cmp" &&
+        ok || fail "compare $cs with Linear Rec.709: $(cat "$work/cmp")"
+done
 
 # --- previews ------------------------------------------------------------------------------------
 expect_usage_error "--exposure without --preview" render --width 16 --quality preview --exposure 2
@@ -349,6 +355,8 @@ rm -rf "$work/out" && mkdir -p "$work/out"
     "$FM" compare "$work/out/sky.exr" "$work/out/plain.exr" --json >"$work/cmp" &&
     python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["max"] < 1e-3, d' "$work/cmp" && ok ||
     fail "--spectral writes the spectral EXR beside the same RGB map: $(ls -A "$work/out") $(cat "$work/cmp" 2>/dev/null)"
+"$FM" compare "$work/out/spectral.exr" "$work/out/sky.exr" >/dev/null 2>"$work/stderr"
+[ $? -ne 0 ] && grep -q 'found 41 channels' "$work/stderr" && ok || fail "compare refuses a spectral EXR: $(cat "$work/stderr")"
 grep -q 'S0.550,000000nm' "$work/out/spectral.exr" && grep -q 'W.m^-2.sr^-1.nm^-1' "$work/out/spectral.exr" && ok ||
     fail "spectral EXR channel names and emissiveUnits"
 

@@ -5,6 +5,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "check.h"
 
+#include "colour/colour.h"
 #include "image/image.h"
 #include "spectrum/cie.h"
 
@@ -232,6 +233,12 @@ static void chromaticities_follow_the_space(void **state)
             double tol = k == 1 ? 2e-2 : 1e-5;
             check_abs(img->chromaticities[i], expect[k][i], tol, names[k]);
         }
+        /* the chromaticities give back the space's matrix (how `compare` reads such a file) */
+        double m[3][3];
+        assert_true(colour_matrix_from_chromaticities(img->chromaticities, m));
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++)
+                check_abs(m[r][c], img->rgb_to_xyz[r][c], 2e-6, "matrix from the chromaticities");
         fm_image_destroy(img);
     }
     fm_colour_config_close(cfg);
