@@ -1,7 +1,7 @@
 # Shared by the scripts in this folder: install what is missing, and build.  Sourced, not run.
 
 # Debian/Ubuntu packages firmament needs to build and test (nothing else is downloaded).
-FIRMAMENT_PACKAGES="build-essential cmake pkg-config libopenexr-dev libcjson-dev libcmocka-dev"
+FIRMAMENT_PACKAGES="build-essential cmake pkg-config libopenexr-dev libcjson-dev libcmocka-dev libopencolorio-dev libpng-dev"
 
 install_missing_packages() {
     local missing=""

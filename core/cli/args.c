@@ -24,6 +24,13 @@ enum {
     OPT_PROGRESS,
     OPT_WAVELENGTH,
     OPT_SIDECAR,
+    OPT_COLORSPACE,
+    OPT_LIST_COLORSPACES,
+    OPT_PREVIEW,
+    OPT_HALF,
+    OPT_SPECTRAL,
+    OPT_COMPRESSION,
+    OPT_EXPOSURE,
     OPT_EARTH_SUN_DISTANCE,
     OPT_ATMOSPHERE,
     OPT_BIOME,
@@ -83,6 +90,8 @@ static const option_doc docs[] = {
     {OPT_SAMPLE_SCALE, "sample-scale", "sample_scale"},
     {OPT_SEED, "seed", "seed"},
     {OPT_THREADS, "threads", "threads"},
+    {OPT_HALF, "half", "half"},
+    {OPT_SPECTRAL, "spectral", "spectral"},
     {OPT_TIME, "time", "time"},
     {OPT_TIME, "time", "hour"},
     {OPT_UTC_OFFSET, "utc-offset", "utc_offset_min"},
@@ -125,6 +134,13 @@ static const struct option long_options[] = {
     {"no-sun-disk", no_argument, NULL, OPT_NO_SUN_DISK},
     {"progress", required_argument, NULL, OPT_PROGRESS},
     {"sidecar", required_argument, NULL, OPT_SIDECAR},
+    {"colorspace", required_argument, NULL, OPT_COLORSPACE},
+    {"list-colorspaces", no_argument, NULL, OPT_LIST_COLORSPACES},
+    {"preview", required_argument, NULL, OPT_PREVIEW},
+    {"half", no_argument, NULL, OPT_HALF},
+    {"spectral", required_argument, NULL, OPT_SPECTRAL},
+    {"compression", required_argument, NULL, OPT_COMPRESSION},
+    {"exposure", required_argument, NULL, OPT_EXPOSURE},
     {"time", required_argument, NULL, OPT_TIME},
     {"utc-offset", required_argument, NULL, OPT_UTC_OFFSET},
     {"refraction", required_argument, NULL, OPT_REFRACTION},
@@ -162,13 +178,14 @@ void options_print_usage(void)
           "                     [--utc-offset +HH[:MM]] [--altitude M] [--refraction on|off] [--pressure MBAR]\n"
           "                     [--temperature C] [--delta-t S] [--json]\n"
           "       firmament compare IMAGE.exr REFERENCE.exr [--exclude-sun DEG] [--json]\n"
+          "       firmament info FILE.exr   (the EXR's header: standard and firmament.* attributes)\n"
           "       firmament --help | --version\n"
           "\n"
           "Renders the sky seen from one place as an equirectangular OpenEXR map (Blender's\n"
           "Environment Texture layout: north at u = 0.25, east at the centre, zenith at the top), or\n"
           "through a fisheye or pinhole camera, and a JSON sidecar with the sun's direction and light.\n"
-          "Values are CIE-weighted radiance in linear Rec.709 (Y x 683 = cd/m^2), or spectral radiance\n"
-          "with --wavelength.\n"
+          "Values are CIE-weighted radiance in linear Rec.709 or the --colorspace chosen (Y x 683 =\n"
+          "cd/m^2), or spectral radiance with --wavelength.\n"
           "\n"
           "Sky:\n"
           "  --sun-elevation DEG    elevation of the sun's centre, [-90, 90] (default 30)\n"
@@ -236,6 +253,18 @@ void options_print_usage(void)
           "                         level horizon, no roll\n"
           "  --aspect W:H | X       pinhole: width / height, e.g. 16:9 or 1.5; height = W/aspect rounded\n"
           "                         to even, [8, 16384] (default 16:9)\n"
+          "  --half                 16-bit half-float EXR; refused (exit 2) when a value exceeds 65504,\n"
+          "                         as the sun disk does: add --no-sun-disk\n"
+          "  --compression METHOD   zip | piz, both lossless (default zip)\n"
+          "  --spectral FILE.exr    also write the spectral radiance (41 wavelengths, 380-780 nm) in the\n"
+          "                         spectral OpenEXR layout of Fichet et al. 2021 (41 x the image memory)\n"
+          "Colour (OpenColorIO; config $OCIO, else firmament's presets/ocio/config.ocio):\n"
+          "  --colorspace NAME      scene-linear colour space of the EXR and of the sidecar's RGB values,\n"
+          "                         any of the config's (default \"Linear Rec.709\"; e.g. ACEScg)\n"
+          "  --list-colorspaces     print the config's colour spaces and exit\n"
+          "  --preview FILE.png     also write an 8-bit sRGB preview (display \"sRGB\", view \"Standard\")\n"
+          "  --exposure EV          preview exposure: values x 2^EV before the display transform, [-100, 100]\n"
+          "                         (default: the sky's log-average luminance above the horizon -> 0.18)\n"
           "Quality:\n"
           "  --quality LEVEL        preview | final | reference (default final)\n"
           "  --samples N            reference quality: paths per pixel (default 256; slow by design,\n"
@@ -496,6 +525,14 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     opt->render = fm_render_params_default();
     opt->output = "sky.exr";
     opt->sidecar = NULL;
+    opt->colorspace = "Linear Rec.709";
+    opt->list_colorspaces = 0;
+    opt->preview = NULL;
+    opt->half = 0;
+    opt->spectral = NULL;
+    opt->compression = FM_EXR_ZIP;
+    opt->exposure_ev = 0.0;
+    opt->have_exposure = 0;
     opt->progress = PROGRESS_AUTO;
 
     opterr = 0; /* we print our own, one-line messages */
@@ -673,6 +710,44 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
         case OPT_SIDECAR:
             opt->sidecar = arg;
             break;
+        case OPT_COLORSPACE:
+            opt->colorspace = arg;
+            break;
+        case OPT_LIST_COLORSPACES:
+            opt->list_colorspaces = 1;
+            break;
+        case OPT_PREVIEW:
+            opt->preview = arg;
+            break;
+        case OPT_HALF:
+            opt->half = 1;
+            break;
+        case OPT_SPECTRAL:
+            opt->spectral = arg;
+            opt->render.spectral = 1;
+            break;
+        case OPT_COMPRESSION:
+            if (strcmp(arg, "zip") == 0)
+                opt->compression = FM_EXR_ZIP;
+            else if (strcmp(arg, "piz") == 0)
+                opt->compression = FM_EXR_PIZ;
+            else if (strcmp(arg, "dwaa") == 0) {
+                snprintf(msg, msg_size, "--compression: dwaa is not available (OpenEXR 3.1's C library, which "
+                                        "firmament writes with, cannot encode it); use zip or piz");
+                return PARSE_ERROR;
+            } else {
+                snprintf(msg, msg_size, "--compression: unknown method '%s' (known: zip, piz)", arg);
+                return PARSE_ERROR;
+            }
+            break;
+        case OPT_EXPOSURE:
+            opt->have_exposure = 1;
+            bad_number = !parse_double(arg, &opt->exposure_ev);
+            if (!bad_number && !(fabs(opt->exposure_ev) <= 100.0)) {
+                snprintf(msg, msg_size, "--exposure: %s is out of range [-100, 100]", arg);
+                return PARSE_ERROR;
+            }
+            break;
         case OPT_TIME:
         case OPT_UTC_OFFSET:
         case OPT_REFRACTION:
@@ -730,6 +805,18 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             return PARSE_ERROR;
         }
         opt->sky.ozone_column_du = FM_OZONE_FROM_CLIMATOLOGY;
+    }
+    if (opt->preview && opt->sky.wavelength_nm > 0.0) {
+        snprintf(msg, msg_size, "--preview: needs a colour render (not --wavelength)");
+        return PARSE_ERROR;
+    }
+    if (opt->spectral && (opt->sky.wavelength_nm > 0.0 || opt->frames > 0)) {
+        snprintf(msg, msg_size, "--spectral: needs a single colour render (not --wavelength nor a time series)");
+        return PARSE_ERROR;
+    }
+    if (opt->have_exposure && !opt->preview) {
+        snprintf(msg, msg_size, "--exposure: applies to --preview only");
+        return PARSE_ERROR;
     }
     return PARSE_RUN;
 }

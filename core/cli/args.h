@@ -16,6 +16,14 @@ typedef struct options {
     const char *output;      /* EXR path */
     const char *sidecar;     /* JSON path, or NULL for the default (output with .json) */
     progress_mode progress;
+    const char *colorspace; /* OpenColorIO colour space of the EXR (name or alias) */
+    int list_colorspaces;   /* --list-colorspaces: print them and exit */
+    const char *preview;    /* PNG path or NULL */
+    int half;               /* half-float EXR */
+    const char *spectral;   /* spectral EXR path or NULL */
+    fm_exr_compression compression;
+    double exposure_ev;     /* preview exposure when have_exposure, else automatic */
+    int have_exposure;
     /* A time series (--time-start, --time-end, --step): frames > 0 maps at time_start_s +
      * round(i * step_min * 60) seconds of the local day; sky.hour..second hold the first. */
     int frames;

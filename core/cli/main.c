@@ -71,6 +71,36 @@ static int exit_code_for(fm_status s)
     return s == FM_ERR_INVALID_ARGUMENT ? EXIT_USAGE : EXIT_RUNTIME;
 }
 
+/* The colour config and the checked --colorspace; prints --list-colorspaces.  Returns -1 to go
+ * on, else the exit code. */
+static int open_colour(const options *opt, fm_colour_config **cfg)
+{
+    fm_error err = {0};
+    fm_status s = fm_colour_config_open(NULL, cfg, &err);
+    if (!s && opt->list_colorspaces) {
+        for (int i = 0; i < fm_colour_config_count(*cfg); i++)
+            printf("%s\n", fm_colour_config_name(*cfg, i));
+        return 0;
+    }
+    if (!s)
+        s = fm_colour_config_check(*cfg, opt->colorspace, &err);
+    if (s) {
+        report_library_error(&err);
+        return exit_code_for(s);
+    }
+    return -1;
+}
+
+/* The preview PNG of a written map, when asked for. */
+static fm_status write_preview(const options *opt, const fm_image *img, const fm_colour_config *colour,
+                               const char *path, fm_error *err)
+{
+    if (!path)
+        return FM_OK;
+    double ev = opt->have_exposure ? opt->exposure_ev : fm_image_auto_exposure(img);
+    return fm_image_write_preview(img, colour, path, ev, err);
+}
+
 /* ---- time series: render --time-start HH:MM --time-end HH:MM --step MIN ------------------------ */
 
 /* path with _NNNN before its extension: sky.exr -> sky_0003.exr, out -> out_0003 */
@@ -89,7 +119,7 @@ static char *numbered_path(const char *path, int index)
 
 /* One fm_sky for the whole series: its atmosphere and tables are built once, and fm_sky_set_time
  * moves the sun for each frame (the maps are the same bits as separate runs at those times). */
-static int run_series(options *opt)
+static int run_series(options *opt, const fm_colour_config *colour)
 {
     fm_error err = {0};
     fm_sky *sky = NULL;
@@ -111,9 +141,10 @@ static int run_series(options *opt)
         int t = opt->time_start_s + (int)lround(i * opt->step_min * 60.0);
         char *exr = numbered_path(opt->output, i);
         char *json = exr ? (opt->sidecar ? numbered_path(opt->sidecar, i) : default_sidecar(exr)) : NULL;
+        char *preview = opt->preview ? numbered_path(opt->preview, i) : NULL;
         fm_output *out = NULL;
         fm_image *img = NULL;
-        if (!exr || !json) {
+        if (!exr || !json || (opt->preview && !preview)) {
             report_error("out of memory");
             code = EXIT_RUNTIME;
         } else if ((s = fm_sky_set_time(sky, t / 3600, t / 60 % 60, t % 60, &err))) {
@@ -129,9 +160,12 @@ static int run_series(options *opt)
             if ((s = fm_output_open(exr, json, &out, &err))) {
                 report_library_error(&err);
                 code = s == FM_ERR_IO ? EXIT_USAGE : exit_code_for(s);
-            } else if ((s = fm_render(sky, &opt->render, &img, &err)) ||
-                       (img->content == FM_IMAGE_XYZ && (s = fm_image_to_rec709(img, &err))) ||
-                       (s = fm_output_commit(out, sky, &opt->render, img, &cancel_signal, &err))) {
+            } else if ((s = fm_output_set_format(out, opt->half, opt->compression, &err)) ||
+                       (s = fm_render(sky, &opt->render, &img, &err)) ||
+                       (img->content == FM_IMAGE_XYZ &&
+                        (s = fm_image_to_colorspace(img, colour, opt->colorspace, &err))) ||
+                       (s = fm_output_commit(out, sky, &opt->render, img, &cancel_signal, &err)) ||
+                       (s = write_preview(opt, img, colour, preview, &err))) {
                 reporter_finish_line(&rep);
                 if (s == FM_ERR_CANCELLED)
                     report_error("interrupted; frame %d was not written (%d before it were)", i, written);
@@ -146,6 +180,7 @@ static int run_series(options *opt)
         fm_output_close(out);
         fm_image_destroy(img);
         free(json);
+        free(preview);
         if (!code && i == 0)
             first = exr;
         else if (!code) {
@@ -175,8 +210,13 @@ static int run_render(int argc, char **argv)
     case PARSE_RUN:
         break;
     }
-    if (opt.frames > 0)
-        return run_series(&opt);
+    fm_colour_config *colour = NULL;
+    int colour_code = open_colour(&opt, &colour);
+    if (colour_code >= 0 || opt.frames > 0) {
+        int series_code = colour_code >= 0 ? colour_code : run_series(&opt, colour);
+        fm_colour_config_close(colour);
+        return series_code;
+    }
     char *sidecar = opt.sidecar ? NULL : default_sidecar(opt.output);
     const char *sidecar_path = opt.sidecar ? opt.sidecar : sidecar;
     if (!sidecar_path) {
@@ -187,7 +227,7 @@ static int run_render(int argc, char **argv)
     fm_error err = {0};
     fm_sky *sky = NULL;
     fm_output *out = NULL;
-    fm_image *img = NULL;
+    fm_image *img = NULL, *spectral = NULL; /* spectral: the --spectral map, img made from it */
     int code = 0;
     reporter rep;
     reporter_init(&rep, opt.progress);
@@ -208,9 +248,14 @@ static int run_render(int argc, char **argv)
         code = s == FM_ERR_IO ? EXIT_USAGE : exit_code_for(s);
         goto done;
     }
-    if ((s = fm_render(sky, &opt.render, &img, &err)) ||
-        (img->content == FM_IMAGE_XYZ && (s = fm_image_to_rec709(img, &err))) ||
-        (s = fm_output_commit(out, sky, &opt.render, img, &cancel_signal, &err))) {
+    if ((s = fm_output_set_format(out, opt.half, opt.compression, &err)) ||
+        (s = fm_render(sky, &opt.render, &img, &err)) ||
+        (opt.spectral && (spectral = img, img = NULL, s = fm_image_spectral_to_xyz(spectral, &img, &err))) ||
+        (img->content == FM_IMAGE_XYZ && (s = fm_image_to_colorspace(img, colour, opt.colorspace, &err))) ||
+        (s = fm_output_commit(out, sky, &opt.render, img, &cancel_signal, &err)) ||
+        (opt.spectral &&
+         (s = fm_output_write_spectral(opt.spectral, sky, &opt.render, spectral, img, &cancel_signal, &err))) ||
+        (s = write_preview(&opt, img, colour, opt.preview, &err))) {
         reporter_finish_line(&rep);
         if (s == FM_ERR_CANCELLED)
             report_error("interrupted; nothing was written");
@@ -222,10 +267,33 @@ static int run_render(int argc, char **argv)
     reporter_done(&rep, opt.output, sidecar_path);
 done:
     fm_output_close(out); /* removes temporary files left by a failure */
+    fm_colour_config_close(colour);
+    fm_image_destroy(spectral);
     fm_image_destroy(img);
     fm_sky_destroy(sky);
     free(sidecar);
     return code;
+}
+
+/* firmament info FILE.exr: the header, "name (type): value" per line. */
+static void print_attribute(void *user, const char *name, const char *type, const char *value)
+{
+    printf("%s (%s): %s\n", name, type, value);
+}
+
+static int run_info(int argc, char **argv)
+{
+    if (argc != 2 || argv[1][0] == '-') {
+        report_error("usage: firmament info FILE.exr");
+        return EXIT_USAGE;
+    }
+    fm_error err = {0};
+    fm_status s = fm_exr_attributes(argv[1], print_attribute, NULL, &err);
+    if (s) {
+        report_library_error(&err);
+        return exit_code_for(s);
+    }
+    return 0;
 }
 
 /* firmament compare A.exr REF.exr [--exclude-sun DEG] [--json]: relative luminance error of A
@@ -306,6 +374,8 @@ int main(int argc, char **argv)
         return run_render(argc - 1, argv + 1);
     if (strcmp(cmd, "compare") == 0)
         return run_compare(argc - 1, argv + 1);
+    if (strcmp(cmd, "info") == 0)
+        return run_info(argc - 1, argv + 1);
     if (strcmp(cmd, "sun") == 0)
         return run_sun(argc - 1, argv + 1);
     report_error("unknown command '%s' (try: firmament render, or firmament --help)", cmd);

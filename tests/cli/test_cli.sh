@@ -303,6 +303,131 @@ if command -v exrheader >/dev/null; then
         exrheader "$work/out/map.exr" | grep -q '^envmap.*latitude-longitude' && ok || fail "the equirect map keeps envmap = latlong"
 fi
 
+# --- colour spaces (OpenColorIO) ---------------------------------------------------------------
+"$FM" render --list-colorspaces >"$work/spaces" 2>&1 && grep -qx 'Linear Rec.709' "$work/spaces" &&
+    grep -qx 'ACEScg' "$work/spaces" && grep -qx 'CIE XYZ D65' "$work/spaces" && ok || fail "--list-colorspaces: $(cat "$work/spaces")"
+expect_usage_error "unknown colour space" render --width 16 --quality preview --colorspace Rec.2020
+grep -q '"ACEScg"' "$work/stderr" && grep -q '"Linear Rec.709"' "$work/stderr" && ok || fail "unknown colour space lists the names: $(cat "$work/stderr")"
+expect_usage_error "display-encoded colour space" render --width 16 --quality preview --colorspace sRGB
+printf 'ocio_profile_version: 2\ncolorspaces: [broken\n' >"$work/broken.ocio"
+OCIO="$work/broken.ocio" expect_usage_error "broken \$OCIO" render --width 16 --quality preview
+grep -q "broken.ocio" "$work/stderr" && ok || fail "broken \$OCIO names the file: $(cat "$work/stderr")"
+# the EXR's chromaticities and the sidecar follow the chosen space; luminance is the same
+rm -rf "$work/out" && mkdir -p "$work/out"
+for cs in "Linear Rec.709" ACEScg "CIE XYZ D65"; do
+    "$FM" render --width 32 --quality preview --progress none --colorspace "$cs" -o "$work/out/${cs// /_}.exr" || fail "render --colorspace $cs"
+done
+python3 - "$work/out" <<'PY' && ok || fail "colour spaces: chromaticities, sidecar colorspace and luminance"
+import json, struct, sys
+d = sys.argv[1]
+def chromaticities(path):
+    data = open(path, "rb").read()
+    i = 8
+    while data[i] != 0:
+        name_end = data.index(b"\0", i); typ_end = data.index(b"\0", name_end + 1)
+        name, typ = data[i:name_end].decode(), data[name_end + 1:typ_end].decode()
+        size = struct.unpack("<i", data[typ_end + 1:typ_end + 5])[0]
+        value = data[typ_end + 5:typ_end + 5 + size]
+        if name == "chromaticities":
+            return struct.unpack("<8f", value)
+        i = typ_end + 5 + size
+expect = {"Linear_Rec.709": (0.64, 0.33, 0.30, 0.60, 0.15, 0.06, 0.3127, 0.3290),
+          "CIE_XYZ_D65": (1, 0, 0, 1, 0, 0, 1 / 3, 1 / 3)}
+for name, e in expect.items():
+    c = chromaticities(f"{d}/{name}.exr")
+    assert all(abs(a - b) < 1e-5 for a, b in zip(c, e)), (name, c)
+c = chromaticities(f"{d}/ACEScg.exr")
+assert abs(c[6] - 0.3127) < 1e-4 and abs(c[7] - 0.3290) < 1e-4, c  # Bradford: white stays D65
+lux = []
+for name in ("Linear_Rec.709", "ACEScg", "CIE_XYZ_D65"):
+    j = json.load(open(f"{d}/{name}.json"))
+    assert j["image"]["colorspace"] == name.replace("_", " "), j["image"]
+    lux.append(j["sky"]["diffuse_horizontal_illuminance_lux"])
+assert max(lux) - min(lux) < 1e-4 * max(lux), lux
+# the sidecar's RGB is in the chosen space: in XYZ the middle value is Y, 683 Y = lux
+j = json.load(open(f"{d}/CIE_XYZ_D65.json"))
+assert abs(683 * j["sun"]["direct_normal_irradiance_rgb"][1] - j["sun"]["direct_normal_illuminance_lux"]) < 1e-3 * j["sun"]["direct_normal_illuminance_lux"], j["sun"]
+PY
+# compare reads each file's colour space from its chromaticities: the same sky in ACEScg and in XYZ
+for cs in ACEScg CIE_XYZ_D65; do
+    "$FM" compare "$work/out/$cs.exr" "$work/out/Linear_Rec.709.exr" --json >"$work/cmp" &&
+        python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["max"] < 1e-3 and d["chromaticity"] < 1e-4, d' "$work/cmp" &&
+        ok || fail "compare $cs with Linear Rec.709: $(cat "$work/cmp")"
+done
+
+# --- previews ------------------------------------------------------------------------------------
+expect_usage_error "--exposure without --preview" render --width 16 --quality preview --exposure 2
+expect_usage_error "--exposure out of range" render --width 16 --quality preview --preview p.png --exposure 1000
+expect_usage_error "--exposure not a number" render --width 16 --quality preview --preview p.png --exposure bright
+expect_usage_error "--preview with --wavelength" render --width 16 --quality preview --preview p.png --wavelength 550
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$FM" render --width 32 --quality preview --progress none --preview "$work/out/sky.png" -o "$work/out/sky.exr" &&
+    "$FM" render --width 32 --quality preview --progress none --preview "$work/out/dark.png" --exposure -20 -o "$work/out/dark.exr" &&
+    python3 - "$work/out" <<'PY' && ok || fail "--preview writes a 32 x 16 8-bit RGB PNG; --exposure -20 is black"
+import struct, sys, zlib
+d = sys.argv[1]
+def png(path):
+    data = open(path, "rb").read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", path
+    i, idat, hdr = 8, b"", None
+    while i < len(data):
+        n, kind = struct.unpack(">I4s", data[i:i + 8])
+        body = data[i + 8:i + 8 + n]
+        if kind == b"IHDR":
+            hdr = struct.unpack(">IIBB", body[:10])
+        if kind == b"IDAT":
+            idat += body
+        i += 12 + n
+    return hdr, zlib.decompress(idat)
+hdr, _ = png(f"{d}/sky.png")
+assert hdr == (32, 16, 8, 2), hdr
+hdr, raw = png(f"{d}/dark.png")
+assert len(raw) == 16 * (1 + 96) and sum(raw) < 100, sum(raw)  # black but for a few sun-disk codes
+import os
+assert sorted(os.listdir(d)) == ["dark.exr", "dark.json", "dark.png", "sky.exr", "sky.json", "sky.png"], os.listdir(d)
+PY
+
+# --- half-float and compression -----------------------------------------------------------------
+expect_usage_error "unknown compression" render --width 16 --quality preview --compression lzma
+expect_usage_error "dwaa is not available" render --width 16 --quality preview --compression dwaa
+grep -q 'use zip or piz' "$work/stderr" && ok || fail "dwaa message: $(cat "$work/stderr")"
+# at 256 pixels across the sun disk exceeds the half range: refused after the render, nothing written
+expect_usage_error "--half with the sun disk" render --width 256 --quality preview --sample-scale 0.05 --half
+grep -q -- '--half: .*65504.*--no-sun-disk' "$work/stderr" && ok || fail "half overflow message: $(cat "$work/stderr")"
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$FM" render --width 32 --quality preview --progress none --no-sun-disk --half --compression piz -o "$work/out/half.exr" &&
+    "$FM" render --width 32 --quality preview --progress none --no-sun-disk -o "$work/out/float.exr" &&
+    "$FM" compare "$work/out/half.exr" "$work/out/float.exr" --json >"$work/cmp" &&
+    python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["max"] < 1e-3, d' "$work/cmp" && ok ||
+    fail "--half --compression piz: readable and within half precision of float: $(cat "$work/cmp")"
+
+# --- spectral EXR --------------------------------------------------------------------------------
+expect_usage_error "--spectral with --wavelength" render --width 16 --quality preview --spectral s.exr --wavelength 550
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$FM" render --width 32 --quality preview --progress none --spectral "$work/out/spectral.exr" -o "$work/out/sky.exr" &&
+    "$FM" render --width 32 --quality preview --progress none -o "$work/out/plain.exr" &&
+    [ -s "$work/out/spectral.exr" ] && [ "$(ls -A "$work/out" | wc -l)" -eq 5 ] &&
+    "$FM" compare "$work/out/sky.exr" "$work/out/plain.exr" --json >"$work/cmp" &&
+    python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["max"] < 1e-3, d' "$work/cmp" && ok ||
+    fail "--spectral writes the spectral EXR beside the same RGB map: $(ls -A "$work/out") $(cat "$work/cmp" 2>/dev/null)"
+"$FM" compare "$work/out/spectral.exr" "$work/out/sky.exr" >/dev/null 2>"$work/stderr"
+[ $? -ne 0 ] && grep -q 'found 41 channels' "$work/stderr" && ok || fail "compare refuses a spectral EXR: $(cat "$work/stderr")"
+grep -q 'S0.550,000000nm' "$work/out/spectral.exr" && grep -q 'W.m^-2.sr^-1.nm^-1' "$work/out/spectral.exr" && ok ||
+    fail "spectral EXR channel names and emissiveUnits"
+
+# --- info: the EXR's header ----------------------------------------------------------------------
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$FM" render --width 16 --quality preview --progress none --colorspace ACEScg -o "$work/out/sky.exr" &&
+    "$FM" info "$work/out/sky.exr" >"$work/info" && grep -q '^compression (compression): zip$' "$work/info" &&
+    grep -q '^chromaticities (chromaticities): red' "$work/info" && grep -q '^envmap (envmap): latlong$' "$work/info" &&
+    grep -q '^firmament.image.colorspace (string): ACEScg$' "$work/info" &&
+    grep -q '^firmament.sun.direction (v3d): (' "$work/info" && ok || fail "info lists the header: $(cat "$work/info")"
+[ "$(grep -n '^firmament' "$work/info" | head -n 1 | cut -d: -f1)" -gt "$(grep -n '^whiteLuminance' "$work/info" | cut -d: -f1)" ] &&
+    ok || fail "info: standard attributes first"
+expect_usage_error "info without a file" info
+expect_usage_error "info of a missing file" info missing.exr
+grep -q "missing.exr" "$work/stderr" && ok || fail "info names the missing file: $(cat "$work/stderr")"
+
 # --- interruption: SIGINT and SIGTERM leave nothing, and never replace an existing file ---------
 interrupt() {
     local sig=$1 expect=$2

@@ -6,7 +6,7 @@
 
 typedef struct test_exr {
     int width, height, channels;
-    char names[4][8];
+    char names[48][24]; /* up to 48 channels (spectral maps) */
     float *pixels; /* interleaved in names[] order */
 } test_exr;
 

@@ -29,6 +29,7 @@
 #define FIRMAMENT_H
 
 #include <stdatomic.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #ifdef __cplusplus
@@ -287,6 +288,8 @@ typedef struct fm_render_params {
     uint64_t seed;            /* same seed and thread count: bit-identical output */
     int threads;              /* worker threads, [0, 256]; 0 = one per online core */
     int sun_disk;             /* nonzero: the sun disk is part of the map */
+    int spectral;             /* colour skies: keep the spectral radiance at every wavelength of the
+                               * grid (FM_IMAGE_SPECTRAL_GRID, 41 channels: 41 x the memory) */
     double sample_scale;      /* multiplies every sample count of the quality level, (0, 1024] */
     int reference_samples;    /* reference quality: paths per pixel; 0 = default */
     fm_progress_fn progress;  /* may be NULL */
@@ -299,8 +302,12 @@ fm_render_params fm_render_params_default(void);
 typedef enum fm_image_content {
     FM_IMAGE_XYZ = 0,          /* 3 channels, CIE 1931 XYZ of spectral radiance (Y * 683 = cd/m^2) */
     FM_IMAGE_RGB_REC709,       /* 3 channels, linear Rec.709 / sRGB primaries, D65, same scale */
-    FM_IMAGE_SPECTRAL_RADIANCE /* 1 channel, W m^-2 sr^-1 nm^-1 at the sky's single wavelength */
+    FM_IMAGE_SPECTRAL_RADIANCE, /* 1 channel, W m^-2 sr^-1 nm^-1 at the sky's single wavelength */
+    FM_IMAGE_RGB,               /* 3 channels, the linear colour space named in fm_image.colorspace */
+    FM_IMAGE_SPECTRAL_GRID      /* `wavelengths` channels, W m^-2 sr^-1 nm^-1 at lambda_nm[] */
 } fm_image_content;
+
+#define FM_IMAGE_MAX_WAVELENGTHS 48
 
 typedef struct fm_image {
     int width, height, channels;
@@ -313,6 +320,17 @@ typedef struct fm_image {
                            * value, left in XYZ by fm_image_to_rec709; else NULL */
     fm_camera camera;     /* the camera that made it (read back from firmament's attributes; equirect
                            * for other files) */
+    /* FM_IMAGE_RGB only (set by fm_image_to_colorspace): the OpenColorIO colour space, its CIE xy
+     * chromaticities R, G, B, W (XYZ spaces: R (1,0), G (0,1), B (0,0), W (1/3,1/3)) and the
+     * matrix from its values to CIE XYZ (rows X, Y, Z). */
+    char colorspace[64];
+    float chromaticities[8];
+    double rgb_to_xyz[3][3];
+    /* FM_IMAGE_SPECTRAL_GRID only: the wavelengths of the channels and the weights that integrate
+     * them to XYZ (XYZ = sum over k of L_k xyz_weight[k], the renderer's own quadrature). */
+    int wavelengths;
+    double lambda_nm[FM_IMAGE_MAX_WAVELENGTHS];
+    double xyz_weight[FM_IMAGE_MAX_WAVELENGTHS][3];
 } fm_image;
 
 /* Renders the sky through the camera of params (an equirectangular map by default).  The result holds
@@ -320,8 +338,50 @@ typedef struct fm_image {
 fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image **out, fm_error *err);
 void fm_image_destroy(fm_image *image); /* accepts NULL */
 
+/* The XYZ image of a spectral map (FM_IMAGE_SPECTRAL_GRID): a new image, sun disk plane included,
+ * integrated with the image's own weights, so that it equals a colour render's XYZ from the same
+ * spectra. */
+fm_status fm_image_spectral_to_xyz(const fm_image *spectral, fm_image **xyz, fm_error *err);
+
 /* Converts an XYZ image to linear Rec.709 in place (the fixed sRGB/D65 matrix, no adaptation). */
 fm_status fm_image_to_rec709(fm_image *image, fm_error *err);
+
+/* Colour management: every conversion goes through OpenColorIO.  The config is the given path,
+ * else $OCIO when set, else firmament's own presets/ocio/config.ocio ("CIE XYZ D65" reference,
+ * "CIE XYZ E", "Linear Rec.709", "ACEScg", "ACES2065-1", "sRGB"; display "sRGB", view "Standard").
+ * The config must hold the space of the rendered XYZ: a colour space named "CIE XYZ D65" or the
+ * role cie_xyz_d65_interchange.  An unreadable config fails with FM_ERR_INVALID_ARGUMENT. */
+typedef struct fm_colour_config fm_colour_config;
+fm_status fm_colour_config_open(const char *path, fm_colour_config **out, fm_error *err);
+void fm_colour_config_close(fm_colour_config *cfg); /* accepts NULL */
+const char *fm_colour_config_path(const fm_colour_config *cfg);
+int fm_colour_config_count(const fm_colour_config *cfg);
+const char *fm_colour_config_name(const fm_colour_config *cfg, int index);
+
+/* Converts an XYZ image in place to a scene-linear colour space of the config (name or alias); the
+ * image becomes FM_IMAGE_RGB.  An unknown name fails with a message listing the config's spaces; a
+ * non-linear (display-encoded) space is refused: the EXR holds radiance.  std_error stays in XYZ. */
+fm_status fm_image_to_colorspace(fm_image *image, const fm_colour_config *cfg, const char *name, fm_error *err);
+/* The same checks on the name alone (before a render): FM_OK when fm_image_to_colorspace accepts it. */
+fm_status fm_colour_config_check(const fm_colour_config *cfg, const char *name, fm_error *err);
+
+/* Converts n float triples in place between two colour spaces of the config. */
+fm_status fm_colour_convert(const fm_colour_config *cfg, const char *src, const char *dst, float *rgb, size_t n,
+                            fm_error *err);
+
+/* Applies the config's display/view transform (e.g. "sRGB", "Standard") to n triples in place;
+ * src is a colour space of the config, or NULL for the rendered XYZ. */
+fm_status fm_colour_display(const fm_colour_config *cfg, const char *src, const char *display, const char *view,
+                            float *rgb, size_t n, fm_error *err);
+
+/* Previews: an 8-bit sRGB PNG through the config's display "sRGB", view "Standard", of a colour
+ * image (XYZ or FM_IMAGE_RGB) scaled by 2^exposure_ev before the display transform.  Written to
+ * a temporary file beside path and renamed: complete or not at all. */
+fm_status fm_image_write_preview(const fm_image *image, const fm_colour_config *cfg, const char *path,
+                                 double exposure_ev, fm_error *err);
+/* The automatic exposure: EV that maps the log-average (geometric mean) luminance of the sky above
+ * the horizon, weighted by solid angle and without the sun disk, to 0.18 (18% grey). */
+double fm_image_auto_exposure(const fm_image *image);
 
 /* Illuminance-like integral of the sky part (sun disk excluded) over the upper hemisphere seen by a
  * horizontal surface: sum of L cos(zenith) dOmega per channel, in the image's units.  Returns 1 for
@@ -363,6 +423,29 @@ fm_status fm_output_commit(fm_output *output, const fm_sky *sky, const fm_render
                            const fm_image *image, const atomic_int *cancel, fm_error *err);
 /* Removes any temporary file left and frees the handle (accepts NULL). */
 void fm_output_close(fm_output *output);
+
+/* Lossless both.  (DWAA is not offered: OpenEXR 3.1's C library, which firmament writes with,
+ * cannot encode it.) */
+/* Writes a spectral map (FM_IMAGE_SPECTRAL_GRID) as an EXR in the layout of Fichet, Pacanowski &
+ * Wilkie (JCGT 10(3), 2021): one float channel per wavelength, "S0.550,000000nm", header
+ * emissiveUnits = "W.m^-2.sr^-1.nm^-1" and spectralLayoutVersion = "1.0", plus the firmament.*
+ * attributes of the colour image made from it.  Temporary file renamed: complete or nothing. */
+fm_status fm_output_write_spectral(const char *path, const fm_sky *sky, const fm_render_params *params,
+                                   const fm_image *spectral, const fm_image *colour, const atomic_int *cancel,
+                                   fm_error *err);
+
+/* Every header attribute of an EXR's first part as text (name, OpenEXR type, value): the standard
+ * ones (channels, compression, chromaticities, ...) first, then firmament.*, each alphabetically.
+ * An unreadable file fails with FM_ERR_INVALID_ARGUMENT. */
+typedef void (*fm_exr_attribute_fn)(void *user, const char *name, const char *type, const char *value);
+fm_status fm_exr_attributes(const char *path, fm_exr_attribute_fn fn, void *user, fm_error *err);
+
+typedef enum fm_exr_compression { FM_EXR_ZIP = 0, FM_EXR_PIZ } fm_exr_compression;
+/* The EXR's pixel format, before fm_output_commit: half-float (16-bit) instead of 32-bit float,
+ * and the compression (default ZIP).
+ * A half map whose values exceed the half range (65504, e.g. the sun disk) is refused at commit
+ * with FM_ERR_INVALID_ARGUMENT (parameter "half"), nothing written. */
+fm_status fm_output_set_format(fm_output *output, int half, fm_exr_compression compression, fm_error *err);
 
 #ifdef __cplusplus
 }

@@ -2,7 +2,11 @@
 #include "base/status.h"
 #include "image/image.h"
 
+#include "colour/colour.h"
+
+#include <math.h>
 #include <openexr.h>
+#include <stdio.h>
 #include <string.h>
 
 static _Thread_local char read_message[256];
@@ -64,6 +68,11 @@ fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
     }
     int W = dw.max.x - dw.min.x + 1, H = dw.max.y - dw.min.y + 1;
     int offsets[4] = {-1, -1, -1, -1}, C = 0;
+    if (cl->num_channels > 4) {
+        s = fm_fail(err, FM_ERR_IO, "cannot read '%s': expected R, G, B or Y channels, found %d channels", path,
+                    cl->num_channels);
+        goto done;
+    }
     for (int i = 0; i < cl->num_channels; i++) {
         const char *n = cl->entries[i].name.str;
         if (!strcmp(n, "R") || !strcmp(n, "Y"))
@@ -83,6 +92,25 @@ fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
     if (!img) {
         s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory reading '%s'", path);
         goto done;
+    }
+    /* an RGB file in another colour space (firmament's --colorspace): its matrix to XYZ from its
+     * chromaticities, so that comparisons are of luminance */
+    exr_attr_chromaticities_t chroma;
+    if (C == 3 && exr_attr_get_chromaticities(c, 0, "chromaticities", &chroma) == EXR_ERR_SUCCESS) {
+        const float v[8] = {chroma.red_x,  chroma.red_y,  chroma.green_x, chroma.green_y,
+                             chroma.blue_x, chroma.blue_y, chroma.white_x, chroma.white_y};
+        double diff = 0.0;
+        for (int i = 0; i < 8; i++)
+            diff = fmax(diff, fabs(v[i] - fm_rec709_chromaticities[i]));
+        if (diff > 1e-5 && colour_matrix_from_chromaticities(v, img->rgb_to_xyz)) {
+            img->content = FM_IMAGE_RGB;
+            memcpy(img->chromaticities, v, sizeof v);
+            int32_t len = 0;
+            const char *name = NULL;
+            if (exr_attr_get_string(c, 0, "firmament.image.colorspace", &len, &name) != EXR_ERR_SUCCESS || !name)
+                name = "from the file's chromaticities";
+            snprintf(img->colorspace, sizeof img->colorspace, "%s", name);
+        }
     }
     exr_attr_v3d_t sun;
     if (exr_attr_get_v3d(c, 0, "firmament.sun.direction", &sun) == EXR_ERR_SUCCESS) {

@@ -4,6 +4,7 @@
 #include "camera/camera.h"
 #include "colour/colour.h"
 #include "image/image.h"
+#include "spectrum/spectral_grid.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -26,6 +27,49 @@ fm_image *image_create(int width, int height, int channels, fm_image_content con
         return NULL;
     }
     return img;
+}
+
+_Static_assert(FM_IMAGE_MAX_WAVELENGTHS == FM_MAX_WAVELENGTHS, "a spectral map holds every grid wavelength");
+
+void image_set_wavelengths(fm_image *img, int n, const double *lambda_nm, const double *xyz_weight)
+{
+    img->wavelengths = n;
+    for (int k = 0; k < n; k++) {
+        img->lambda_nm[k] = lambda_nm[k];
+        for (int c = 0; c < 3; c++)
+            img->xyz_weight[k][c] = xyz_weight[3 * k + c];
+    }
+}
+
+static void integrate_plane(const fm_image *s, const float *in, float *out, size_t pixels)
+{
+    const int K = s->wavelengths;
+    for (size_t i = 0; i < pixels; i++) {
+        double xyz[3] = {0.0, 0.0, 0.0};
+        for (int k = 0; k < K; k++)
+            for (int c = 0; c < 3; c++)
+                xyz[c] += in[i * K + k] * s->xyz_weight[k][c];
+        for (int c = 0; c < 3; c++)
+            out[3 * i + c] = (float)xyz[c];
+    }
+}
+
+fm_status fm_image_spectral_to_xyz(const fm_image *s, fm_image **out, fm_error *err)
+{
+    *out = NULL;
+    if (s->content != FM_IMAGE_SPECTRAL_GRID || s->channels != s->wavelengths)
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "not a spectral map");
+    fm_image *x = image_create(s->width, s->height, 3, FM_IMAGE_XYZ, s->sun_disk != NULL, 0);
+    if (!x)
+        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for a %d x %d image", s->width, s->height);
+    size_t n = (size_t)s->width * (size_t)s->height;
+    integrate_plane(s, s->pixels, x->pixels, n);
+    if (s->sun_disk)
+        integrate_plane(s, s->sun_disk, x->sun_disk, n);
+    for (int c = 0; c < 3; c++)
+        x->sun_direction[c] = s->sun_direction[c];
+    *out = x;
+    return FM_OK;
 }
 
 void fm_image_destroy(fm_image *image)

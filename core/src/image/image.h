@@ -7,4 +7,12 @@
 /* Zero-filled image; optional sun-disk and standard-error planes.  NULL when out of memory. */
 fm_image *image_create(int width, int height, int channels, fm_image_content content, int with_disk, int with_error);
 
+/* Records a spectral map's wavelengths and XYZ weights (n <= FM_IMAGE_MAX_WAVELENGTHS; xyz_weight
+ * row-major n x 3). */
+void image_set_wavelengths(fm_image *img, int n, const double *lambda_nm, const double *xyz_weight);
+
+/* Creates an empty "<dir>/.<name>.XXXXXX" beside path, for writing and renaming over path;
+ * returns its malloc'd name, or NULL with err filled (also when path is a directory). */
+char *image_reserve_temp(const char *path, fm_error *err);
+
 #endif

@@ -34,8 +34,14 @@ static exr_result_t write_attributes(exr_context_t ctxt, const fm_image *img, co
     exr_result_t rv = EXR_ERR_SUCCESS;
     if (img->camera.type == FM_CAMERA_EQUIRECT)
         rv = exr_attr_set_envmap(ctxt, 0, "envmap", EXR_ENVMAP_LATLONG);
-    if (rv == EXR_ERR_SUCCESS && img->content == FM_IMAGE_RGB_REC709) {
-        const float *c = fm_rec709_chromaticities;
+    if (rv == EXR_ERR_SUCCESS && img->content == FM_IMAGE_SPECTRAL_GRID) {
+        /* Fichet, Pacanowski & Wilkie, "An OpenEXR Layout for Spectral Images", JCGT 10(3), 2021 */
+        rv = exr_attr_set_string(ctxt, 0, "spectralLayoutVersion", "1.0");
+        if (rv == EXR_ERR_SUCCESS)
+            rv = exr_attr_set_string(ctxt, 0, "emissiveUnits", "W.m^-2.sr^-1.nm^-1");
+    }
+    if (rv == EXR_ERR_SUCCESS && (img->content == FM_IMAGE_RGB_REC709 || img->content == FM_IMAGE_RGB)) {
+        const float *c = img->content == FM_IMAGE_RGB ? img->chromaticities : fm_rec709_chromaticities;
         exr_attr_chromaticities_t chroma = {c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]};
         rv = exr_attr_set_chromaticities(ctxt, 0, "chromaticities", &chroma);
         if (rv == EXR_ERR_SUCCESS)
@@ -65,17 +71,36 @@ static exr_result_t write_attributes(exr_context_t ctxt, const fm_image *img, co
     return rv;
 }
 
+/* The EXR name of channel c: Y, R G B, or for spectral maps the emissive channel of the spectral
+ * layout, "S0.<wavelength>nm" with six decimals and a comma as decimal separator. */
+static void channel_name(const fm_image *img, int c, char *name, size_t size)
+{
+    if (img->content == FM_IMAGE_SPECTRAL_GRID) {
+        snprintf(name, size, "S0.%.6fnm", img->lambda_nm[c]);
+        char *dot = strchr(name + 3, '.');
+        if (dot)
+            *dot = ',';
+    } else {
+        snprintf(name, size, "%s", img->channels == 1 ? "Y" : (c == 0 ? "R" : (c == 1 ? "G" : "B")));
+    }
+}
+
 /* Offset of an EXR channel name within our interleaved pixel. */
 static int channel_offset(const fm_image *img, const char *name)
 {
-    if (img->channels == 1)
-        return 0;
-    return name[0] == 'R' ? 0 : (name[0] == 'G' ? 1 : 2);
+    char own[32];
+    for (int c = 0; c < img->channels; c++) {
+        channel_name(img, c, own, sizeof own);
+        if (strcmp(own, name) == 0)
+            return c;
+    }
+    return 0;
 }
 
-fm_status image_write_exr(const char *path, const fm_image *img, const metadata *meta, const atomic_int *cancel,
-                          fm_error *err)
+fm_status image_write_exr(const char *path, const fm_image *img, const metadata *meta, int half,
+                          fm_exr_compression compression, const atomic_int *cancel, fm_error *err)
 {
+    const exr_compression_t method = compression == FM_EXR_PIZ ? EXR_COMPRESSION_PIZ : EXR_COMPRESSION_ZIP;
     exr_messages *msgs_ptr = &thread_messages;
     msgs_ptr->last[0] = '\0';
     const exr_messages *msgs_view = msgs_ptr;
@@ -89,15 +114,16 @@ fm_status image_write_exr(const char *path, const fm_image *img, const metadata 
     fm_status status = FM_OK;
     int part = 0;
     const int W = img->width, H = img->height, C = img->channels;
-    const char *rgb[3] = {"R", "G", "B"};
     /* attribute names such as firmament.sun.direct_normal_illuminance_lux exceed 31 characters */
     if ((rv = exr_set_longname_support(ctxt, 1)) ||
         (rv = exr_add_part(ctxt, "", EXR_STORAGE_SCANLINE, &part)) ||
-        (rv = exr_initialize_required_attr_simple(ctxt, part, W, H, EXR_COMPRESSION_ZIP)))
+        (rv = exr_initialize_required_attr_simple(ctxt, part, W, H, method)))
         goto fail;
     for (int c = 0; c < C; c++) {
-        const char *name = C == 1 ? "Y" : rgb[c];
-        if ((rv = exr_add_channel(ctxt, part, name, EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LINEAR, 1, 1)))
+        char name[32];
+        channel_name(img, c, name, sizeof name);
+        if ((rv = exr_add_channel(ctxt, part, name, half ? EXR_PIXEL_HALF : EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LINEAR,
+                                  1, 1)))
             goto fail;
     }
     if ((rv = write_attributes(ctxt, img, meta)) || (rv = exr_write_header(ctxt)))

@@ -1,5 +1,5 @@
-/* OpenEXR output through OpenEXR's C API (OpenEXRCore): scanline, ZIP, 32-bit float (the sun disk
- * exceeds half-float range), chromaticities of the colour space, envmap = latlong (equirectangular maps only), whiteLuminance
+/* OpenEXR output through OpenEXR's C API (OpenEXRCore): scanline, ZIP (or PIZ), 32-bit float
+ * (or half when the values fit: the sun disk exceeds half-float range), chromaticities of the colour space, envmap = latlong (equirectangular maps only), whiteLuminance
  * (683 cd/m^2 for RGB = 1), and every metadata entry as a typed "firmament.<group>.<key>" attribute.
  * The file is written to the given path as is; output.c chooses a temporary path and renames. */
 #ifndef FM_IMAGE_IMAGE_EXR_H
@@ -7,7 +7,8 @@
 
 #include "image/metadata.h"
 
-fm_status image_write_exr(const char *path, const fm_image *img, const metadata *meta, const atomic_int *cancel,
-                          fm_error *err);
+/* half: 16-bit channels (the caller has checked the range); compression: FM_EXR_*. */
+fm_status image_write_exr(const char *path, const fm_image *img, const metadata *meta, int half,
+                          fm_exr_compression compression, const atomic_int *cancel, fm_error *err);
 
 #endif

@@ -170,7 +170,10 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
     add_int(m, "image", "width", img->width);
     add_int(m, "image", "height", img->height);
     add_camera(m, img);
-    if (colour) {
+    if (img->content == FM_IMAGE_RGB) {
+        add_string(m, "image", "colorspace", img->colorspace);
+        add_string(m, "image", "units", "CIE-weighted radiance, W m^-2 sr^-1 (Y x 683 = luminance in cd/m^2)");
+    } else if (colour) {
         add_string(m, "image", "colorspace", "Linear Rec.709 (sRGB primaries, D65 white)");
         add_string(m, "image", "units", "CIE-weighted radiance, W m^-2 sr^-1 (Y x 683 = luminance in cd/m^2)");
     } else {
@@ -240,9 +243,16 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
     add_double(m, "sun", "elevation_deg", sp->sun_elevation_deg);
     add_double(m, "sun", "azimuth_deg", sp->sun_azimuth_deg);
     add_double(m, "sun", "angular_diameter_deg", 2.0 * sun.angular_radius_deg);
+    /* the RGB values are in the image's colour space (image.colorspace) */
+    double xyz_to_rgb[3][3] = {{0.0}};
+    if (img->content == FM_IMAGE_RGB)
+        colour_matrix_inverse(&img->rgb_to_xyz[0][0], xyz_to_rgb);
     if (colour) {
         double rgb[3];
-        colour_xyz_to_rec709(sun.normal_irradiance, rgb);
+        if (img->content == FM_IMAGE_RGB)
+            colour_matrix_apply(&xyz_to_rgb[0][0], sun.normal_irradiance, rgb);
+        else
+            colour_xyz_to_rec709(sun.normal_irradiance, rgb);
         add_vec3(m, "sun", "direct_normal_irradiance_rgb", rgb);
         add_double(m, "sun", "direct_normal_illuminance_lux", FM_LUMINOUS_EFFICACY * sun.normal_irradiance[1]);
         add_double(m, "sun", "direct_horizontal_illuminance_lux", FM_LUMINOUS_EFFICACY * sun.horizontal_irradiance[1]);
@@ -251,10 +261,15 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
         double diffuse_xyz[3];
         if (img->content == FM_IMAGE_RGB_REC709)
             colour_rec709_to_xyz(diffuse, diffuse_xyz);
+        else if (img->content == FM_IMAGE_RGB)
+            colour_matrix_apply(&img->rgb_to_xyz[0][0], diffuse, diffuse_xyz);
         else
             memcpy(diffuse_xyz, diffuse, sizeof diffuse_xyz);
         double diffuse_rgb[3];
-        colour_xyz_to_rec709(diffuse_xyz, diffuse_rgb);
+        if (img->content == FM_IMAGE_RGB)
+            colour_matrix_apply(&xyz_to_rgb[0][0], diffuse_xyz, diffuse_rgb);
+        else
+            colour_xyz_to_rec709(diffuse_xyz, diffuse_rgb);
         add_vec3(m, "sky", "diffuse_horizontal_irradiance_rgb", diffuse_rgb);
         add_double(m, "sky", "diffuse_horizontal_illuminance_lux", FM_LUMINOUS_EFFICACY * diffuse_xyz[1]);
         add_double(m, "sky", "global_horizontal_illuminance_lux",

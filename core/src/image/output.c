@@ -3,10 +3,12 @@
  * atomic) and renamed only after both are complete. */
 #define _POSIX_C_SOURCE 200809L
 #include "base/status.h"
+#include "image/image.h"
 #include "image/image_exr.h"
 #include "image/sidecar.h"
 
 #include <errno.h>
+#include <math.h>
 #include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,10 +19,34 @@
 struct fm_output {
     char *exr_path, *json_path;
     char *exr_tmp, *json_tmp; /* NULL once renamed or removed */
+    int half;
+    fm_exr_compression compression;
 };
 
+fm_status fm_output_set_format(fm_output *o, int half, fm_exr_compression compression, fm_error *err)
+{
+    if (compression != FM_EXR_ZIP && compression != FM_EXR_PIZ)
+        return fm_fail_parameter(err, "compression", "unknown compression %d", (int)compression);
+    o->half = half;
+    o->compression = compression;
+    return FM_OK;
+}
+
+/* The largest magnitude of the pixels, for the half-float range check (NaN counts as too large). */
+static double largest_value(const fm_image *img)
+{
+    size_t n = (size_t)img->width * img->height * img->channels;
+    double m = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        double v = fabs((double)img->pixels[i]);
+        if (!(v <= m))
+            m = v != v ? INFINITY : v;
+    }
+    return m;
+}
+
 /* Creates "<dir>/.<name>.XXXXXX" and returns its path (malloc'd), or NULL with err filled. */
-static char *reserve_temp(const char *path, fm_error *err)
+char *image_reserve_temp(const char *path, fm_error *err)
 {
     struct stat st;
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
@@ -77,7 +103,7 @@ fm_status fm_output_open(const char *exr_path, const char *json_path, fm_output 
         fm_output_close(o);
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
     }
-    if (!(o->exr_tmp = reserve_temp(exr_path, err)) || !(o->json_tmp = reserve_temp(json_path, err))) {
+    if (!(o->exr_tmp = image_reserve_temp(exr_path, err)) || !(o->json_tmp = image_reserve_temp(json_path, err))) {
         fm_output_close(o);
         return err ? err->status : FM_ERR_IO;
     }
@@ -90,9 +116,18 @@ fm_status fm_output_commit(fm_output *o, const fm_sky *sky, const fm_render_para
 {
     if (!o->exr_tmp || !o->json_tmp)
         return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "output already committed");
+    if (o->half) {
+        /* 65504 is the largest finite half; rounding to it starts at 65520 */
+        double m = largest_value(image);
+        if (m >= 65504.0)
+            return fm_fail_parameter(err, "half", "the map holds values up to %.4g (the sun disk), beyond the "
+                                                  "half-float range 65504; leave the sun disk out (--no-sun-disk) "
+                                                  "or write 32-bit float",
+                                     m);
+    }
     metadata meta;
     metadata_collect(&meta, sky, params, image, o->exr_path);
-    fm_status s = image_write_exr(o->exr_tmp, image, &meta, cancel, err);
+    fm_status s = image_write_exr(o->exr_tmp, image, &meta, o->half, o->compression, cancel, err);
     if (!s)
         s = sidecar_write(o->json_tmp, &meta, err);
     if (!s && cancel && atomic_load(cancel))
@@ -124,4 +159,24 @@ void fm_output_close(fm_output *o)
     free(o->exr_path);
     free(o->json_path);
     free(o);
+}
+
+fm_status fm_output_write_spectral(const char *path, const fm_sky *sky, const fm_render_params *params,
+                                   const fm_image *spectral, const fm_image *colour, const atomic_int *cancel,
+                                   fm_error *err)
+{
+    if (spectral->content != FM_IMAGE_SPECTRAL_GRID)
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "not a spectral map");
+    char *tmp = image_reserve_temp(path, err);
+    if (!tmp)
+        return err ? err->status : FM_ERR_IO;
+    metadata meta;
+    metadata_collect(&meta, sky, params, colour, path);
+    fm_status s = image_write_exr(tmp, spectral, &meta, 0, FM_EXR_ZIP, cancel, err);
+    if (!s && rename(tmp, path) != 0)
+        s = fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
+    if (s)
+        unlink(tmp);
+    free(tmp);
+    return s;
 }

@@ -54,17 +54,19 @@ typedef struct render_job {
     fm_image *img;
 } render_job;
 
-/* Spectral radiance (K values) -> image channels. */
-static void to_channels(const atmosphere *atm, const double *L, float *out)
+/* Spectral radiance (K values) -> C image channels: XYZ (colour, C = 3), else the K values
+ * themselves (monochromatic C = K = 1; spectral maps C = K). */
+static void to_channels(const atmosphere *atm, int C, const double *L, float *out)
 {
-    if (atm->grid.colour) {
+    if (atm->grid.colour && C == 3) {
         double xyz[3];
         spectral_grid_to_xyz(&atm->grid, L, xyz);
         out[0] = (float)xyz[0];
         out[1] = (float)xyz[1];
         out[2] = (float)xyz[2];
     } else {
-        out[0] = (float)L[0];
+        for (int c = 0; c < C; c++)
+            out[c] = (float)L[c];
     }
 }
 
@@ -83,8 +85,8 @@ static void ss_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         double e, phi, L[FM_MAX_WAVELENGTHS] = {0};
         sky_grid_node_angles(&job->ss, (int)i, &e, &phi);
         single_scatter_radiance(&pc, sky->observer, view_direction(sky, e, phi), L);
-        float v[3];
-        to_channels(&sky->atm, L, v);
+        float v[FM_MAX_WAVELENGTHS];
+        to_channels(&sky->atm, job->channels, L, v);
         for (int c = 0; c < job->channels; c++)
             sky_grid_set(&job->ss, (int)i, c, v[c]);
     }
@@ -108,7 +110,7 @@ static void ms_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         }
         for (int k = 0; k < K; k++)
             L[k] /= job->q.ms_paths;
-        to_channels(&sky->atm, L, &job->ms.values[i * job->channels]);
+        to_channels(&sky->atm, job->channels, L, &job->ms.values[i * job->channels]);
     }
 }
 
@@ -168,8 +170,8 @@ static void fast_rows(void *ctx, int64_t begin, int64_t end, int thread)
     for (int64_t y = begin; y < end; y++) {
         const int ny = row_samples(job, (int)y, H, elevation, weight);
         for (int x = 0; x < W; x++) {
-            double acc[3] = {0, 0, 0};
-            float v[3];
+            double acc[FM_MAX_WAVELENGTHS] = {0};
+            float v[FM_MAX_WAVELENGTHS];
             for (int sy = 0; sy < ny; sy++) {
                 for (int sx = 0; sx < n; sx++) {
                     double e, a;
@@ -233,15 +235,15 @@ static void reference_rows(void *ctx, int64_t begin, int64_t end, int thread)
         for (int x = 0; x < W; x++) {
             uint64_t item = ITEM_PIXEL + (uint64_t)y * W + x;
             int offset = (int)(mix64(job->seed ^ item) % (uint64_t)K);
-            double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
+            double sum[FM_MAX_WAVELENGTHS] = {0}, sum2[FM_MAX_WAVELENGTHS] = {0};
             for (int p = 0; p < N; p++) {
                 rng r = rng_for(job->seed, item, (uint64_t)p);
                 double jx = rng_uniform(&r), jy = rng_uniform(&r);
                 vec3 d = equirect_direction(W, H, x + jx, y + jy);
                 double L[FM_MAX_WAVELENGTHS] = {0};
                 path_trace(&pc, sky->observer, d, (p + offset) % K, &r, L);
-                float v[3];
-                to_channels(&sky->atm, L, v);
+                float v[FM_MAX_WAVELENGTHS];
+                to_channels(&sky->atm, C, L, v);
                 for (int c = 0; c < C; c++) {
                     sum[c] += v[c];
                     sum2[c] += (double)v[c] * v[c];
@@ -275,7 +277,8 @@ static void reference_rows_camera(void *ctx, int64_t begin, int64_t end, int thr
             uint64_t item = ITEM_PIXEL + (uint64_t)y * W + x;
             int offset = (int)(mix64(job->seed ^ item) % (uint64_t)K);
             /* sums of w v, and of w^2, w^2 v, w^2 v^2 for the spread */
-            double wsum = 0.0, w2sum = 0.0, sum[3] = {0, 0, 0}, w2v[3] = {0, 0, 0}, w2v2[3] = {0, 0, 0};
+            double wsum = 0.0, w2sum = 0.0, sum[FM_MAX_WAVELENGTHS] = {0}, w2v[FM_MAX_WAVELENGTHS] = {0};
+            double w2v2[FM_MAX_WAVELENGTHS] = {0};
             int used = 0;
             for (int p = 0; p < N; p++) {
                 rng r = rng_for(job->seed, item, (uint64_t)p);
@@ -286,8 +289,8 @@ static void reference_rows_camera(void *ctx, int64_t begin, int64_t end, int thr
                     continue; /* outside the fisheye's circle */
                 double L[FM_MAX_WAVELENGTHS] = {0};
                 path_trace(&pc, sky->observer, d, (p + offset) % K, &r, L);
-                float v[3];
-                to_channels(&sky->atm, L, v);
+                float v[FM_MAX_WAVELENGTHS];
+                to_channels(&sky->atm, C, L, v);
                 for (int c = 0; c < C; c++) {
                     sum[c] += w * v[c];
                     w2v[c] += w * w * v[c];
@@ -434,8 +437,8 @@ static fm_status render_sun_disk(const fm_sky *sky, const camera *cam, fm_image 
                 L[k] = atm->grid.solar_irradiance[k] * sun_limb_darkening(sun, k, mu2) / norm[k] * exp(-dk) *
                        inv_omega;
             }
-            float v[3];
-            to_channels(atm, L, v);
+            float v[FM_MAX_WAVELENGTHS];
+            to_channels(atm, C, L, v);
             size_t idx = ((size_t)py * W + px) * C;
             for (int c = 0; c < C; c++)
                 img->sun_disk[idx + c] += v[c];
@@ -457,6 +460,9 @@ static fm_status validate(const fm_render_params *p, camera *cam, fm_error *err)
     fm_status s = camera_init(cam, &p->camera, p->width, err);
     if (s)
         return s;
+    if (p->spectral && p->camera.type != FM_CAMERA_EQUIRECT)
+        return fm_fail_parameter(err, "spectral", "spectral maps are equirectangular only (the camera is %s)",
+                                 camera_type_name(p->camera.type));
     if (p->quality < FM_QUALITY_PREVIEW || p->quality > FM_QUALITY_REFERENCE)
         return fm_fail_parameter(err, "quality", "unknown level %d", (int)p->quality);
     if (p->threads < 0 || p->threads > 256)
@@ -504,7 +510,8 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     job.q = render_quality_settings(params->quality, params->sample_scale);
     if (params->quality == FM_QUALITY_REFERENCE && params->reference_samples > 0)
         job.q.reference_paths = params->reference_samples;
-    job.channels = atm->grid.colour ? 3 : 1;
+    const int spectral = atm->grid.colour && params->spectral;
+    job.channels = spectral ? atm->grid.count : (atm->grid.colour ? 3 : 1);
     /* the wavelengths are part of the seed: different wavelengths, independent random numbers */
     job.seed = params->seed;
     for (int k = 0; k < atm->grid.count; k++)
@@ -512,11 +519,15 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     const int W = job.cam.width, H = job.cam.height;
     const int equirect = job.cam.type == FM_CAMERA_EQUIRECT;
     const int reference = params->quality == FM_QUALITY_REFERENCE;
-    job.img = image_create(W, H, job.channels, atm->grid.colour ? FM_IMAGE_XYZ : FM_IMAGE_SPECTRAL_RADIANCE,
+    job.img = image_create(W, H, job.channels,
+                           spectral ? FM_IMAGE_SPECTRAL_GRID
+                                    : (atm->grid.colour ? FM_IMAGE_XYZ : FM_IMAGE_SPECTRAL_RADIANCE),
                            params->sun_disk, reference);
     if (!job.img)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for a %d x %d image", W, H);
     job.img->camera = params->camera;
+    if (spectral)
+        image_set_wavelengths(job.img, atm->grid.count, atm->grid.lambda_nm, &atm->grid.xyz_weight[0][0]);
     job.img->sun_direction[0] = sky->sun_dir.x;
     job.img->sun_direction[1] = sky->sun_dir.y;
     job.img->sun_direction[2] = sky->sun_dir.z;

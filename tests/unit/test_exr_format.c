@@ -1,0 +1,156 @@
+/* The EXR's pixel format: half-float output within half precision of the float output, the
+ * half range refused (the sun disk), and the (lossless) compression methods, read back through
+ * OpenEXR. */
+#define _POSIX_C_SOURCE 200809L
+#include "check.h"
+#include "exr_read.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static char dir[256];
+
+static int setup(void **state)
+{
+    snprintf(dir, sizeof dir, "/tmp/fm_test_exr_format_XXXXXX");
+    return mkdtemp(dir) ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    char cmd[300];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+static fm_status write_map(fm_sky *sky, fm_image *img, const char *name, int half, fm_exr_compression c,
+                           fm_error *err)
+{
+    char exr[300], json[300];
+    snprintf(exr, sizeof exr, "%s/%s.exr", dir, name);
+    snprintf(json, sizeof json, "%s/%s.json", dir, name);
+    fm_render_params rp = fm_render_params_default();
+    rp.width = img->width;
+    rp.sun_disk = img->sun_disk != NULL;
+    fm_output *out = NULL;
+    assert_int_equal(fm_output_open(exr, json, &out, err), FM_OK);
+    fm_status s = fm_output_set_format(out, half, c, err);
+    if (!s)
+        s = fm_output_commit(out, sky, &rp, img, NULL, err);
+    fm_output_close(out);
+    return s;
+}
+
+static test_exr read_map(const char *name, exr_compression_t *compression, exr_pixel_type_t *type)
+{
+    char exr[300];
+    snprintf(exr, sizeof exr, "%s/%s.exr", dir, name);
+    exr_context_t ctxt = NULL;
+    test_exr t = test_exr_read(exr, &ctxt);
+    assert_int_equal(exr_get_compression(ctxt, 0, compression), EXR_ERR_SUCCESS);
+    const exr_attr_chlist_t *ch = NULL;
+    assert_int_equal(exr_get_channels(ctxt, 0, &ch), EXR_ERR_SUCCESS);
+    *type = ch->entries[0].pixel_type;
+    exr_finish(&ctxt);
+    return t;
+}
+
+static void half_is_float_within_half_precision(void **state)
+{
+    fm_sky_params p = test_params(30.0, 0.0);
+    fm_sky *sky = test_sky(&p);
+    fm_image *img = test_render(sky, 64, FM_QUALITY_PREVIEW, 2, 1, 0, 0.25, 0);
+    fm_error err = {0};
+    assert_int_equal(fm_image_to_rec709(img, &err), FM_OK);
+    assert_int_equal(write_map(sky, img, "float", 0, FM_EXR_ZIP, &err), FM_OK);
+    assert_int_equal(write_map(sky, img, "half", 1, FM_EXR_ZIP, &err), FM_OK);
+    exr_compression_t c;
+    exr_pixel_type_t type;
+    test_exr f = read_map("float", &c, &type);
+    assert_int_equal(type, EXR_PIXEL_FLOAT);
+    test_exr h = read_map("half", &c, &type);
+    assert_int_equal(type, EXR_PIXEL_HALF);
+    assert_int_equal(c, EXR_COMPRESSION_ZIP);
+    assert_int_equal(h.width, f.width);
+    size_t n = (size_t)f.width * f.height * f.channels;
+    double worst = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        /* half has an 11-bit significand: round-to-nearest is within 2^-11 relative (normal
+         * numbers, above 6.1e-5); below that the step is 2^-24 */
+        double tol = fmax(fabs(f.pixels[i]) * 0x1p-11, 0x1p-24);
+        double e = fabs(h.pixels[i] - f.pixels[i]);
+        worst = fmax(worst, e / tol);
+        if (e > tol)
+            fail_msg("pixel value %zu: half %.8g vs float %.8g", i, h.pixels[i], f.pixels[i]);
+    }
+    assert_true(worst > 0.0); /* the half file really is rounded */
+    test_exr_free(&f);
+    test_exr_free(&h);
+    fm_image_destroy(img);
+    fm_sky_destroy(sky);
+}
+
+static void half_refuses_the_sun_disk(void **state)
+{
+    fm_sky_params p = test_params(30.0, 0.0);
+    fm_sky *sky = test_sky(&p);
+    /* at 256 pixels across the disk fills half a pixel: of order 10^5 in the map's units */
+    fm_image *img = test_render(sky, 256, FM_QUALITY_PREVIEW, 2, 1, 0, 0.05, 1);
+    fm_error err = {0};
+    assert_int_equal(fm_image_to_rec709(img, &err), FM_OK);
+    assert_int_equal(write_map(sky, img, "disk", 1, FM_EXR_ZIP, &err), FM_ERR_INVALID_ARGUMENT);
+    assert_string_equal(err.parameter, "half");
+    assert_non_null(strstr(err.message, "65504"));
+    assert_non_null(strstr(err.message, "--no-sun-disk"));
+    char exr[300];
+    snprintf(exr, sizeof exr, "%s/disk.exr", dir);
+    struct stat st;
+    assert_true(stat(exr, &st) != 0); /* nothing written */
+    /* the same map in float is fine */
+    assert_int_equal(write_map(sky, img, "disk", 0, FM_EXR_ZIP, &err), FM_OK);
+    fm_image_destroy(img);
+    fm_sky_destroy(sky);
+}
+
+static void compression_methods(void **state)
+{
+    fm_sky_params p = test_params(30.0, 0.0);
+    fm_sky *sky = test_sky(&p);
+    fm_image *img = test_render(sky, 64, FM_QUALITY_PREVIEW, 2, 1, 0, 0.25, 0);
+    fm_error err = {0};
+    assert_int_equal(fm_image_to_rec709(img, &err), FM_OK);
+    const char *names[2] = {"zip", "piz"};
+    const exr_compression_t expect[2] = {EXR_COMPRESSION_ZIP, EXR_COMPRESSION_PIZ};
+    for (int k = 0; k < 2; k++) {
+        if (write_map(sky, img, names[k], 0, (fm_exr_compression)k, &err))
+            fail_msg("%s: %s", names[k], err.message);
+        exr_compression_t c;
+        exr_pixel_type_t type;
+        test_exr t = read_map(names[k], &c, &type);
+        assert_int_equal(c, expect[k]);
+        /* both methods are lossless */
+        for (size_t i = 0; i < (size_t)t.width * t.height * 3; i++) {
+            int x = (int)(i / 3), ch = t.names[i % 3][0] == 'R' ? 0 : t.names[i % 3][0] == 'G' ? 1 : 2;
+            if (t.pixels[i] != img->pixels[(size_t)x * 3 + ch])
+                fail_msg("%s: value %zu changed", names[k], i);
+        }
+        test_exr_free(&t);
+    }
+    assert_int_equal(write_map(sky, img, "bad", 0, (fm_exr_compression)7, &err), FM_ERR_INVALID_ARGUMENT);
+    fm_image_destroy(img);
+    fm_sky_destroy(sky);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(half_is_float_within_half_precision),
+        cmocka_unit_test(half_refuses_the_sun_disk),
+        cmocka_unit_test(compression_methods),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
