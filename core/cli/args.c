@@ -91,6 +91,7 @@ static const option_doc docs[] = {
     {OPT_SEED, "seed", "seed"},
     {OPT_THREADS, "threads", "threads"},
     {OPT_HALF, "half", "half"},
+    {OPT_COMPRESSION, "compression", "compression"},
     {OPT_SPECTRAL, "spectral", "spectral"},
     {OPT_TIME, "time", "time"},
     {OPT_TIME, "time", "hour"},
@@ -255,7 +256,8 @@ void options_print_usage(void)
           "                         to even, [8, 16384] (default 16:9)\n"
           "  --half                 16-bit half-float EXR; refused (exit 2) when a value exceeds 65504,\n"
           "                         as the sun disk does: add --no-sun-disk\n"
-          "  --compression METHOD   zip | piz, both lossless (default zip)\n"
+          "  --compression METHOD   zip | piz (lossless) | dwaa (lossy, half precision, level 45; not with\n"
+          "                         the sun disk beyond 65504) (default zip)\n"
           "  --spectral FILE.exr    also write the spectral radiance (41 wavelengths, 380-780 nm) in the\n"
           "                         spectral OpenEXR layout of Fichet et al. 2021 (41 x the image memory)\n"
           "Colour (OpenColorIO; config $OCIO, else firmament's presets/ocio/config.ocio):\n"
@@ -731,12 +733,10 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
                 opt->compression = FM_EXR_ZIP;
             else if (strcmp(arg, "piz") == 0)
                 opt->compression = FM_EXR_PIZ;
-            else if (strcmp(arg, "dwaa") == 0) {
-                snprintf(msg, msg_size, "--compression: dwaa is not available (OpenEXR 3.1's C library, which "
-                                        "firmament writes with, cannot encode it); use zip or piz");
-                return PARSE_ERROR;
-            } else {
-                snprintf(msg, msg_size, "--compression: unknown method '%s' (known: zip, piz)", arg);
+            else if (strcmp(arg, "dwaa") == 0)
+                opt->compression = FM_EXR_DWAA;
+            else {
+                snprintf(msg, msg_size, "--compression: unknown method '%s' (known: zip, piz, dwaa)", arg);
                 return PARSE_ERROR;
             }
             break;

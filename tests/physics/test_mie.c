@@ -69,6 +69,35 @@ static void published_cases(void **state)
     assert_true(cases >= 28);
 }
 
+/* Beyond the published cases: x = 2e4, twice the largest of them.  For large spheres Q_ext approaches
+ * 2 with an edge term that falls as x^(-2/3) (van de Hulst 1957, section 17.4), so MIEV0's value at
+ * x = 1e4 predicts the one at 2e4: Q(2e4) = 2 + (Q(1e4) - 2) 2^(-2/3).  For a strongly absorbing
+ * sphere (no rays through it, hence little ripple) the prediction holds to 5e-5 (measured 1e-5);
+ * soot and a water drop of the same size are held to finite, ordered, physical values. */
+static void large_size_parameter(void **state)
+{
+    const struct {
+        double n, k, q_ext_1e4;
+    } absorbing[] = {{1.5, -1.0, 2.004368}}; /* MIEV0 case 16 at x = 1e4 */
+    mie_result r;
+    assert_int_equal(mie_sphere(2e4, absorbing[0].n + absorbing[0].k * I, 0, NULL, NULL, NULL, &r), 0);
+    double predicted = 2.0 + (absorbing[0].q_ext_1e4 - 2.0) * pow(2.0, -2.0 / 3.0);
+    print_message("x = 2e4, m = 1.5 - 1i: Q_ext %.6f (predicted from x = 1e4: %.6f), Q_sca %.6f, g %.6f\n", r.q_ext,
+                  predicted, r.q_sca, r.g);
+    check_abs(r.q_ext, predicted, 5e-5, "Q_ext at x = 2e4 from the x^(-2/3) edge term");
+    assert_true(r.q_sca < r.q_ext && r.q_sca > 1.0 && r.g > 0.8 && r.g < 0.9);
+    /* strongly absorbing soot and a water drop at the same size: finite and ordered */
+    const double complex others[2] = {1.75 - 0.44 * I, 1.33 - 1e-5 * I};
+    for (int i = 0; i < 2; i++) {
+        assert_int_equal(mie_sphere(2e4, others[i], 0, NULL, NULL, NULL, &r), 0);
+        print_message("x = 2e4, m = %.2f - %.2gi: Q_ext %.6f, Q_sca %.6f, g %.6f\n", creal(others[i]),
+                      -cimag(others[i]), r.q_ext, r.q_sca, r.g);
+        assert_true(isfinite(r.q_ext) && isfinite(r.q_sca) && isfinite(r.g));
+        check_abs(r.q_ext, 2.0, 0.01, "Q_ext near the extinction paradox's 2");
+        assert_true(r.q_sca <= r.q_ext + 1e-9 && r.q_sca > 0.5 && r.g > 0.5 && r.g < 1.0);
+    }
+}
+
 /* Amplitudes S1, S2 for x = 1, m = 1.5 - i at 0, 30, ..., 180 degrees: MIEV0 test case 14 as
  * asserted in scottprahl/miepython tests/test_mie.py (test_12_scatter_function), 6 decimals. */
 static void published_amplitudes(void **state)
@@ -173,6 +202,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(published_cases),
+        cmocka_unit_test(large_size_parameter),
         cmocka_unit_test(published_amplitudes),
         cmocka_unit_test(rayleigh_limit),
         cmocka_unit_test(phase_function_consistent),

@@ -440,7 +440,10 @@ fm_status fm_output_write_spectral(const char *path, const fm_sky *sky, const fm
 typedef void (*fm_exr_attribute_fn)(void *user, const char *name, const char *type, const char *value);
 fm_status fm_exr_attributes(const char *path, fm_exr_attribute_fn fn, void *user, fm_error *err);
 
-typedef enum fm_exr_compression { FM_EXR_ZIP = 0, FM_EXR_PIZ } fm_exr_compression;
+/* ZIP and PIZ are lossless; DWAA (OpenEXR's default level 45) is lossy and quantises colour
+ * channels through half precision, so like half-float output it is refused at commit (parameter
+ * "compression") for a map with values beyond 65504 (the sun disk). */
+typedef enum fm_exr_compression { FM_EXR_ZIP = 0, FM_EXR_PIZ, FM_EXR_DWAA } fm_exr_compression;
 /* The EXR's pixel format, before fm_output_commit: half-float (16-bit) instead of 32-bit float,
  * and the compression (default ZIP).
  * A half map whose values exceed the half range (65504, e.g. the sun disk) is refused at commit

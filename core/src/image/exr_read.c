@@ -1,13 +1,18 @@
 /* Reading EXRs back (firmament.h: fm_image_read_exr), used by `firmament compare`. */
+#define _POSIX_C_SOURCE 200809L
 #include "base/status.h"
 #include "image/image.h"
 
 #include "colour/colour.h"
+#include "image/exr_recode.h"
 
+#include <errno.h>
 #include <math.h>
 #include <openexr.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static _Thread_local char read_message[256];
 
@@ -46,9 +51,45 @@ static void read_camera(exr_context_t c, fm_image *img)
     }
 }
 
+static fm_status read_exr(const char *path, fm_image **out, fm_error *err);
+
+static int is_dwa(const char *path)
+{
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = capture;
+    exr_context_t c = NULL;
+    exr_compression_t method = EXR_COMPRESSION_NONE;
+    int dwa = exr_start_read(&c, path, &init) == EXR_ERR_SUCCESS && exr_get_compression(c, 0, &method) == 0 &&
+              (method == EXR_COMPRESSION_DWAA || method == EXR_COMPRESSION_DWAB);
+    exr_finish(&c);
+    return dwa;
+}
+
+/* DWA files (firmament's --compression dwaa, or other tools') are re-encoded losslessly as ZIP in
+ * a private temporary file first: OpenEXR 3.1's C library cannot decode DWA. */
 fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
 {
     *out = NULL;
+    if (!is_dwa(path))
+        return read_exr(path, out, err);
+    const char *dir = getenv("TMPDIR");
+    char tmp[4096];
+    snprintf(tmp, sizeof tmp, "%s/firmament-read-XXXXXX", dir && dir[0] ? dir : "/tmp");
+    int fd = mkstemp(tmp);
+    if (fd < 0)
+        return fm_fail(err, FM_ERR_IO, "cannot read '%s': no temporary file for decoding DWA (%s)", path,
+                       strerror(errno));
+    close(fd);
+    char msg[256];
+    fm_status s = exr_recode(path, tmp, EXR_RECODE_ZIP, 0.0f, msg, sizeof msg) != 0
+                      ? fm_fail(err, FM_ERR_IO, "cannot read '%s': %s", path, msg)
+                      : read_exr(tmp, out, err);
+    unlink(tmp);
+    return s;
+}
+
+static fm_status read_exr(const char *path, fm_image **out, fm_error *err)
+{
     read_message[0] = '\0';
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     init.error_handler_fn = capture;

@@ -4,6 +4,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "base/status.h"
 #include "image/image.h"
+#include "image/exr_recode.h"
 #include "image/image_exr.h"
 #include "image/sidecar.h"
 
@@ -25,7 +26,7 @@ struct fm_output {
 
 fm_status fm_output_set_format(fm_output *o, int half, fm_exr_compression compression, fm_error *err)
 {
-    if (compression != FM_EXR_ZIP && compression != FM_EXR_PIZ)
+    if (compression != FM_EXR_ZIP && compression != FM_EXR_PIZ && compression != FM_EXR_DWAA)
         return fm_fail_parameter(err, "compression", "unknown compression %d", (int)compression);
     o->half = half;
     o->compression = compression;
@@ -111,23 +112,52 @@ fm_status fm_output_open(const char *exr_path, const char *json_path, fm_output 
     return FM_OK;
 }
 
+/* DWAA: OpenEXR's C library writes the map losslessly to a staging file beside the destination, its
+ * C++ library re-encodes that as DWAA into path (exr_recode.h); the staging file is always removed. */
+#define FM_DWAA_LEVEL 45.0f
+static fm_status write_dwaa(const char *path, const fm_image *image, const metadata *meta, int half,
+                            const atomic_int *cancel, fm_error *err)
+{
+    char *staging = image_reserve_temp(path, err);
+    if (!staging)
+        return err ? err->status : FM_ERR_IO;
+    fm_status s = image_write_exr(staging, image, meta, half, FM_EXR_ZIP, cancel, err);
+    if (!s && cancel && atomic_load(cancel))
+        s = fm_fail(err, FM_ERR_CANCELLED, "cancelled while writing '%s'", path);
+    char msg[256];
+    if (!s && exr_recode(staging, path, EXR_RECODE_DWAA, FM_DWAA_LEVEL, msg, sizeof msg) != 0)
+        s = fm_fail(err, FM_ERR_IO, "cannot write '%s' with DWAA compression: %s", path, msg);
+    unlink(staging);
+    free(staging);
+    return s;
+}
+
 fm_status fm_output_commit(fm_output *o, const fm_sky *sky, const fm_render_params *params, const fm_image *image,
                            const atomic_int *cancel, fm_error *err)
 {
     if (!o->exr_tmp || !o->json_tmp)
         return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "output already committed");
-    if (o->half) {
-        /* 65504 is the largest finite half; rounding to it starts at 65520 */
+    /* 65504 is the largest finite half; rounding to it starts at 65520.  DWA quantises colour
+     * channels through half precision even when they are stored as 32-bit float. */
+    if (o->half || o->compression == FM_EXR_DWAA) {
         double m = largest_value(image);
-        if (m >= 65504.0)
+        if (m >= 65504.0 && o->half)
             return fm_fail_parameter(err, "half", "the map holds values up to %.4g (the sun disk), beyond the "
                                                   "half-float range 65504; leave the sun disk out (--no-sun-disk) "
                                                   "or write 32-bit float",
                                      m);
+        if (m >= 65504.0)
+            return fm_fail_parameter(err, "compression", "dwaa: the map holds values up to %.4g (the sun disk), "
+                                                         "beyond the half-float range 65504 that DWA quantises "
+                                                         "through; leave the sun disk out (--no-sun-disk) or use "
+                                                         "zip or piz",
+                                     m);
     }
     metadata meta;
     metadata_collect(&meta, sky, params, image, o->exr_path);
-    fm_status s = image_write_exr(o->exr_tmp, image, &meta, o->half, o->compression, cancel, err);
+    fm_status s = o->compression == FM_EXR_DWAA ? write_dwaa(o->exr_tmp, image, &meta, o->half, cancel, err)
+                                                : image_write_exr(o->exr_tmp, image, &meta, o->half, o->compression,
+                                                                  cancel, err);
     if (!s)
         s = sidecar_write(o->json_tmp, &meta, err);
     if (!s && cancel && atomic_load(cancel))
