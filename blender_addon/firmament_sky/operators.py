@@ -85,7 +85,7 @@ def finish(context, op, job):
     if r.state != runner.Runner.DONE:
         job.discard()
         props.last_message = r.error_text()
-        op.report({"ERROR"}, "Firmament failed: %s" % r.error_text())
+        op.report({"ERROR"}, "Firmament failed (exit %s): %s" % (r.returncode, r.error_text()))
         return {"CANCELLED"}
     try:
         sun, stale, exposure = world.apply(context.scene, job.settings, job.exr, job.sidecar, job.disk)
