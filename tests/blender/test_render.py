@@ -113,4 +113,58 @@ h.check(mean_render[2] > mean_render[1] > mean_render[0], "clear sky is blue: me
 # exposure: the displayed (PNG, Standard view, suggested exposure) sunlit ground is mid-tone, not clipped
 shown_lit = sum(s for _, s in lit) / len(lit)
 h.check(0.3 < shown_lit < 0.95, "sunlit ground displays at %.2f with %.2f EV" % (shown_lit, ev))
+
+
+# --- the sun is counted once in every mode: the same sunlit ground with the disk in the map (no
+# lamp) and with lamp + camera-only disk; a camera aimed at the sun sees the disk only where it should
+def render_linear(path, camera, res):
+    scene.camera = camera
+    r.resolution_x, r.resolution_y = res
+    r.image_settings.file_format = "OPEN_EXR"
+    r.filepath = path
+    bpy.ops.render.render(write_still=True)
+    im = bpy.data.images.load(path, check_existing=False)
+    return h.image_pixels(im)
+
+
+def mean_of(pixels, classified):
+    return sum(lum(pixels[k:k + 3]) for k in classified) / len(classified)
+
+
+# pixel indices of the sunlit ground, from the classification above
+lit_idx = []
+for y in range(H):
+    for x in range(W):
+        fx, fy = (x + 0.5) / W, (y + 0.5) / H
+        d = (cam_rot @ (bl + fx * (br - bl) + fy * (tl - bl))).normalized()
+        hit, loc, normal, _i, obj, _m = scene.ray_cast(depsgraph, origin, d)
+        if hit and obj.name == "Ground" and normal.z > 0.99 and not scene.ray_cast(depsgraph, loc + normal * 1e-3, to_sun)[0]:
+            lit_idx.append(4 * (y * W + x))
+base = mean_of(px, lit_idx)
+sun_cam_data = bpy.data.cameras.new("Sun camera")
+sun_cam_data.lens = 200.0  # a narrow view: the disk covers a few pixels
+sun_cam = bpy.data.objects.new("Sun camera", sun_cam_data)
+scene.collection.objects.link(sun_cam)
+sun_cam.location = cam.location
+sun_cam.rotation_euler = to_sun.to_track_quat("-Z", "Y").to_euler()
+scene.cycles.samples = 4
+view_a = render_linear(os.path.join(h.OUT, "sun_view_lamp.exr"), sun_cam, (32, 32))
+centre = 4 * (16 * 32 + 16)
+peak_a = max(lum(view_a[k:k + 3]) for k in range(0, len(view_a), 4))
+scene.cycles.samples = int(os.environ.get("FIRMAMENT_TEST_SAMPLES", "16"))
+for mode in ("DISK", "LAMP_CAMERA_DISK"):
+    p.sun_mode = mode
+    h.check(bpy.ops.firmament_sky.generate() == {"FINISHED"}, "generate, sun mode %s" % mode)
+    scene.world.cycles.sample_map_resolution = 512 if mode == "DISK" else 256
+    shot = render_linear(os.path.join(h.OUT, "courtyard_%s.exr" % mode.lower()), cam, (W, H))
+    h.close(mean_of(shot, lit_idx) / base, 1.0, 0.12,
+            "sun mode %s: sunlit ground as with the lamp (sun counted once)" % mode)
+    scene.cycles.samples = 4
+    view = render_linear(os.path.join(h.OUT, "sun_view_%s.exr" % mode.lower()), sun_cam, (32, 32))
+    scene.cycles.samples = int(os.environ.get("FIRMAMENT_TEST_SAMPLES", "16"))
+    peak = max(lum(view[k:k + 3]) for k in range(0, len(view), 4))
+    at = max(range(0, len(view), 4), key=lambda k: lum(view[k:k + 3])) // 4
+    h.check(peak > 20 * peak_a and abs(at % 32 - 16) <= 2 and abs(at // 32 - 16) <= 2,
+            "sun mode %s: the camera sees the disk at the lamp's direction (peak %.3g at %d,%d; %.3g without)"
+            % (mode, peak, at % 32, at // 32, peak_a))
 h.finish()
