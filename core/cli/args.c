@@ -240,7 +240,7 @@ void options_print_usage(void)
           "  --width W              even, [8, 16384]; height = W/2 for equirect, W for fisheye,\n"
           "                         W/aspect for pinhole (default 2048)\n"
           "  --no-sun-disk          leave the sun disk out of the map (its aureole stays)\n"
-          "  --sun-disk-map FILE    also write FILE.exr (and its sidecar) with the disk, and leave the disk out\n"
+          "  --sun-disk-map FILE    also write FILE (an EXR, and its sidecar) with the disk, and leave the disk out\n"
           "                         of the main map: one render, sky for lighting and disk for the camera\n"
           "  --preset NAME|FILE     a sky preset (presets/skies/NAME.json or a JSON file): its settings\n"
           "                         apply as if given first, so explicit options override them\n",
