@@ -87,9 +87,15 @@ def our_images():
     return [img for img in bpy.data.images if img.get(TAG)]
 
 
-def _remove_lamp():
-    obj = bpy.data.objects.get(LAMP_NAME)
-    if obj is not None and obj.get(TAG):
+def _our_lamps():
+    """The add-on's lamp objects, found by their tag (the user may have renamed them)."""
+    return [o for o in bpy.data.objects if o.get(TAG) and o.type == "LIGHT"]
+
+
+def _remove_lamp(keep=None):
+    for obj in _our_lamps():
+        if obj is keep:
+            continue
         light = obj.data
         bpy.data.objects.remove(obj)
         if light is not None and light.users == 0:
@@ -97,9 +103,10 @@ def _remove_lamp():
 
 
 def _ensure_lamp(scene):
-    obj = bpy.data.objects.get(LAMP_NAME)
-    if obj is None or not obj.get(TAG) or obj.type != "LIGHT" or obj.data.type != "SUN":
-        _remove_lamp()
+    lamps = [o for o in _our_lamps() if o.data.type == "SUN"]
+    obj = lamps[0] if lamps else None
+    _remove_lamp(keep=obj)  # never more than one
+    if obj is None:
         light = bpy.data.lights.new(LAMP_NAME, type="SUN")
         obj = bpy.data.objects.new(LAMP_NAME, light)
         obj[TAG] = 1
@@ -212,6 +219,8 @@ def apply(scene, settings, exr_path, sidecar_path, disk_path=None):
         _remove_lamp()
     else:
         setup_lamp(scene, sun, settings["north_offset"])
+    if mode == "DISK" and hasattr(world, "cycles"):  # resolve the small, bright disk when sampling the map
+        world.cycles.sample_map_resolution = max(world.cycles.sample_map_resolution, sky_image.size[0] // 2)
     if hasattr(world, "sun_threshold"):  # EEVEE (4.2+): extract a sun from the map only when it has one
         world.sun_threshold = 10.0 if mode == "DISK" else 0.0
     stale = []
@@ -219,6 +228,9 @@ def apply(scene, settings, exr_path, sidecar_path, disk_path=None):
         if img.filepath:
             stale.append(bpy.path.abspath(img.filepath))
         bpy.data.images.remove(img)
+    sky_image.name = "Firmament Sky"  # the names the previous images held
+    if disk_image is not None:
+        disk_image.name = "Firmament Sky With Disk"
     exposure = None
     if settings.get("apply_exposure") and sun["suggested_exposure_ev"] is not None:
         exposure = float(sun["suggested_exposure_ev"])

@@ -153,6 +153,11 @@ p.north_offset = 0.0
 bpy.ops.firmament_sky.generate()
 map_checks("lamp again", 0.0)
 h.check(len(h.world_images()) == 1 and len(h.sun_lamps()) == 1, "re-generation leaves one image and one lamp")
+h.check(h.world_images()[0].name == "Firmament Sky", "the image keeps its name (%s)" % h.world_images()[0].name)
+# a renamed lamp is still the add-on's: re-generating updates it instead of adding another
+h.sun_lamps()[0].name = "My Sun"
+bpy.ops.firmament_sky.generate()
+h.check([o.name for o in h.sun_lamps()] == ["My Sun"], "a renamed lamp is reused: %s" % [o.name for o in h.sun_lamps()])
 h.check(len([l for l in bpy.data.lights if l.name.startswith("Firmament")]) == 1, "one Firmament light datablock")
 nodes = scene.world.node_tree.nodes
 h.check(len([n for n in nodes if n.name.startswith("Firmament")]) == 4, "four Firmament nodes (%d)" %
