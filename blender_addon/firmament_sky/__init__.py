@@ -13,6 +13,8 @@ bl_info = {
     "category": "Lighting",
 }
 
+import atexit
+
 import bpy
 
 from . import operators, panels, preferences, properties
@@ -25,10 +27,12 @@ def register():
         bpy.utils.register_class(cls)
     properties.register()
     bpy.app.handlers.load_pre.append(operators.cancel_running)
+    atexit.register(operators.cancel_running)  # quitting Blender ends a running child too
 
 
 def unregister():
     operators.cancel_running()
+    atexit.unregister(operators.cancel_running)
     if operators.cancel_running in bpy.app.handlers.load_pre:
         bpy.app.handlers.load_pre.remove(operators.cancel_running)
     properties.unregister()
