@@ -29,6 +29,7 @@ enum {
     OPT_PREVIEW,
     OPT_HALF,
     OPT_SPECTRAL,
+    OPT_SUN_DISK_MAP,
     OPT_COMPRESSION,
     OPT_EXPOSURE,
     OPT_EARTH_SUN_DISTANCE,
@@ -140,6 +141,7 @@ static const struct option long_options[] = {
     {"preview", required_argument, NULL, OPT_PREVIEW},
     {"half", no_argument, NULL, OPT_HALF},
     {"spectral", required_argument, NULL, OPT_SPECTRAL},
+    {"sun-disk-map", required_argument, NULL, OPT_SUN_DISK_MAP},
     {"compression", required_argument, NULL, OPT_COMPRESSION},
     {"exposure", required_argument, NULL, OPT_EXPOSURE},
     {"time", required_argument, NULL, OPT_TIME},
@@ -238,7 +240,11 @@ void options_print_usage(void)
           "  --sidecar FILE         sidecar path instead of the default\n"
           "  --width W              even, [8, 16384]; height = W/2 for equirect, W for fisheye,\n"
           "                         W/aspect for pinhole (default 2048)\n"
-          "  --no-sun-disk          leave the sun disk out of the map (its aureole stays)\n",
+          "  --no-sun-disk          leave the sun disk out of the map (its aureole stays)\n"
+          "  --sun-disk-map FILE    also write FILE (an EXR, and its sidecar) with the disk, and leave the disk out\n"
+          "                         of the main map: one render, sky for lighting and disk for the camera\n"
+          "  --preset NAME|FILE     a sky preset (presets/skies/NAME.json or a JSON file): its settings\n"
+          "                         apply as if given first, so explicit options override them\n",
           stdout);
     /* (in parts: C17 compilers need only accept string literals of 4095 characters) */
     fputs("Camera:\n"
@@ -532,6 +538,7 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     opt->preview = NULL;
     opt->half = 0;
     opt->spectral = NULL;
+    opt->sun_disk_map = NULL;
     opt->compression = FM_EXR_ZIP;
     opt->exposure_ev = 0.0;
     opt->have_exposure = 0;
@@ -724,6 +731,9 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
         case OPT_HALF:
             opt->half = 1;
             break;
+        case OPT_SUN_DISK_MAP:
+            opt->sun_disk_map = arg;
+            break;
         case OPT_SPECTRAL:
             opt->spectral = arg;
             opt->render.spectral = 1;
@@ -812,6 +822,12 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     }
     if (opt->spectral && (opt->sky.wavelength_nm > 0.0 || opt->frames > 0)) {
         snprintf(msg, msg_size, "--spectral: needs a single colour render (not --wavelength nor a time series)");
+        return PARSE_ERROR;
+    }
+    if (opt->sun_disk_map && (!opt->render.sun_disk || opt->frames > 0 || opt->spectral ||
+                              opt->sky.wavelength_nm > 0.0 || opt->render.camera.type != FM_CAMERA_EQUIRECT)) {
+        snprintf(msg, msg_size, "--sun-disk-map: needs a single colour equirect render with the disk (not "
+                                "--no-sun-disk, a time series, --spectral or --wavelength)");
         return PARSE_ERROR;
     }
     if (opt->have_exposure && !opt->preview) {

@@ -21,6 +21,7 @@ typedef struct options {
     const char *preview;    /* PNG path or NULL */
     int half;               /* half-float EXR */
     const char *spectral;   /* spectral EXR path or NULL */
+    const char *sun_disk_map; /* --sun-disk-map: a second EXR with the disk, the main one without; or NULL */
     fm_exr_compression compression;
     double exposure_ev;     /* preview exposure when have_exposure, else automatic */
     int have_exposure;

@@ -2,6 +2,7 @@
  * Exit codes: 0 ok, 1 runtime failure, 2 bad usage or input, 128 + signal when interrupted. */
 #define _POSIX_C_SOURCE 200809L
 #include "args.h"
+#include "preset_args.h"
 #include "report.h"
 #include "sun_command.h"
 #include "time_args.h"
@@ -13,6 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 enum { EXIT_RUNTIME = 1, EXIT_USAGE = 2 };
 
@@ -197,7 +199,40 @@ static int run_series(options *opt, const fm_colour_config *colour)
     return code;
 }
 
+/* --sun-disk-map: writes the map with the disk to its own file, then takes the disk out of img,
+ * which the main output then holds without it.  *written is set once the disk map is in place. */
+static int run_render_options(int argc, char **argv);
+
+static fm_status commit_disk_map(fm_output *disk_out, const fm_sky *sky, fm_render_params *params, fm_image *img,
+                                 int *written, fm_error *err)
+{
+    fm_status s = fm_output_commit(disk_out, sky, params, img, &cancel_signal, err);
+    if (s)
+        return s;
+    *written = 1;
+    size_t n = (size_t)img->width * (size_t)img->height * (size_t)img->channels;
+    for (size_t i = 0; i < n; i++)
+        img->pixels[i] -= img->sun_disk[i];
+    free(img->sun_disk);
+    img->sun_disk = NULL;
+    params->sun_disk = 0;
+    return FM_OK;
+}
+
 static int run_render(int argc, char **argv)
+{
+    preset_args pre;
+    char msg[512];
+    if (preset_args_expand(argc, argv, &pre, msg, sizeof msg)) {
+        report_error("%s", msg);
+        preset_args_free(&pre);
+        return EXIT_USAGE;
+    }
+    int code = run_render_options(pre.argc, pre.argv);
+    preset_args_free(&pre);
+    return code;
+}
+static int run_render_options(int argc, char **argv)
 {
     options opt;
     char msg[512];
@@ -226,9 +261,16 @@ static int run_render(int argc, char **argv)
 
     fm_error err = {0};
     fm_sky *sky = NULL;
-    fm_output *out = NULL;
+    fm_output *out = NULL, *disk_out = NULL;
     fm_image *img = NULL, *spectral = NULL; /* spectral: the --spectral map, img made from it */
-    int code = 0;
+    char *disk_sidecar = opt.sun_disk_map ? default_sidecar(opt.sun_disk_map) : NULL;
+    int code = 0, disk_written = 0;
+    if (opt.sun_disk_map && !disk_sidecar) {
+        report_error("out of memory");
+        free(sidecar);
+        fm_colour_config_close(colour);
+        return EXIT_RUNTIME;
+    }
     reporter rep;
     reporter_init(&rep, opt.progress);
     opt.render.progress = reporter_progress;
@@ -243,20 +285,27 @@ static int run_render(int argc, char **argv)
         goto done;
     }
     /* Fail on an unwritable path now, not after the render. */
-    if ((s = fm_output_open(opt.output, sidecar_path, &out, &err))) {
+    if ((s = fm_output_open(opt.output, sidecar_path, &out, &err)) ||
+        (opt.sun_disk_map && (s = fm_output_open(opt.sun_disk_map, disk_sidecar, &disk_out, &err)))) {
         report_library_error(&err);
         code = s == FM_ERR_IO ? EXIT_USAGE : exit_code_for(s);
         goto done;
     }
     if ((s = fm_output_set_format(out, opt.half, opt.compression, &err)) ||
+        (disk_out && (s = fm_output_set_format(disk_out, opt.half, opt.compression, &err))) ||
         (s = fm_render(sky, &opt.render, &img, &err)) ||
         (opt.spectral && (spectral = img, img = NULL, s = fm_image_spectral_to_xyz(spectral, &img, &err))) ||
         (img->content == FM_IMAGE_XYZ && (s = fm_image_to_colorspace(img, colour, opt.colorspace, &err))) ||
+        (disk_out && (s = commit_disk_map(disk_out, sky, &opt.render, img, &disk_written, &err))) ||
         (s = fm_output_commit(out, sky, &opt.render, img, &cancel_signal, &err)) ||
         (opt.spectral &&
          (s = fm_output_write_spectral(opt.spectral, sky, &opt.render, spectral, img, &cancel_signal, &err))) ||
         (s = write_preview(&opt, img, colour, opt.preview, &err))) {
         reporter_finish_line(&rep);
+        if (disk_written) { /* all or nothing: the disk map goes too */
+            unlink(opt.sun_disk_map);
+            unlink(disk_sidecar);
+        }
         if (s == FM_ERR_CANCELLED)
             report_error("interrupted; nothing was written");
         else
@@ -267,6 +316,8 @@ static int run_render(int argc, char **argv)
     reporter_done(&rep, opt.output, sidecar_path);
 done:
     fm_output_close(out); /* removes temporary files left by a failure */
+    fm_output_close(disk_out);
+    free(disk_sidecar);
     fm_colour_config_close(colour);
     fm_image_destroy(spectral);
     fm_image_destroy(img);

@@ -123,6 +123,27 @@ typedef struct fm_sky_params {
 
 fm_sky_params fm_sky_params_default(void);
 
+/* A ready-made sky (README, "Sky presets"): presets/skies/NAME.json, or a file, a flat JSON
+ * object of render options ("date", "time", "utc_offset", "latitude", "longitude",
+ * "sun_elevation", "sun_azimuth", "biome", "turbidity", "aod550", "humidity", "ozone_du",
+ * "albedo", "altitude") plus "name" and an optional "description".  Loading checks keys, types and
+ * ranges; each setting comes back as text, in the order above, for the caller to apply as options. */
+typedef struct fm_preset_setting {
+    char key[32];   /* "turbidity" */
+    char value[64]; /* "2" */
+} fm_preset_setting;
+
+typedef struct fm_sky_preset {
+    char name[96];  /* "Golden hour" */
+    char path[1024];
+    int count;
+    fm_preset_setting settings[16];
+} fm_sky_preset;
+
+/* presets_dir: where names are looked up (NULL: $FIRMAMENT_PRESETS, else the source tree's or the
+ * installed presets/); a malformed file fails with "preset: FILE: $.key: problem". */
+fm_status fm_sky_preset_load(const char *name_or_path, const char *presets_dir, fm_sky_preset *out, fm_error *err);
+
 typedef struct fm_sky fm_sky;
 
 fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err);

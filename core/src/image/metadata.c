@@ -154,6 +154,16 @@ static void add_camera(metadata *m, const fm_image *img)
     }
 }
 
+/* The film exposure (EV, values x 2^EV) that shows a white Lambertian surface under the global
+ * horizontal illuminance E as 1.0, so an 18% grey card as 0.18: its radiance in map units is
+ * E / (683 pi), hence EV = log2(683 pi / E).  100 klx gives -5.54 (the -5 EV of daylight in
+ * Blender); clamped to [-20, 20] so a night sky gets a finite value. */
+static double suggested_exposure_ev(double global_lux)
+{
+    double ev = log2(FM_LUMINOUS_EFFICACY * FM_PI / fmax(global_lux, 1e-9));
+    return fmin(20.0, fmax(-20.0, ev));
+}
+
 void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *params, const fm_image *img,
                       const char *exr_path)
 {
@@ -272,8 +282,9 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
             colour_xyz_to_rec709(diffuse_xyz, diffuse_rgb);
         add_vec3(m, "sky", "diffuse_horizontal_irradiance_rgb", diffuse_rgb);
         add_double(m, "sky", "diffuse_horizontal_illuminance_lux", FM_LUMINOUS_EFFICACY * diffuse_xyz[1]);
-        add_double(m, "sky", "global_horizontal_illuminance_lux",
-                   FM_LUMINOUS_EFFICACY * (diffuse_xyz[1] + sun.horizontal_irradiance[1]));
+        double global_lux = FM_LUMINOUS_EFFICACY * (diffuse_xyz[1] + sun.horizontal_irradiance[1]);
+        add_double(m, "sky", "global_horizontal_illuminance_lux", global_lux);
+        add_double(m, "sky", "suggested_exposure_ev", suggested_exposure_ev(global_lux));
     }
     if (!colour) {
         add_double(m, "sun", "direct_normal_spectral_irradiance", sun.normal_irradiance[0]);

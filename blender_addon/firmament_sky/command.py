@@ -1,0 +1,94 @@
+"""The sky settings (a plain dict of the add-on's property values) -> a checked argument list for
+`firmament render`.  No bpy here."""
+
+import datetime
+import math
+
+BIOMES = ("none", "background", "desert-dust", "maritime-clean", "maritime-mineral", "polar-antarctic",
+          "polar-arctic", "remote-continental", "rural", "urban")
+QUALITIES = ("preview", "final", "reference")
+SUN_MODES = ("LAMP", "DISK", "LAMP_CAMERA_DISK")
+
+# (setting, low, high) for the numbers the executable range-checks too; checked here first so that
+# the user gets the message before a process is started.
+RANGES = (
+    ("latitude", -90.0, 90.0), ("longitude", -180.0, 180.0),
+    ("sun_elevation", -90.0, 90.0), ("sun_azimuth", -360.0, 360.0),
+    ("turbidity", 0.0, 50.0), ("aod550", 1e-6, 10.0), ("humidity", 0.0, 99.0),
+    ("ozone_du", 0.0, 1000.0), ("albedo", 0.0, 1.0), ("altitude", 0.0, 20000.0),
+    ("utc_offset", -12.0, 14.0),
+)
+
+
+class SettingsError(ValueError):
+    pass
+
+
+def format_utc_offset(hours):
+    minutes = int(round(hours * 60.0))
+    sign = "+" if minutes >= 0 else "-"
+    minutes = abs(minutes)
+    return "%s%02d:%02d" % (sign, minutes // 60, minutes % 60)
+
+
+def validate(s):
+    """Raises SettingsError naming the first bad setting."""
+    for key, lo, hi in RANGES:
+        v = s[key]
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and lo <= v <= hi):
+            raise SettingsError("%s: %r is outside [%g, %g]" % (key.replace("_", " "), v, lo, hi))
+    if s["biome"] not in BIOMES:
+        raise SettingsError("biome: unknown '%s'" % s["biome"])
+    if s["quality"] not in QUALITIES:
+        raise SettingsError("quality: unknown '%s'" % s["quality"])
+    if s["sun_mode"] not in SUN_MODES:
+        raise SettingsError("sun mode: unknown '%s'" % s["sun_mode"])
+    w = s["resolution"]
+    if not (isinstance(w, int) and 16 <= w <= 16384 and w % 2 == 0):
+        raise SettingsError("resolution: %r is not an even width in [16, 16384]" % (w,))
+    try:
+        datetime.date(s["year"], s["month"], s["day"])
+    except (ValueError, TypeError):
+        raise SettingsError("date: %r-%r-%r is not a real date" % (s["year"], s["month"], s["day"])) from None
+    if not 1900 <= s["year"] <= 2100:
+        raise SettingsError("date: year %d is outside 1900-2100" % s["year"])
+    if not (0 <= s["hour"] <= 23 and 0 <= s["minute"] <= 59 and 0 <= s["second"] <= 59):
+        raise SettingsError("time: %r:%r:%r is not a time of day" % (s["hour"], s["minute"], s["second"]))
+    if s["threads"] < 0 or s["threads"] > 256:
+        raise SettingsError("threads: %r is outside [0, 256]" % s["threads"])
+
+
+def build_arguments(executable, s, output, sidecar, disk_map=None):
+    """The argument list (executable first) that renders settings s to output (EXR) and sidecar;
+    disk_map: with sun mode LAMP_CAMERA_DISK, the second map that holds the disk."""
+    validate(s)
+    args = [executable, "render", "--progress", "json", "-o", output, "--sidecar", sidecar]
+    date = "%04d-%02d-%02d" % (s["year"], s["month"], s["day"])
+    if s["sun_source"] == "TIME":
+        args += ["--date", date, "--time", "%02d:%02d:%02d" % (s["hour"], s["minute"], s["second"]),
+                 "--utc-offset", format_utc_offset(s["utc_offset"]),
+                 "--latitude", repr(float(s["latitude"])), "--longitude", repr(float(s["longitude"]))]
+    else:
+        args += ["--sun-elevation", repr(float(s["sun_elevation"])),
+                 "--sun-azimuth", repr(float(s["sun_azimuth"]))]
+        if s["ozone_mode"] == "AUTO":  # the climatology needs the date and the latitude
+            args += ["--date", date, "--latitude", repr(float(s["latitude"]))]
+    args += ["--biome", s["biome"]]
+    if s["biome"] != "none":
+        if s["aerosol_amount"] == "AOD":
+            args += ["--aod550", repr(float(s["aod550"]))]
+        else:
+            args += ["--turbidity", repr(float(s["turbidity"]))]
+        if s["use_humidity"]:
+            args += ["--humidity", repr(float(s["humidity"]))]
+    if s["ozone_mode"] == "MANUAL":
+        args += ["--ozone-du", repr(float(s["ozone_du"]))]
+    args += ["--albedo", repr(float(s["albedo"])), "--altitude", repr(float(s["altitude"])),
+             "--width", str(s["resolution"]), "--quality", s["quality"], "--threads", str(s["threads"])]
+    if s["sun_mode"] == "LAMP":
+        args += ["--no-sun-disk"]
+    elif s["sun_mode"] == "LAMP_CAMERA_DISK":
+        if not disk_map:
+            raise SettingsError("sun mode 'lamp + disk for the camera' needs a disk map path")
+        args += ["--sun-disk-map", disk_map]
+    return args

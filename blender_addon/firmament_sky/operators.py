@@ -1,0 +1,281 @@
+"""Operators: Generate (modal with a timer in the UI, blocking in background mode), the preset
+menu's load / add / remove, and applying the suggested exposure."""
+
+import os
+import shutil
+import uuid
+
+import bpy
+from bpy.props import StringProperty
+from bl_operators.presets import AddPresetBase
+
+from . import command, preferences, properties, runner, sky_presets, world
+
+ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
+SHIPPED_PRESETS = os.path.join(ADDON_DIR, "presets", "skies")
+PRESET_SUBDIR = "firmament_sky"
+
+_active = {"runner": None}  # the one generation in flight (UI mode)
+
+
+def cache_dir():
+    """Where the maps are written: the extension's user folder (4.2+) or the user data folder."""
+    try:
+        base = bpy.utils.extension_path_user(__package__, create=True)
+    except (AttributeError, ValueError):
+        base = bpy.utils.user_resource("DATAFILES", path="firmament_sky", create=True)
+    path = os.path.join(base, "skies")
+    os.makedirs(path, exist_ok=True)
+    return path
+
+
+class Job:
+    """One generation: its own folder in the cache, removed unless the result is applied."""
+
+    def __init__(self, settings, executable):
+        self.settings = settings
+        self.folder = os.path.join(cache_dir(), uuid.uuid4().hex[:12])
+        os.makedirs(self.folder)
+        self.exr = os.path.join(self.folder, "sky.exr")
+        self.sidecar = os.path.join(self.folder, "sky.json")
+        self.disk = os.path.join(self.folder, "sky_disk.exr") if settings["sun_mode"] == "LAMP_CAMERA_DISK" else None
+        args = command.build_arguments(executable, settings, self.exr, self.sidecar, self.disk)
+        outputs = [self.exr, self.sidecar] + ([self.disk, os.path.splitext(self.disk)[0] + ".json"] if self.disk else [])
+        self.runner = runner.Runner(args, outputs)
+
+    def discard(self):
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+
+def _remove_stale(paths):
+    """Deletes the folders of previous maps, only inside the cache."""
+    root = os.path.abspath(cache_dir())
+    for p in paths:
+        folder = os.path.dirname(os.path.abspath(p))
+        if os.path.dirname(folder) == root:
+            shutil.rmtree(folder, ignore_errors=True)
+
+
+def prepare(context, op):
+    """Validated settings and a Job, or None after reporting why not."""
+    props = context.scene.firmament_sky
+    settings = properties.to_dict(props)
+    try:
+        command.validate(settings)
+    except command.SettingsError as e:
+        op.report({"ERROR"}, "Firmament: %s" % e)
+        return None
+    prefs = preferences.preferences(context)
+    exe, why = preferences.find_executable(prefs.executable if prefs else "")
+    if exe is None:
+        op.report({"ERROR"}, "Firmament: the firmament executable was not found (%s); set its path in "
+                             "Preferences > Add-ons > Firmament Sky" % why)
+        return None
+    try:
+        return Job(settings, exe)
+    except (OSError, command.SettingsError) as e:
+        op.report({"ERROR"}, "Firmament: %s" % e)
+        return None
+
+
+def finish(context, op, job):
+    """After the child ended: apply the result or report its error.  Returns the operator result."""
+    r = job.runner
+    props = context.scene.firmament_sky
+    if r.state != runner.Runner.DONE:
+        job.discard()
+        props.last_message = r.error_text()
+        op.report({"ERROR"}, "Firmament failed (exit %s): %s" % (r.returncode, r.error_text()))
+        return {"CANCELLED"}
+    try:
+        sun, stale, exposure = world.apply(context.scene, job.settings, job.exr, job.sidecar, job.disk)
+    except world.SetupError as e:
+        job.discard()
+        props.last_message = str(e)
+        op.report({"ERROR"}, "Firmament: %s" % e)
+        return {"CANCELLED"}
+    _remove_stale(stale)
+    props.has_result = True
+    if sun["suggested_exposure_ev"] is not None:
+        props.suggested_exposure_ev = sun["suggested_exposure_ev"]
+    seconds = (r.done_event or {}).get("seconds")
+    msg = "sun %.2f deg up, azimuth %.2f deg" % (sun["elevation_deg"], sun["azimuth_deg"])
+    if seconds is not None:
+        msg += ", rendered in %.1f s" % seconds
+    if exposure is not None:
+        msg += "; film exposure set to %.2f EV" % exposure
+    props.last_message = msg
+    op.report({"INFO"}, "Firmament: " + msg)
+    return {"FINISHED"}
+
+
+class FIRMAMENT_OT_generate(bpy.types.Operator):
+    """Render the sky with firmament and set it up as the world (and sun lamp)"""
+    bl_idname = "firmament_sky.generate"
+    bl_label = "Generate Sky"
+    bl_options = {"REGISTER"}
+
+    _job = None
+    _timer = None
+
+    @classmethod
+    def poll(cls, context):
+        return context.scene is not None and _active["runner"] is None
+
+    def execute(self, context):  # blocking: background mode, scripts
+        job = prepare(context, self)
+        if job is None:
+            return {"CANCELLED"}
+        try:
+            job.runner.start()
+        except OSError as e:
+            job.discard()
+            self.report({"ERROR"}, "Firmament: cannot run %s: %s" % (job.runner.args[0], e))
+            return {"CANCELLED"}
+        job.runner.wait()
+        return finish(context, self, job)
+
+    def invoke(self, context, event):
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        job = prepare(context, self)
+        if job is None:
+            return {"CANCELLED"}
+        try:
+            job.runner.start()
+        except OSError as e:
+            job.discard()
+            self.report({"ERROR"}, "Firmament: cannot run %s: %s" % (job.runner.args[0], e))
+            return {"CANCELLED"}
+        self._job = job
+        _active["runner"] = job.runner
+        wm = context.window_manager
+        self._timer = wm.event_timer_add(0.1, window=context.window)
+        wm.progress_begin(0.0, 1.0)
+        wm.modal_handler_add(self)
+        return {"RUNNING_MODAL"}
+
+    def _end(self, context):
+        wm = context.window_manager
+        if self._timer is not None:
+            wm.event_timer_remove(self._timer)
+            self._timer = None
+        wm.progress_end()
+        if context.workspace is not None:
+            context.workspace.status_text_set(None)
+        _active["runner"] = None
+
+    def modal(self, context, event):
+        r = self._job.runner
+        if event.type == "ESC":
+            r.cancel()
+            self._end(context)
+            self._job.discard()
+            self.report({"WARNING"}, "Firmament: cancelled; the world was not changed")
+            return {"CANCELLED"}
+        if event.type != "TIMER":
+            return {"PASS_THROUGH"}
+        state = r.poll()
+        context.window_manager.progress_update(r.fraction)
+        if context.workspace is not None:
+            context.workspace.status_text_set("Firmament: %s %3.0f%%   (Esc cancels)" % (r.stage, 100.0 * r.fraction))
+        for area in context.screen.areas if context.screen else ():
+            if area.type in ("PROPERTIES", "VIEW_3D"):
+                area.tag_redraw()
+        if state == runner.Runner.RUNNING:
+            return {"PASS_THROUGH"}
+        self._end(context)
+        return finish(context, self, self._job)
+
+    def cancel(self, context):  # the window closed or a file is loaded
+        if self._job is not None:
+            self._job.runner.cancel()
+            self._job.discard()
+        self._end(context)
+
+
+class FIRMAMENT_OT_load_preset(bpy.types.Operator):
+    """Load a sky preset (JSON) into the settings"""
+    bl_idname = "firmament_sky.load_preset"
+    bl_label = "Load Sky Preset"
+    bl_options = {"REGISTER", "UNDO"}
+
+    filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
+    menu_idname: StringProperty(default="FIRMAMENT_MT_presets", options={"SKIP_SAVE", "HIDDEN"})
+
+    def execute(self, context):
+        try:
+            d = sky_presets.read(self.filepath)
+        except sky_presets.PresetError as e:
+            self.report({"ERROR"}, "Firmament preset: %s" % e)
+            return {"CANCELLED"}
+        props = context.scene.firmament_sky
+        settings = sky_presets.to_settings(d, properties.defaults())
+        properties.assign(props, settings)
+        menu = getattr(bpy.types, self.menu_idname, None)
+        if menu is not None:
+            menu.bl_label = d["name"]
+        return {"FINISHED"}
+
+
+class FIRMAMENT_OT_add_preset(AddPresetBase, bpy.types.Operator):
+    """Save the current sky settings as a preset (or remove the active one)"""
+    bl_idname = "firmament_sky.add_preset"
+    bl_label = "Add Sky Preset"
+    preset_menu = "FIRMAMENT_MT_presets"
+    preset_subdir = PRESET_SUBDIR
+    preset_values = []  # written by add() as JSON, not as Python
+
+    def add(self, context, filepath):
+        path = os.path.splitext(filepath)[0] + ".json"
+        name = self.name.strip() or os.path.basename(os.path.splitext(filepath)[0])
+        sky_presets.write(path, sky_presets.from_settings(name, properties.to_dict(context.scene.firmament_sky)))
+
+    def execute(self, context):
+        if self.remove_active or self.remove_name:
+            return self._remove(context)
+        return super().execute(context)
+
+    def _remove(self, context):
+        menu = getattr(bpy.types, self.preset_menu)
+        name = menu.bl_label if self.remove_active else self.name
+        for folder in bpy.utils.preset_paths(self.preset_subdir):
+            for f in os.listdir(folder):
+                path = os.path.join(folder, f)
+                if f.endswith(".json") and (sky_presets.display_name(path) == name or
+                                            os.path.splitext(f)[0] == self.as_filename(name)):
+                    os.remove(path)
+                    menu.bl_label = "Sky Presets"
+                    return {"FINISHED"}
+        self.report({"WARNING"}, "Firmament: '%s' is not one of your presets (shipped ones stay)" % name)
+        return {"CANCELLED"}
+
+
+class FIRMAMENT_OT_apply_exposure(bpy.types.Operator):
+    """Set the scene's film exposure to the sky's suggested exposure (a white diffuse surface under the
+    sky's global horizontal illuminance shows as 1.0)"""
+    bl_idname = "firmament_sky.apply_exposure"
+    bl_label = "Apply Suggested Exposure"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.scene is not None and context.scene.firmament_sky.has_result
+
+    def execute(self, context):
+        ev = context.scene.firmament_sky.suggested_exposure_ev
+        context.scene.view_settings.exposure = ev
+        self.report({"INFO"}, "Firmament: film exposure set to %.2f EV" % ev)
+        return {"FINISHED"}
+
+
+@bpy.app.handlers.persistent
+def cancel_running(*_args):
+    """load_pre handler: a new file must not receive the old scene's sky."""
+    r = _active["runner"]
+    if r is not None:
+        r.cancel()
+        _active["runner"] = None
+
+
+classes = (FIRMAMENT_OT_generate, FIRMAMENT_OT_load_preset, FIRMAMENT_OT_add_preset, FIRMAMENT_OT_apply_exposure)

@@ -1,0 +1,161 @@
+"""Sky presets: the JSON schema shared with `firmament render --preset` (README, "Sky presets").
+Reading checks every key, type and range and names the file and JSON path of a problem; writing
+produces a file the executable accepts.  No bpy here."""
+
+import datetime
+import json
+import os
+import re
+
+# key -> type (str or float) and, for numbers, the range the executable accepts
+NUMBERS = {
+    "latitude": (-90.0, 90.0), "longitude": (-180.0, 180.0),
+    "sun_elevation": (-90.0, 90.0), "sun_azimuth": (-360.0, 360.0),
+    "turbidity": (0.0, 50.0), "aod550": (0.0, 10.0), "humidity": (0.0, 99.0),
+    "ozone_du": (0.0, 1000.0), "albedo": (0.0, 1.0), "altitude": (0.0, 20000.0),
+}
+STRINGS = ("name", "description", "date", "time", "utc_offset", "biome")
+
+
+class PresetError(ValueError):
+    pass
+
+
+def _bad(path, where, what):
+    return PresetError("%s: %s: %s" % (path, where, what))
+
+
+def _check(path, d):
+    if not isinstance(d, dict):
+        raise _bad(path, "$", "must be an object")
+    for key, value in d.items():
+        where = "$." + key
+        if key in STRINGS:
+            if not isinstance(value, str) or not value:
+                raise _bad(path, where, "must be a non-empty string")
+        elif key in NUMBERS:
+            lo, hi = NUMBERS[key]
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise _bad(path, where, "must be a number")
+            if not lo <= value <= hi or (key == "aod550" and value == 0):
+                raise _bad(path, where, "%g is outside [%g, %g]" % (value, lo, hi))
+        else:
+            raise _bad(path, where, "unknown key (known: %s)" % ", ".join(STRINGS + tuple(NUMBERS)))
+    if "name" not in d:
+        raise _bad(path, "$", "missing 'name'")
+    if "turbidity" in d and "aod550" in d:
+        raise _bad(path, "$.aod550", "give turbidity or aod550, not both")
+    if "date" in d:
+        m = re.fullmatch(r"(\d{4})-(\d{2})-(\d{2})", d["date"])
+        try:
+            if not m:
+                raise ValueError
+            datetime.date(int(m[1]), int(m[2]), int(m[3]))
+        except ValueError:
+            raise _bad(path, "$.date", "'%s' is not a date YYYY-MM-DD" % d["date"]) from None
+    if "time" in d:
+        m = re.fullmatch(r"(\d{1,2}):(\d{2})(?::(\d{2}))?", d["time"])
+        if not m or int(m[1]) > 23 or int(m[2]) > 59 or int(m[3] or 0) > 59:
+            raise _bad(path, "$.time", "'%s' is not a time HH:MM[:SS]" % d["time"])
+    if "utc_offset" in d:
+        m = re.fullmatch(r"([+-])(\d{2})(?::(\d{2}))?", d["utc_offset"])
+        if not m or not -12 * 60 <= (int(m[2]) * 60 + int(m[3] or 0)) * (1 if m[1] == "+" else -1) <= 14 * 60:
+            raise _bad(path, "$.utc_offset", "'%s' is not an offset +HH[:MM] in -12:00..+14:00" % d["utc_offset"])
+    if "time" in d and "date" not in d:
+        raise _bad(path, "$.time", "needs a date")
+    if "time" in d and ("latitude" not in d or "longitude" not in d):
+        raise _bad(path, "$.time", "needs latitude and longitude")
+
+
+def read(path):
+    """The preset's dict, checked; PresetError names the file, line:column or JSON path."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+    except OSError as e:
+        raise PresetError("%s: cannot open: %s" % (path, e.strerror)) from None
+    try:
+        d = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise PresetError("%s:%d:%d: JSON syntax error: %s" % (path, e.lineno, e.colno, e.msg)) from None
+    _check(path, d)
+    return d
+
+
+def to_settings(d, defaults):
+    """Settings (the add-on's property values) from a preset: defaults, then the preset's values."""
+    s = dict(defaults)
+    if "date" in d:
+        s["year"], s["month"], s["day"] = (int(x) for x in d["date"].split("-"))
+    if "time" in d:
+        parts = [int(x) for x in d["time"].split(":")] + [0]
+        s["hour"], s["minute"], s["second"] = parts[0], parts[1], parts[2]
+        s["sun_source"] = "TIME"
+    elif "sun_elevation" in d or "sun_azimuth" in d:
+        s["sun_source"] = "ANGLES"
+    if "utc_offset" in d:
+        sign = -1.0 if d["utc_offset"][0] == "-" else 1.0
+        hh, _, mm = d["utc_offset"][1:].partition(":")
+        s["utc_offset"] = sign * (int(hh) + int(mm or 0) / 60.0)
+    for key in ("latitude", "longitude", "sun_elevation", "sun_azimuth", "albedo", "altitude"):
+        if key in d:
+            s[key] = float(d[key])
+    if "biome" in d:
+        s["biome"] = d["biome"]
+    if "turbidity" in d:
+        s["aerosol_amount"], s["turbidity"] = "TURBIDITY", float(d["turbidity"])
+    if "aod550" in d:
+        s["aerosol_amount"], s["aod550"] = "AOD", float(d["aod550"])
+    if "humidity" in d:
+        s["use_humidity"], s["humidity"] = True, float(d["humidity"])
+    if "ozone_du" in d:
+        s["ozone_mode"], s["ozone_du"] = "MANUAL", float(d["ozone_du"])
+    else:
+        s["ozone_mode"] = "AUTO"
+    return s
+
+
+def from_settings(name, s):
+    """The preset dict for settings s (only what applies to the chosen modes)."""
+    d = {"name": name}
+    d["date"] = "%04d-%02d-%02d" % (s["year"], s["month"], s["day"])
+    d["latitude"], d["longitude"] = float(s["latitude"]), float(s["longitude"])
+    if s["sun_source"] == "TIME":
+        d["time"] = "%02d:%02d:%02d" % (s["hour"], s["minute"], s["second"])
+        minutes = int(round(s["utc_offset"] * 60))
+        d["utc_offset"] = "%s%02d:%02d" % ("+" if minutes >= 0 else "-", abs(minutes) // 60, abs(minutes) % 60)
+    else:
+        d["sun_elevation"], d["sun_azimuth"] = float(s["sun_elevation"]), float(s["sun_azimuth"])
+    d["biome"] = s["biome"]
+    if s["aerosol_amount"] == "AOD":
+        d["aod550"] = float(s["aod550"])
+    else:
+        d["turbidity"] = float(s["turbidity"])
+    if s["use_humidity"]:
+        d["humidity"] = float(s["humidity"])
+    if s["ozone_mode"] == "MANUAL":
+        d["ozone_du"] = float(s["ozone_du"])
+    d["albedo"], d["altitude"] = float(s["albedo"]), float(s["altitude"])
+    return d
+
+
+def write(path, d):
+    """Writes d (checked first) to path through a temporary file."""
+    _check(path, d)
+    tmp = path + ".tmp"
+    with open(tmp, "w", encoding="utf-8") as f:
+        json.dump(d, f, indent=2)
+        f.write("\n")
+    os.replace(tmp, path)
+
+
+def display_name(path):
+    """The preset's "name", or the file name when it cannot be read (the menu still lists it)."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            name = json.load(f).get("name")
+        if isinstance(name, str) and name:
+            return name
+    except (OSError, ValueError, AttributeError):
+        pass
+    return os.path.splitext(os.path.basename(path))[0].replace("_", " ")

@@ -1,0 +1,238 @@
+"""World and sun setup from a rendered map and its sidecar.  Everything that can fail (reading
+the sidecar, loading the images) happens before the world is touched, so a failure leaves the
+previous world as it was.  What the add-on creates is tagged (images and the lamp carry the custom
+property "firmament_sky", nodes are named "Firmament ...") so that re-generating replaces it."""
+
+import json
+import math
+import os
+
+import bpy
+from mathutils import Vector
+
+TAG = "firmament_sky"
+NODE_PREFIX = "Firmament "
+LAMP_NAME = "Firmament Sun"
+# Blender 4.x calls the space "Linear Rec.709"; 3.x "Linear" (same primaries, D65).
+COLORSPACE_NAMES = ("Linear Rec.709", "Linear")
+
+
+class SetupError(RuntimeError):
+    pass
+
+
+def read_sidecar(path):
+    try:
+        with open(path, encoding="utf-8") as f:
+            d = json.load(f)
+        sun, image = d["sun"], d["image"]
+        out = {
+            "direction": [float(x) for x in sun["direction"]],
+            "angular_diameter_deg": float(sun["angular_diameter_deg"]),
+            "irradiance_rgb": [float(x) for x in sun["direct_normal_irradiance_rgb"]],
+            "elevation_deg": float(sun["elevation_deg"]),
+            "azimuth_deg": float(sun["azimuth_deg"]),
+            "contains_sun_disk": bool(image["contains_sun_disk"]),
+            "azimuth_at_center_deg": float(image.get("azimuth_at_center_deg", 90.0)),
+            "suggested_exposure_ev": d.get("sky", {}).get("suggested_exposure_ev"),
+            "global_lux": d.get("sky", {}).get("global_horizontal_illuminance_lux"),
+        }
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        raise SetupError("cannot read the sidecar %s: %s" % (path, e)) from None
+    if len(out["direction"]) != 3 or len(out["irradiance_rgb"]) != 3:
+        raise SetupError("sidecar %s: sun.direction and sun.direct_normal_irradiance_rgb need 3 values" % path)
+    return out
+
+
+def load_float_image(path, name):
+    """The EXR as a float image in linear Rec.709; raises SetupError (nothing left behind)."""
+    try:
+        img = bpy.data.images.load(path, check_existing=False)
+    except RuntimeError as e:
+        raise SetupError("cannot load %s: %s" % (path, e)) from None
+    img.name = name
+    img[TAG] = 1
+    for cs in COLORSPACE_NAMES:
+        try:
+            img.colorspace_settings.name = cs
+            break
+        except TypeError:
+            continue
+    else:
+        bpy.data.images.remove(img)
+        raise SetupError("no linear Rec.709 colour space (tried %s) in this Blender's OCIO config"
+                         % ", ".join(COLORSPACE_NAMES))
+    if not img.is_float or img.size[0] == 0:
+        bpy.data.images.remove(img)
+        raise SetupError("%s did not load as a float image" % path)
+    return img
+
+
+def scene_direction(direction, north_offset):
+    """A sky direction (+X east, +Y north, +Z up) in the scene: compass azimuth A appears at scene
+    azimuth A + north_offset (clockwise seen from above), i.e. a rotation by -north_offset about Z."""
+    c, s = math.cos(-north_offset), math.sin(-north_offset)
+    x, y, z = direction
+    return Vector((c * x - s * y, s * x + c * y, z)).normalized()
+
+
+def mapping_rotation_z(north_offset, azimuth_at_center_deg=90.0):
+    """The Mapping node's Z rotation: scene direction v looks up sky direction Rz(theta) v, so theta =
+    north_offset puts the sky's direction d at Rz(-north_offset) d; a map centred on another azimuth
+    than east (Blender's layout) adds A0 - 90 degrees."""
+    return north_offset + math.radians(azimuth_at_center_deg - 90.0)
+
+
+def our_images():
+    return [img for img in bpy.data.images if img.get(TAG)]
+
+
+def _our_lamps():
+    """The add-on's lamp objects, found by their tag (the user may have renamed them)."""
+    return [o for o in bpy.data.objects if o.get(TAG) and o.type == "LIGHT"]
+
+
+def _remove_lamp(keep=None):
+    for obj in _our_lamps():
+        if obj is keep:
+            continue
+        light = obj.data
+        bpy.data.objects.remove(obj)
+        if light is not None and light.users == 0:
+            bpy.data.lights.remove(light)
+
+
+def _ensure_lamp(scene):
+    lamps = [o for o in _our_lamps() if o.data.type == "SUN"]
+    obj = lamps[0] if lamps else None
+    _remove_lamp(keep=obj)  # never more than one
+    if obj is None:
+        light = bpy.data.lights.new(LAMP_NAME, type="SUN")
+        obj = bpy.data.objects.new(LAMP_NAME, light)
+        obj[TAG] = 1
+    if obj.name not in scene.collection.objects and not any(obj.name in c.objects for c in scene.collection.children_recursive):
+        scene.collection.objects.link(obj)
+    return obj
+
+
+def _world_output(nodes):
+    for n in nodes:
+        if n.type == "OUTPUT_WORLD" and n.is_active_output:
+            return n
+    for n in nodes:
+        if n.type == "OUTPUT_WORLD":
+            return n
+    return nodes.new("ShaderNodeOutputWorld")
+
+
+def _env_node(nodes, links, mapping, image, name, x, y):
+    env = nodes.new("ShaderNodeTexEnvironment")
+    env.name = env.label = NODE_PREFIX + name
+    env.image = image
+    env.interpolation = "Linear"
+    env.location = (x, y)
+    links.new(mapping.outputs["Vector"], env.inputs["Vector"])
+    bg = nodes.new("ShaderNodeBackground")
+    bg.name = bg.label = NODE_PREFIX + name + " Background"
+    bg.inputs["Strength"].default_value = 1.0  # pixel values are radiance: 1:1 with the lamp
+    bg.location = (x + 300, y)
+    links.new(env.outputs["Color"], bg.inputs["Color"])
+    return bg
+
+
+def build_world_nodes(world, sky_image, disk_image, rotation_z):
+    if hasattr(world, "use_nodes") and not world.use_nodes:
+        world.use_nodes = True
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    for n in [n for n in nodes if n.name.startswith(NODE_PREFIX)]:
+        nodes.remove(n)
+    out = _world_output(nodes)
+    out.location = (900, 300)
+    coords = nodes.new("ShaderNodeTexCoord")
+    coords.name = coords.label = NODE_PREFIX + "Coordinates"
+    coords.location = (-500, 300)
+    mapping = nodes.new("ShaderNodeMapping")
+    mapping.name = mapping.label = NODE_PREFIX + "North"
+    mapping.vector_type = "POINT"
+    mapping.inputs["Rotation"].default_value = (0.0, 0.0, rotation_z)
+    mapping.location = (-300, 300)
+    links.new(coords.outputs["Generated"], mapping.inputs["Vector"])
+    sky_bg = _env_node(nodes, links, mapping, sky_image, "Sky", 0, 300)
+    if disk_image is None:
+        links.new(sky_bg.outputs["Background"], out.inputs["Surface"])
+        return
+    # camera rays see the map with the disk; every other ray the one without (the lamp lights)
+    disk_bg = _env_node(nodes, links, mapping, disk_image, "Sky With Disk", 0, 0)
+    path = nodes.new("ShaderNodeLightPath")
+    path.name = path.label = NODE_PREFIX + "Light Path"
+    path.location = (300, 600)
+    mix = nodes.new("ShaderNodeMixShader")
+    mix.name = mix.label = NODE_PREFIX + "Camera Sees Disk"
+    mix.location = (650, 300)
+    links.new(path.outputs["Is Camera Ray"], mix.inputs["Fac"])
+    links.new(sky_bg.outputs["Background"], mix.inputs[1])
+    links.new(disk_bg.outputs["Background"], mix.inputs[2])
+    links.new(mix.outputs["Shader"], out.inputs["Surface"])
+
+
+def setup_lamp(scene, sun, north_offset):
+    obj = _ensure_lamp(scene)
+    light = obj.data
+    rgb = sun["irradiance_rgb"]
+    peak = max(rgb)
+    # strength x colour = the direct normal irradiance, in the map's units (Blender W/m^2)
+    light.energy = max(peak, 0.0)
+    light.color = [c / peak for c in rgb] if peak > 0.0 else (1.0, 1.0, 1.0)
+    light.angle = math.radians(sun["angular_diameter_deg"])
+    d = scene_direction(sun["direction"], north_offset)
+    obj.rotation_mode = "XYZ"
+    obj.rotation_euler = d.to_track_quat("Z", "Y").to_euler()  # the lamp shines along its -Z
+    obj.location = d * 10.0  # only for the viewport
+    return obj
+
+
+def apply(scene, settings, exr_path, sidecar_path, disk_path=None):
+    """Sets up the world (and lamp) from a finished render.  Returns (sidecar dict, files of the
+    previous sky that are no longer used, exposure applied or None)."""
+    sun = read_sidecar(sidecar_path)
+    mode = settings["sun_mode"]
+    if mode == "LAMP" and sun["contains_sun_disk"]:
+        raise SetupError("the map holds the sun disk but sun mode 'Sun Lamp' adds a lamp: it would count twice")
+    if mode == "DISK" and not sun["contains_sun_disk"]:
+        raise SetupError("sun mode 'Disk in Map' needs a map with the disk")
+    previous = our_images()
+    sky_image = load_float_image(exr_path, "Firmament Sky")
+    disk_image = None
+    if mode == "LAMP_CAMERA_DISK":
+        try:
+            disk_image = load_float_image(disk_path, "Firmament Sky With Disk")
+        except SetupError:
+            bpy.data.images.remove(sky_image)
+            raise
+    # from here on the world changes
+    world = scene.world
+    if world is None:
+        world = scene.world = bpy.data.worlds.new("Firmament World")
+    build_world_nodes(world, sky_image, disk_image, mapping_rotation_z(settings["north_offset"],
+                                                                       sun["azimuth_at_center_deg"]))
+    if mode == "DISK":
+        _remove_lamp()
+    else:
+        setup_lamp(scene, sun, settings["north_offset"])
+    if mode == "DISK" and hasattr(world, "cycles"):  # resolve the small, bright disk when sampling the map
+        world.cycles.sample_map_resolution = max(world.cycles.sample_map_resolution, sky_image.size[0] // 2)
+    if hasattr(world, "sun_threshold"):  # EEVEE (4.2+): extract a sun from the map only when it has one
+        world.sun_threshold = 10.0 if mode == "DISK" else 0.0
+    stale = []
+    for img in previous:
+        if img.filepath:
+            stale.append(bpy.path.abspath(img.filepath))
+        bpy.data.images.remove(img)
+    sky_image.name = "Firmament Sky"  # the names the previous images held
+    if disk_image is not None:
+        disk_image.name = "Firmament Sky With Disk"
+    exposure = None
+    if settings.get("apply_exposure") and sun["suggested_exposure_ev"] is not None:
+        exposure = float(sun["suggested_exposure_ev"])
+        scene.view_settings.exposure = exposure
+    return sun, [p for p in stale if os.path.abspath(p) not in (os.path.abspath(exr_path), os.path.abspath(disk_path or ""))], exposure
