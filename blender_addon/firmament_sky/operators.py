@@ -201,7 +201,15 @@ class FIRMAMENT_OT_load_preset(bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
 
     filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
+    filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
     menu_idname: StringProperty(default="FIRMAMENT_MT_presets", options={"SKIP_SAVE", "HIDDEN"})
+
+    def invoke(self, context, event):
+        # from the preset menu the file is given; from the panel's folder button the user picks one
+        if self.filepath:
+            return self.execute(context)
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
 
     def execute(self, context):
         try:

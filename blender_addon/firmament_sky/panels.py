@@ -28,6 +28,8 @@ def draw_settings(layout, context):
     row.menu("FIRMAMENT_MT_presets", text=FIRMAMENT_MT_presets.bl_label)
     row.operator("firmament_sky.add_preset", text="", icon="ADD")
     row.operator("firmament_sky.add_preset", text="", icon="REMOVE").remove_active = True
+    # any preset file, e.g. a job of scenes/thesis/ (its sky)
+    row.operator("firmament_sky.load_preset", text="", icon="FILEBROWSER")
 
     box = layout.box()
     box.prop(p, "sun_source", expand=True)

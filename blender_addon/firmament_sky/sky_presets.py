@@ -15,6 +15,11 @@ NUMBERS = {
     "ozone_du": (0.0, 1000.0), "albedo": (0.0, 1.0), "altitude": (0.0, 20000.0),
 }
 STRINGS = ("name", "description", "date", "time", "utc_offset", "biome")
+# The view of a job (a figure of scenes/thesis/, rendered by the executable through its camera):
+# checked, but not used here, since the add-on always makes a world map.
+VIEW_NUMBERS = {"fov": (0.0, 170.0), "look_azimuth": (-360.0, 360.0), "look_elevation": (-90.0, 90.0),
+                "width": (8.0, 16384.0)}
+VIEW_STRINGS = ("camera", "fisheye_projection", "aspect")
 
 
 class PresetError(ValueError):
@@ -30,17 +35,18 @@ def _check(path, d):
         raise _bad(path, "$", "must be an object")
     for key, value in d.items():
         where = "$." + key
-        if key in STRINGS:
+        if key in STRINGS or key in VIEW_STRINGS:
             if not isinstance(value, str) or not value:
                 raise _bad(path, where, "must be a non-empty string")
-        elif key in NUMBERS:
-            lo, hi = NUMBERS[key]
+        elif key in NUMBERS or key in VIEW_NUMBERS:
+            lo, hi = NUMBERS[key] if key in NUMBERS else VIEW_NUMBERS[key]
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 raise _bad(path, where, "must be a number")
             if not lo <= value <= hi or (key == "aod550" and value == 0):
                 raise _bad(path, where, "%g is outside [%g, %g]" % (value, lo, hi))
         else:
-            raise _bad(path, where, "unknown key (known: %s)" % ", ".join(STRINGS + tuple(NUMBERS)))
+            raise _bad(path, where, "unknown key (known: %s)" % ", ".join(
+                STRINGS + tuple(NUMBERS) + VIEW_STRINGS + tuple(VIEW_NUMBERS)))
     if "name" not in d:
         raise _bad(path, "$", "missing 'name'")
     if "turbidity" in d and "aod550" in d:

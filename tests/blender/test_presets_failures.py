@@ -59,6 +59,15 @@ if rc.returncode == 0:
 bpy.ops.firmament_sky.add_preset(remove_active=True)
 h.check(not os.path.exists(user_file), "user preset removed")
 
+# --- the thesis figures (scenes/thesis/) load as presets: their sky, not their view ---------------
+thesis = os.path.join(h.ROOT, "scenes", "thesis")
+for f in sorted(os.listdir(thesis)):
+    job = json.load(open(os.path.join(thesis, f)))
+    bpy.ops.firmament_sky.load_preset(filepath=os.path.join(thesis, f))
+    h.check(p.biome == job["biome"] and p.sun_source == "ANGLES" and abs(p.sun_elevation - job["sun_elevation"]) < 1e-6
+            and abs(p.turbidity - job.get("turbidity", p.turbidity)) < 1e-6,
+            "thesis job %s loads its sky" % f)
+
 # --- a world to protect ---------------------------------------------------------------------------
 bpy.ops.firmament_sky.load_preset(filepath=h.shipped_preset("clear-noon"))
 h.check(bpy.ops.firmament_sky.generate() == {"FINISHED"}, "a first sky")

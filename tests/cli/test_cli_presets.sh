@@ -4,6 +4,7 @@
 # Usage: test_cli_presets.sh path/to/firmament
 set -u
 FM=$(realpath "$1") # absolute: the cases run from their own directories
+ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -77,6 +78,27 @@ bad "both aerosol amounts" '{"name": "x", "turbidity": 1, "aod550": 0.2}' '$.aod
 bad "bad date" '{"name": "x", "date": "2024-13-01", "latitude": 10}' '$.date'
 bad "bad time" '{"name": "x", "date": "2024-01-01", "time": "25:00", "latitude": 10}' '--time'
 expect_usage_error "--preset without value" render --preset
+bad "camera key of the wrong type" '{"name": "x", "fov": "wide"}' '$.fov'
+bad "fov out of range" '{"name": "x", "camera": "pinhole", "fov": 200}' '$.fov'
+bad "unknown camera" '{"name": "x", "camera": "periscope"}' '--camera'
+
+# --- a job with a view: the thesis figures of scenes/thesis/ -------------------------------------
+rm -rf "$work/out" && mkdir -p "$work/out"
+for f in "$ROOT"/scenes/thesis/*.json; do
+    "$FM" render --preset "$f" --quality preview --sample-scale 0.05 --width 32 --progress none -o "$work/out/j.exr" ||
+        fail "thesis job $(basename "$f")"
+done && ok
+"$FM" render --preset "$ROOT/scenes/thesis/pinhole-january-sun-0.json" --quality preview --sample-scale 0.05 \
+    --progress none -o "$work/out/pin.exr" && python3 -c "
+import json, sys
+d = json.load(open('$work/out/pin.json'))
+c, i = d['camera'], d['image']
+sys.exit(not (c['type'] == 'pinhole' and c['horizontal_fov_deg'] == 90 and c['look_azimuth_deg'] == 240 and
+              i['width'] == 384 and i['height'] == 216))" && ok || fail "the preset's view: pinhole 90 deg, 384 x 216"
+# another camera on the command line replaces the preset's whole view (no stray --fov)
+"$FM" render --preset "$ROOT/scenes/thesis/pinhole-january-sun-0.json" --camera equirect --width 32 --quality preview \
+    --sample-scale 0.05 --progress none -o "$work/out/eq.exr" &&
+    [ "$(json_get "$work/out/eq.json" "['camera']['type']")" = equirect ] && ok || fail "--camera replaces the preset's view"
 
 # --- the sun disk in a second map (--sun-disk-map) and the suggested exposure --------------------
 rm -rf "$work/out" && mkdir -p "$work/out"

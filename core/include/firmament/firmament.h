@@ -137,7 +137,7 @@ typedef struct fm_sky_preset {
     char name[96];  /* "Golden hour" */
     char path[1024];
     int count;
-    fm_preset_setting settings[16];
+    fm_preset_setting settings[32];
 } fm_sky_preset;
 
 /* presets_dir: where names are looked up (NULL: $FIRMAMENT_PRESETS, else the source tree's or the

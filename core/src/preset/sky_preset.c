@@ -39,13 +39,24 @@ static const preset_key keys[] = {
     {"ozone_du", VALUE_NUMBER, {0.0, 1000.0, 0, 0}},
     {"albedo", VALUE_NUMBER, {0.0, 1.0, 0, 0}},
     {"altitude", VALUE_NUMBER, {0.0, 20000.0, 0, 0}},
+    /* the view: a job such as a figure of scenes/thesis/ (the add-on, which always makes a world
+     * map, leaves these out) */
+    {"camera", VALUE_STRING, {0, 0, 0, 0}},
+    {"fisheye_projection", VALUE_STRING, {0, 0, 0, 0}},
+    {"fov", VALUE_NUMBER, {0.0, 170.0, 1, 0}},
+    {"look_azimuth", VALUE_NUMBER, {-360.0, 360.0, 0, 0}},
+    {"look_elevation", VALUE_NUMBER, {-90.0, 90.0, 0, 0}},
+    {"aspect", VALUE_STRING, {0, 0, 0, 0}},
+    {"width", VALUE_NUMBER, {8.0, 16384.0, 0, 0}},
 };
 #define KEY_COUNT ((int)(sizeof keys / sizeof keys[0]))
 
 static const char *const allowed[] = {"name",      "description", "date",      "time",     "utc_offset",
                                       "latitude",  "longitude",   "sun_elevation", "sun_azimuth",
                                       "biome",     "turbidity",   "aod550",    "humidity", "ozone_du",
-                                      "albedo",    "altitude",    NULL};
+                                      "albedo",    "altitude",    "camera",    "fisheye_projection",
+                                      "fov",       "look_azimuth", "look_elevation", "aspect", "width",
+                                      NULL};
 
 static int is_path(const char *s)
 {
