@@ -21,16 +21,19 @@
 #ifndef FM_TRANSPORT_PATH_H
 #define FM_TRANSPORT_PATH_H
 
+#include "atmosphere/optical_depth.h"
 #include "base/rng.h"
 #include "base/vec.h"
 #include "transport/sun_irradiance.h"
 
 struct ground_irradiance;
+struct sky_guide;
 
 typedef struct path_context {
     const atmosphere *atm;
     const sun_disk *sun;
     const sun_irradiance *sun_table;
+    const column_table *columns; /* species columns to the top (transmittance along segments) */
     vec3 sun_dir;       /* unit vector toward the sun's centre (Earth-centred frame) */
     int min_order, max_order;
     int force_escapes;  /* force collisions on segments that would leave through the top */
@@ -44,10 +47,21 @@ typedef struct path_context {
      * sampled where its aerosol forward peak makes it large. */
     const phase_function *sun_guide;
     double sun_guide_fraction;
+    /* Segments that enter the Earth's umbra get their next interaction's sunlight by the expected
+     * value along the segment (sunlit_segment.h) instead of the point estimate; 0 turns it off. */
+    int segment_sunlight;
+    /* Twilight: with probability sky_guide_fraction a direction is drawn from the sky guide
+     * (sky_guide.h), toward the sunlit air; NULL when the sun is up. */
+    const struct sky_guide *sky_guide;
+    double sky_guide_fraction;
 } path_context;
 
 /* Adds one path's radiance estimate (W m^-2 sr^-1 nm^-1, per grid wavelength) to L. */
 void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L);
+
+/* The same for a path that begins with a scattering at x (arrived along dir, counted as order 1)
+ * with spectral weights weight[k] (the caller's f/p of placing the vertex there). */
+void path_trace_from(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r, double *L);
 
 /* Mixture phase function sigma_s-weighted over species at densities n: fills p[k] for every grid
  * wavelength (returns the scattering coefficients in sigma_s[k]). */
