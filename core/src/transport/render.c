@@ -106,7 +106,7 @@ static void ms_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         sky_grid_node_angles(&job->ms, (int)i, &e, &phi);
         vec3 d = view_direction(sky, e, phi);
         int offset = (int)(mix64(job->seed ^ (uint64_t)i) % (uint64_t)K);
-        twilight_node_paths(sky, &pc, d, job->q.ms_paths, job->seed, ITEM_MS_NODE + (uint64_t)i, offset, L, 0, NULL);
+        twilight_node_paths(sky, &pc, d, job->q.ms_paths, job->seed, ITEM_MS_NODE + (uint64_t)i, offset, L, NULL);
         for (int k = 0; k < K; k++)
             L[k] /= job->q.ms_paths;
         to_channels(&sky->atm, job->channels, L, &job->ms.values[i * job->channels]);

@@ -1,6 +1,7 @@
 #include "transport/twilight.h"
 
 #include "base/rng.h"
+#include "spectrum/spectral_grid.h"
 #include "transport/view_ray_vertices.h"
 
 #include <stdlib.h>
@@ -40,7 +41,7 @@ path_context twilight_path_context(const fm_sky *sky, const sky_guide *guide, in
 }
 
 void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
-                         uint64_t item, int offset, double *L, int k2, double *sum2)
+                         uint64_t item, int offset, double *L, double *sum_y2)
 {
     const int K = sky->atm.grid.count;
     view_ray_vertices v;
@@ -48,7 +49,7 @@ void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int 
         return; /* no air along the ray */
     for (int p = 0; p < paths; p++) {
         rng r = rng_for(seed, item, (uint64_t)p);
-        double own[FM_MAX_WAVELENGTHS] = {0}, *Lp = sum2 ? own : L;
+        double own[FM_MAX_WAVELENGTHS] = {0}, *Lp = sum_y2 ? own : L;
         if (pc->sky_guide) {
             double weight[FM_MAX_WAVELENGTHS];
             vec3 x = view_ray_vertex(&v, pc, (p + rng_uniform(&r)) / paths, weight);
@@ -56,10 +57,16 @@ void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int 
         } else {
             path_trace(pc, sky->observer, d, (p + offset) % K, &r, Lp);
         }
-        if (sum2) {
+        if (sum_y2) {
             for (int k = 0; k < K; k++)
                 L[k] += own[k];
-            *sum2 += own[k2] * own[k2];
+            double y = own[0];
+            if (sky->atm.grid.colour) {
+                double xyz[3];
+                spectral_grid_to_xyz(&sky->atm.grid, own, xyz);
+                y = xyz[1];
+            }
+            *sum_y2 += y * y;
         }
     }
 }

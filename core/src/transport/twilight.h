@@ -23,9 +23,10 @@ path_context twilight_path_context(const fm_sky *sky, const sky_guide *guide, in
 
 /* The fast path's estimate of orders >= 2 toward d at one table node: adds the sum of `paths` path
  * estimates (K values) to L; with twilight sampling (pc carries a guide) the first vertices are
- * stratified along the view ray.  sum2, if not NULL, receives the sum over paths of the squared
- * estimate at grid wavelength k2 (for a standard error). */
+ * stratified along the view ray.  sum_y2, if not NULL, receives the sum over paths of the squared
+ * luminance-weighted estimate (CIE Y, or the one value of a monochromatic sky), for a standard
+ * error. */
 void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
-                         uint64_t item, int offset, double *L, int k2, double *sum2);
+                         uint64_t item, int offset, double *L, double *sum_y2);
 
 #endif
