@@ -13,7 +13,11 @@
  * included.  Scattering directions are drawn from the local phase function or, a fraction of the
  * time, from an aerosol phase function about the sun (the sun guide, one-sample MIS), so the next
  * vertex's direct sunlight through its aerosol forward peak is not left to chance.  Segments that would leave the atmosphere are optionally forced to collide (weight
- * 1 - exp(-majorant depth)), which keeps thin-air paths useful without bias.
+ * 1 - exp(-majorant depth)), which keeps thin-air paths useful without bias.  A segment that enters
+ * the Earth's umbra (every segment, at twilight) gets its next interaction's sunlight as the
+ * expected value along it (sunlit_segment.h) and no point estimate at that interaction; Russian
+ * roulette plays after that.  At twilight a third direction technique, the sky guide
+ * (sky_guide.h), joins the MIS. 
  *
  * Orders: the order of a contribution is the number of interactions (air scattering or ground
  * reflection) on the path, including the vertex where the sun is connected.  Contributions outside
