@@ -137,18 +137,18 @@ int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int
     build_job job = {g, single, v3_scale(observer, 1.0 / r0)};
     if (parallel_for(threads, (int64_t)g->levels * SKY_GUIDE_ROWS, 1, build_rows, &job, NULL, NULL))
         return 0;
+    int usable = 0;
     for (int i = 0; i < g->levels; i++)
-        if (!normalise_level(&g->level[i]))
-            return 0;
-    return g->levels > 0;
+        usable += g->level[i].usable = normalise_level(&g->level[i]);
+    return usable > 0;
 }
 
-/* The level nearest the vertex's radius r. */
+/* The usable level nearest the vertex's radius r (sky_guide_build guarantees one). */
 static const sky_guide_level *level_for(const sky_guide *g, double r)
 {
-    int best = 0;
-    for (int i = 1; i < g->levels; i++)
-        if (fabs(g->level[i].radius - r) < fabs(g->level[best].radius - r))
+    int best = -1;
+    for (int i = 0; i < g->levels; i++)
+        if (g->level[i].usable && (best < 0 || fabs(g->level[i].radius - r) < fabs(g->level[best].radius - r)))
             best = i;
     return &g->level[best];
 }

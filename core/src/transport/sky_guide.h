@@ -28,6 +28,7 @@ struct path_context;
 
 typedef struct sky_guide_level {
     double radius;                                      /* m from the Earth's centre */
+    int usable;                                         /* 0: this level's sky is black */
     double edge_sin[SKY_GUIDE_ROWS + 1];                /* sin(elevation) of the row edges, ascending */
     double cdf_row[SKY_GUIDE_ROWS + 1];                 /* marginal over rows */
     double cdf_col[SKY_GUIDE_ROWS][SKY_GUIDE_COLS + 1]; /* per row, over columns */
@@ -40,8 +41,9 @@ typedef struct sky_guide {
 } sky_guide;
 
 /* Builds the guide from single_scatter_radiance with `single` at altitudes above `observer` (its
- * own altitude first) on `threads` threads; returns 0 when a level's sky is black (the guide is
- * then unusable), else 1. */
+ * own altitude first) on `threads` threads.  A level whose sky is black (deep twilight, low down) is
+ * left out: vertices use the nearest level that sees light.  Returns 0 when every level is black
+ * (the guide is then unusable), else 1. */
 int sky_guide_build(sky_guide *g, const struct path_context *single, vec3 observer, int threads);
 
 /* A direction at the vertex x (Earth-centred) from three uniform numbers, and the density of a
