@@ -12,9 +12,9 @@ static int same_pixels(const fm_image *a, const fm_image *b)
     return a->width == b->width && memcmp(a->pixels, b->pixels, n * sizeof(float)) == 0;
 }
 
-static void thread_count_does_not_change_the_bits(void **state)
+static void same_bits_for_any_thread_count(double sun_elevation)
 {
-    fm_sky_params p = test_params(25.0, 0.0);
+    fm_sky_params p = test_params(sun_elevation, 0.0);
     fm_sky *sky = test_sky(&p);
     for (int q = 0; q < 2; q++) {
         fm_quality quality = q ? FM_QUALITY_REFERENCE : FM_QUALITY_PREVIEW;
@@ -33,6 +33,10 @@ static void thread_count_does_not_change_the_bits(void **state)
     }
     fm_sky_destroy(sky);
 }
+
+static void thread_count_does_not_change_the_bits(void **state) { same_bits_for_any_thread_count(25.0); }
+/* twilight: the sky guide is built on the render's threads, the paths use it (transport/twilight.h) */
+static void thread_count_does_not_change_the_bits_at_twilight(void **state) { same_bits_for_any_thread_count(-6.0); }
 
 /* Noise of a monochromatic reference render: the difference of two seeds. */
 static void noise(double lambda, fm_image **a, fm_image **b)
@@ -71,6 +75,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(thread_count_does_not_change_the_bits),
+        cmocka_unit_test(thread_count_does_not_change_the_bits_at_twilight),
         cmocka_unit_test(wavelengths_draw_independent_numbers),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,7 +1,7 @@
 /* The fast path (radiance tables) against the reference mode (per-pixel path tracing, no tables),
  * on small maps of a noon sky, a sunset and a noon sky seen from eye height (2 m: the horizon dips
- * 0.045 degrees, a sliver of sky below the horizontal) and from 10 km, and with aerosols (rural noon, urban
- * sunset at turbidity 2), at the default final quality.
+ * 0.045 degrees, a sliver of sky below the horizontal) and from 10 km, with aerosols (rural noon, urban
+ * sunset at turbidity 2), and at twilight (rural, sun -4 degrees), at the default final quality.
  *
  * Metric: for each pixel's luminance, z = (Y_fast - Y_ref) / se_ref with se_ref the reference's own
  * standard error.  If the fast path were exact, z would be standard normal noise: mean z^2 = 1,
@@ -14,7 +14,9 @@
  *    seed to seed: the fast value is the average of FAST_SEEDS renders, and s combines the standard
  *    error of the reference's region mean with that of the fast one, measured from the spread of
  *    the seeds' region means;
- *  - no pixel beyond |z| = 5.5. */
+ *  - no pixel beyond |z| = 5.5.  At twilight the reference's own standard error per pixel comes from
+ *    1024 heavy-tailed path estimates (the light arrives through rare paths into the sunlit air) and
+ *    is itself uncertain: single pixels reach |z| = 6.2 of 1152 there, so that case allows 7. */
 #include "check.h"
 
 #include <math.h>
@@ -25,7 +27,7 @@
 static int region_of(int y, int H) { return y < H / 2 - 1 ? 0 : (y <= H / 2 ? 1 : 2); }
 
 static void compare(double sun_elevation, double altitude_m, const char *biome_name, double turbidity,
-                    int reference_paths)
+                    int reference_paths, double worst_z)
 {
     fm_sky_params p = test_params(sun_elevation, 0.0);
     p.observer_altitude_m = altitude_m;
@@ -84,20 +86,23 @@ static void compare(double sun_elevation, double altitude_m, const char *biome_n
         assert_true(fabs(rel[r]) < bound);
     }
     print_message("worst |z| = %.2f\n", worst);
-    assert_true(worst < 5.5);
+    assert_true(worst < worst_z);
     fm_image_destroy(ref);
     fm_image_destroy(fast);
     fm_sky_destroy(sky);
 }
 
-static void noon(void **state) { compare(30.0, 0.0, "none", 1.0, 4096); }
-static void sunset(void **state) { compare(2.0, 0.0, "none", 1.0, 4096); }
-static void eye_height(void **state) { compare(30.0, 2.0, "none", 1.0, 2048); }
+static void noon(void **state) { compare(30.0, 0.0, "none", 1.0, 4096, 5.5); }
+static void sunset(void **state) { compare(2.0, 0.0, "none", 1.0, 4096, 5.5); }
+static void eye_height(void **state) { compare(30.0, 2.0, "none", 1.0, 2048, 5.5); }
 /* an aircraft at 10 km: the horizon dips 3.2 degrees and the ground is seen through the air below */
-static void aircraft(void **state) { compare(30.0, 10000.0, "none", 1.0, 1024); }
+static void aircraft(void **state) { compare(30.0, 10000.0, "none", 1.0, 1024, 5.5); }
 /* aerosols: the forward peak and absorption through both estimators */
-static void rural_noon(void **state) { compare(30.0, 0.0, "rural", 1.0, 2048); }
-static void urban_sunset(void **state) { compare(2.0, 0.0, "urban", 2.0, 2048); }
+static void rural_noon(void **state) { compare(30.0, 0.0, "rural", 1.0, 2048, 5.5); }
+static void urban_sunset(void **state) { compare(2.0, 0.0, "urban", 2.0, 2048, 5.5); }
+/* twilight: the sun 4 degrees down, the sky lit across the Earth's shadow (both estimators switch to
+ * their twilight sampling, transport/twilight.h) */
+static void twilight(void **state) { compare(-4.0, 0.0, "rural", 1.0, 1024, 7.0); }
 
 int main(void)
 {
@@ -108,6 +113,7 @@ int main(void)
         cmocka_unit_test(aircraft),
         cmocka_unit_test(rural_noon),
         cmocka_unit_test(urban_sunset),
+        cmocka_unit_test(twilight),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -93,8 +93,34 @@ species *atmosphere_new_species(atmosphere *atm, int scatters)
     return &atm->species[at];
 }
 
+/* The first and last altitude of nonzero density of each species, inside the atmosphere. */
+static void find_profile_edges(atmosphere *atm)
+{
+    const double top_m = atm->top_radius_m - atm->bottom_radius_m;
+    atm->edge_count = 0;
+    for (int c = 0; c < atm->species_count; c++) {
+        const density_profile *p = &atm->species[c].profile;
+        int first = 0, last = p->count - 1;
+        while (first < p->count && p->n[first] == 0.0)
+            first++;
+        while (last > first && p->n[last] == 0.0)
+            last--;
+        if (first >= p->count)
+            continue;
+        /* the ramp to zero ends one node beyond the last nonzero one (profile_density is 0 above
+         * the top node) */
+        double edges[2] = {first > 0 ? (first - 1) * p->dz_m : 0.0, fmin((last + 1) * p->dz_m, (p->count - 1) * p->dz_m)};
+        if (last == p->count - 1)
+            edges[1] = last * p->dz_m;
+        for (int e = 0; e < 2; e++)
+            if (edges[e] > 0.0 && edges[e] < top_m)
+                atm->edge_altitude_m[atm->edge_count++] = edges[e];
+    }
+}
+
 void atmosphere_update_majorants(atmosphere *atm)
 {
+    find_profile_edges(atm);
     const double top_m = atm->top_radius_m - atm->bottom_radius_m;
     int n = 0;
     atm->shell_radius[0] = atm->bottom_radius_m;

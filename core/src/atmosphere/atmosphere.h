@@ -39,6 +39,11 @@ typedef struct atmosphere {
     int shell_count;
     double shell_radius[FM_MAX_SHELLS + 1];
     double shell_majorant[FM_MAX_SHELLS][FM_MAX_WAVELENGTHS];
+
+    /* Altitudes (m) where a species' profile starts or ends (an aerosol layer's bottom and top):
+     * the density jumps there, so quadratures along rays break at them (ray_pieces). */
+    int edge_count;
+    double edge_altitude_m[2 * FM_MAX_SPECIES];
 } atmosphere;
 
 /* Builds molecules (U.S. Standard 1976 + Rayleigh after Bucholtz) and ozone (if column > 0) with
@@ -51,7 +56,8 @@ void atmosphere_free(atmosphere *atm);
  * FM_MAX_SPECIES are in use. */
 species *atmosphere_new_species(atmosphere *atm, int scatters);
 
-/* Computes the majorant shells (for any top of the atmosphere); call after the species are final. */
+/* Computes the majorant shells (for any top of the atmosphere) and the species' profile edges; call
+ * after the species are final. */
 void atmosphere_update_majorants(atmosphere *atm);
 
 /* Number densities of every species at radius r. */

@@ -149,13 +149,25 @@ int ray_pieces(const atmosphere *atm, double r, double mu, double t_max, double 
         if (sc > s0 && sc < s1 && n + 1 < max_count)
             s[n++] = sc;
     }
+    /* where a species' profile starts or ends (aerosol layers), its density jumps */
+    for (int i = 0; i < atm->edge_count && n + 3 < max_count; i++) {
+        double rb = atm->bottom_radius_m + atm->edge_altitude_m[i];
+        double d = rb * rb - p2;
+        if (d <= 0.0)
+            continue;
+        double sc = sqrt(d);
+        if (-sc > s0 && -sc < s1)
+            s[n++] = -sc;
+        if (sc > s0 && sc < s1)
+            s[n++] = sc;
+    }
     s[n++] = s1;
     qsort(s, (size_t)n, sizeof *s, cmp_double);
     return n;
 }
 
 #define COLUMN_GAUSS_POINTS 8
-#define MAX_PIECES (2 * N_BREAKPOINTS + 4)
+#define MAX_PIECES (2 * (N_BREAKPOINTS + 2 * FM_MAX_SPECIES) + 4)
 
 void column_quadrature(const atmosphere *atm, double r, double mu, double t_max, double *columns)
 {

@@ -3,6 +3,8 @@
 #include "base/units.h"
 #include "phase/phase.h"
 #include "transport/free_flight.h"
+#include "transport/sky_guide.h"
+#include "transport/sunlit_segment.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -84,17 +86,23 @@ static void renormalise(double *q, int K)
  * medium phase p_k.  With probability a the sun guide draws instead, about the sun's direction, so the
  * next vertex's sunlight is sampled where its forward peak makes it large (one-sample MIS, balance
  * heuristic over both techniques: pdf_k = (1 - a) p_k + a guide_k, weight p_k / pdf_k). */
-static vec3 scatter_direction(const path_context *ctx, const double *n, const double *sig_s, vec3 d, int h, rng *r,
-                              double *q, double *w)
+static vec3 scatter_direction(const path_context *ctx, vec3 x, const double *n, const double *sig_s, vec3 d, int h,
+                              rng *r, double *q, double *w)
 {
     const atmosphere *atm = ctx->atm;
     const int K = atm->grid.count;
     const double a = ctx->sun_guide ? ctx->sun_guide_fraction : 0.0;
+    const double b = ctx->sky_guide ? ctx->sky_guide_fraction : 0.0;
     double cos_theta, phase[FM_MAX_WAVELENGTHS];
     vec3 nd;
-    if (a > 0.0 && rng_uniform(r) < a) {
+    double technique = (a > 0.0 || b > 0.0) ? rng_uniform(r) : 1.0;
+    if (technique < a) {
         double cos_sun = phase_sample(ctx->sun_guide, h, rng_uniform(r));
         nd = rotate_direction(ctx->sun_dir, cos_sun, 2.0 * FM_PI * rng_uniform(r));
+        cos_theta = clamp_cosine(v3_dot(d, nd));
+    } else if (technique < a + b) {
+        double u1 = rng_uniform(r), u2 = rng_uniform(r), u3 = rng_uniform(r);
+        nd = sky_guide_sample(ctx->sky_guide, x, ctx->sun_dir, u1, u2, u3);
         cos_theta = clamp_cosine(v3_dot(d, nd));
     } else {
         double pick = rng_uniform(r) * sig_s[h];
@@ -109,11 +117,13 @@ static vec3 scatter_direction(const path_context *ctx, const double *n, const do
         nd = rotate_direction(d, cos_theta, 2.0 * FM_PI * rng_uniform(r));
     }
     medium_phase(atm, n, cos_theta, phase, NULL);
-    if (a > 0.0) {
-        double guide[FM_MAX_WAVELENGTHS], pdf[FM_MAX_WAVELENGTHS];
-        phase_evaluate_all(ctx->sun_guide, K, clamp_cosine(v3_dot(nd, ctx->sun_dir)), guide);
+    if (a > 0.0 || b > 0.0) {
+        double guide[FM_MAX_WAVELENGTHS] = {0}, pdf[FM_MAX_WAVELENGTHS];
+        if (a > 0.0)
+            phase_evaluate_all(ctx->sun_guide, K, clamp_cosine(v3_dot(nd, ctx->sun_dir)), guide);
+        double sky = b > 0.0 ? sky_guide_pdf(ctx->sky_guide, x, ctx->sun_dir, nd) : 0.0;
         for (int k = 0; k < K; k++)
-            pdf[k] = (1.0 - a) * phase[k] + a * guide[k];
+            pdf[k] = (1.0 - a - b) * phase[k] + a * guide[k] + b * sky;
         for (int k = 0; k < K; k++) {
             w[k] *= pdf[k] > 0.0 ? phase[k] / pdf[k] : 0.0;
             q[k] *= pdf[k] / pdf[h];
@@ -125,7 +135,10 @@ static vec3 scatter_direction(const path_context *ctx, const double *n, const do
     return nd;
 }
 
-void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L)
+/* The path from origin along dir; with first_weight, it begins with a scattering at origin (arrived
+ * along dir) whose spectral weights are first_weight. */
+static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L,
+                  const double *first_weight)
 {
     const atmosphere *atm = ctx->atm;
     const int K = atm->grid.count, h = hero;
@@ -134,16 +147,49 @@ void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r
     double sig_s[FM_MAX_WAVELENGTHS], sig_t[FM_MAX_WAVELENGTHS], tbar[FM_MAX_WAVELENGTHS];
     double phase[FM_MAX_WAVELENGTHS], depth[FM_MAX_WAVELENGTHS], force[FM_MAX_WAVELENGTHS];
     double n[FM_MAX_SPECIES];
-    for (int k = 0; k < K; k++)
-        q[k] = w[k] = 1.0;
+    for (int k = 0; k < K; k++) {
+        q[k] = 1.0;
+        w[k] = first_weight ? first_weight[k] : 1.0;
+    }
     double W = 1.0;
-    int order = 0;
+    int order = 0, at_vertex = first_weight != NULL, vertices_done = 0;
     vec3 pos = origin, d = dir;
 
     for (;;) {
         ray_segment seg;
         ray_segment_init(&seg, atm, pos, d);
-        double t = 0.0, tau;
+        double t = 0.0, tau, umbra0, umbra1;
+        int scattered = 0, along = 0;
+        if (at_vertex) {
+            /* the given first vertex: a scattering at the segment's origin */
+            at_vertex = 0;
+            atmosphere_densities(atm, v3_length(pos), n);
+            atmosphere_coefficients_from_densities(atm, n, sig_s, sig_t);
+            scattered = 1;
+            goto vertex;
+        }
+        /* Across the Earth's shadow: the next interaction's sunlight as the segment's expected value
+         * (before the flight and its forced-collision weight), and no point estimate after the flight. */
+        if (ctx->segment_sunlight && order + 1 >= ctx->min_order) {
+            along = segment_umbra(ctx, &seg, &umbra0, &umbra1);
+            if (!along && ctx->segment_sunlight > 1) {
+                along = 1; /* every segment: no umbra to skip */
+                umbra0 = umbra1 = seg.t_end;
+            }
+        }
+        if (along) {
+            double S[FM_MAX_WAVELENGTHS] = {0};
+            segment_sunlight(ctx, &seg, umbra0, umbra1, r, S);
+            double scale = W / average(q, K);
+            for (int k = 0; k < K; k++)
+                L[k] += scale * q[k] * w[k] * S[k];
+            if (ctx->max_order > 0 && order + 1 >= ctx->max_order)
+                return;
+        }
+        /* Russian roulette after each interaction, once the segment's sunlight is counted: a guided
+         * direction of small weight has brought its light in before it plays */
+        if (vertices_done && !roulette(&W, q, w, K, order, r))
+            return;
         if (ctx->force_escapes && !seg.hits_ground) {
             /* Forced collision: the first tentative collision is drawn inside the segment.  Each
              * wavelength's technique would do the same with its own probability F_k of colliding:
@@ -165,7 +211,6 @@ void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r
 
         /* Delta tracking until a scattering or the end of the segment.  The pdf of a flight for
          * wavelength k is exp(-depth_k) times the probability of the event that ends it. */
-        int scattered = 0;
         for (;;) {
             int shell;
             int collided = free_flight_advance(atm, &seg, t, tau, h, &t, depth, &shell);
@@ -197,11 +242,12 @@ void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r
             tau = -log1p(-rng_uniform(r));
         }
 
+    vertex:
         if (scattered) {
             vec3 x = v3_madd(seg.origin, seg.dir, t);
             double rad = v3_length(x);
             order++;
-            if (order >= ctx->min_order) {
+            if (!along && order >= ctx->min_order) {
                 double mu_s = v3_dot(x, ctx->sun_dir) / rad;
                 sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, rad, mu_s, tbar, NULL);
                 medium_phase(atm, n, v3_dot(d, ctx->sun_dir), phase, NULL);
@@ -211,7 +257,7 @@ void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r
             }
             if (ctx->max_order > 0 && order >= ctx->max_order)
                 return;
-            vec3 nd = scatter_direction(ctx, n, sig_s, d, h, r, q, w);
+            vec3 nd = scatter_direction(ctx, x, n, sig_s, d, h, r, q, w);
             renormalise(q, K);
             pos = x;
             d = nd;
@@ -222,7 +268,7 @@ void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r
             order++;
             if (order == 1 && ctx->skip_ground_first)
                 return;
-            if (order >= ctx->min_order) {
+            if (!along && order >= ctx->min_order) {
                 double mu_s = v3_dot(normal, ctx->sun_dir);
                 double *thor = phase; /* reuse: horizontal transmittance */
                 sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, atm->bottom_radius_m, mu_s, tbar, thor);
@@ -249,7 +295,16 @@ void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r
         } else {
             return; /* left the atmosphere */
         }
-        if (!roulette(&W, q, w, K, order, r))
-            return;
+        vertices_done = 1;
     }
+}
+
+void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L)
+{
+    trace(ctx, origin, dir, hero, r, L, NULL);
+}
+
+void path_trace_from(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r, double *L)
+{
+    trace(ctx, x, dir, hero, r, L, weight);
 }

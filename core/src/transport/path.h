@@ -13,7 +13,11 @@
  * included.  Scattering directions are drawn from the local phase function or, a fraction of the
  * time, from an aerosol phase function about the sun (the sun guide, one-sample MIS), so the next
  * vertex's direct sunlight through its aerosol forward peak is not left to chance.  Segments that would leave the atmosphere are optionally forced to collide (weight
- * 1 - exp(-majorant depth)), which keeps thin-air paths useful without bias.
+ * 1 - exp(-majorant depth)), which keeps thin-air paths useful without bias.  A segment that enters
+ * the Earth's umbra (every segment, at twilight) gets its next interaction's sunlight as the
+ * expected value along it (sunlit_segment.h) and no point estimate at that interaction; Russian
+ * roulette plays after that.  At twilight a third direction technique, the sky guide
+ * (sky_guide.h), joins the MIS. 
  *
  * Orders: the order of a contribution is the number of interactions (air scattering or ground
  * reflection) on the path, including the vertex where the sun is connected.  Contributions outside
@@ -21,16 +25,19 @@
 #ifndef FM_TRANSPORT_PATH_H
 #define FM_TRANSPORT_PATH_H
 
+#include "atmosphere/optical_depth.h"
 #include "base/rng.h"
 #include "base/vec.h"
 #include "transport/sun_irradiance.h"
 
 struct ground_irradiance;
+struct sky_guide;
 
 typedef struct path_context {
     const atmosphere *atm;
     const sun_disk *sun;
     const sun_irradiance *sun_table;
+    const column_table *columns; /* species columns to the top (transmittance along segments) */
     vec3 sun_dir;       /* unit vector toward the sun's centre (Earth-centred frame) */
     int min_order, max_order;
     int force_escapes;  /* force collisions on segments that would leave through the top */
@@ -44,10 +51,21 @@ typedef struct path_context {
      * sampled where its aerosol forward peak makes it large. */
     const phase_function *sun_guide;
     double sun_guide_fraction;
+    /* Segments that enter the Earth's umbra get their next interaction's sunlight by the expected
+     * value along the segment (sunlit_segment.h) instead of the point estimate; 0 turns it off. */
+    int segment_sunlight;
+    /* Twilight: with probability sky_guide_fraction a direction is drawn from the sky guide
+     * (sky_guide.h), toward the sunlit air; NULL when the sun is up. */
+    const struct sky_guide *sky_guide;
+    double sky_guide_fraction;
 } path_context;
 
 /* Adds one path's radiance estimate (W m^-2 sr^-1 nm^-1, per grid wavelength) to L. */
 void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L);
+
+/* The same for a path that begins with a scattering at x (arrived along dir, counted as order 1)
+ * with spectral weights weight[k] (the caller's f/p of placing the vertex there). */
+void path_trace_from(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r, double *L);
 
 /* Mixture phase function sigma_s-weighted over species at densities n: fills p[k] for every grid
  * wavelength (returns the scattering coefficients in sigma_s[k]). */

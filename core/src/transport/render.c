@@ -12,6 +12,7 @@
 #include "sky.h"
 #include "transport/ground_irradiance.h"
 #include "transport/single_scatter.h"
+#include "transport/twilight.h"
 #include "transport/sky_grid.h"
 
 #include <math.h>
@@ -49,6 +50,7 @@ typedef struct render_job {
     uint64_t seed;
     int channels;
     camera cam;
+    const sky_guide *guide; /* twilight only (twilight.h) */
     sky_grid ss, ms;
     ground_irradiance ground;
     fm_image *img;
@@ -97,17 +99,14 @@ static void ms_nodes(void *ctx, int64_t begin, int64_t end, int thread)
     render_job *job = ctx;
     const fm_sky *sky = job->sky;
     const int K = sky->atm.grid.count;
-    path_context pc = sky_path_context(sky, 2, 0);
+    path_context pc = twilight_path_context(job->sky, job->guide, 2, 0);
     pc.skip_ground_first = 1;
     for (int64_t i = begin; i < end; i++) {
         double e, phi, L[FM_MAX_WAVELENGTHS] = {0};
         sky_grid_node_angles(&job->ms, (int)i, &e, &phi);
         vec3 d = view_direction(sky, e, phi);
         int offset = (int)(mix64(job->seed ^ (uint64_t)i) % (uint64_t)K);
-        for (int p = 0; p < job->q.ms_paths; p++) {
-            rng r = rng_for(job->seed, ITEM_MS_NODE + (uint64_t)i, (uint64_t)p);
-            path_trace(&pc, sky->observer, d, (p + offset) % K, &r, L);
-        }
+        twilight_node_paths(sky, &pc, d, job->q.ms_paths, job->seed, ITEM_MS_NODE + (uint64_t)i, offset, L, NULL);
         for (int k = 0; k < K; k++)
             L[k] /= job->q.ms_paths;
         to_channels(&sky->atm, job->channels, L, &job->ms.values[i * job->channels]);
@@ -230,7 +229,7 @@ static void reference_rows(void *ctx, int64_t begin, int64_t end, int thread)
     fm_image *img = job->img;
     const int W = img->width, H = img->height, C = job->channels, K = sky->atm.grid.count;
     const int N = job->q.reference_paths;
-    path_context pc = sky_path_context(sky, 1, 0);
+    path_context pc = twilight_path_context(job->sky, job->guide, 1, 0);
     for (int64_t y = begin; y < end; y++) {
         for (int x = 0; x < W; x++) {
             uint64_t item = ITEM_PIXEL + (uint64_t)y * W + x;
@@ -271,7 +270,7 @@ static void reference_rows_camera(void *ctx, int64_t begin, int64_t end, int thr
     fm_image *img = job->img;
     const int W = img->width, C = job->channels, K = sky->atm.grid.count;
     const int N = job->q.reference_paths;
-    path_context pc = sky_path_context(sky, 1, 0);
+    path_context pc = twilight_path_context(job->sky, job->guide, 1, 0);
     for (int64_t y = begin; y < end; y++) {
         for (int x = 0; x < W; x++) {
             uint64_t item = ITEM_PIXEL + (uint64_t)y * W + x;
@@ -533,6 +532,16 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     job.img->sun_direction[2] = sky->sun_dir.z;
 
     double horizon = asin(horizon_mu(atm, v3_length(sky->observer))); /* elevation, <= 0 */
+    int no_memory;
+    sky_guide *guide = NULL;
+    if (v3_dot(sky->sun_dir, sky->observer) < 0.0) {
+        report(params, 0.0, "twilight guide");
+        job.guide = guide = twilight_guide_create(sky, params->threads, &no_memory);
+        if (no_memory) {
+            s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the twilight guide");
+            goto done;
+        }
+    }
     if (reference) {
         parallel_progress pr = {params->progress, params->progress_user, "path tracing", 0.0, 0.98};
         s = parallel_for(params->threads, H, 1, equirect ? reference_rows : reference_rows_camera, &job, params->cancel,
@@ -547,7 +556,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
             goto done;
         }
         report(params, 0.0, "ground irradiance");
-        path_context all = sky_path_context(sky, 1, 0);
+        path_context all = twilight_path_context(sky, job.guide, 1, 0);
         double r_obs = v3_length(sky->observer);
         double visible = acos(fmin(1.0, atm->bottom_radius_m / r_obs)); /* ground seen up to the horizon */
         s = ground_irradiance_build(&job.ground, &all, acos(clamp_cosine(sky->sun_dir.z)), visible, q->ground_paths,
@@ -582,6 +591,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     }
     report(params, 1.0, "done");
 done:
+    free(guide);
     sky_grid_free(&job.ss);
     sky_grid_free(&job.ms);
     ground_irradiance_free(&job.ground);

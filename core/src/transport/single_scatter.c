@@ -12,7 +12,7 @@
 #define SS_POINTS 6      /* Gauss-Legendre points per piece */
 #define SS_SUB_POINTS 4  /* points of the nested column quadratures */
 #define SS_MAX_PIECE_DEPTH 0.5 /* grey majorant optical depth per piece */
-#define SS_MAX_BOUNDS 80       /* altitude breakpoints along a ray (ray_pieces) */
+#define SS_MAX_BOUNDS 140      /* altitude breakpoints along a ray (ray_pieces) */
 #define SS_MAX_SPLIT 32        /* subdivisions of one piece */
 
 /* Species columns over [sa, sb] (in s) by Gauss-Legendre with `points` nodes. */

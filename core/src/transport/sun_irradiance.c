@@ -125,8 +125,10 @@ void sun_irradiance_free(sun_irradiance *table)
     table->normal = table->horizontal = NULL;
 }
 
-void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
-                           double mu_s, double *normal, double *horizontal)
+/* Bilinear weights and node offsets of (r, mu_s); returns 1 when the point is fully in the Earth's
+ * shadow for either row (then the weights are unused). */
+static int locate(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r, double mu_s,
+                  double w[4], size_t idx[4])
 {
     const int K = table->count;
     double fr = fmin(fmax(table_xr(atm, r), 0.0), 1.0) * (table->n_r - 1);
@@ -135,8 +137,6 @@ void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, c
         ir = table->n_r - 2;
     double tr = fr - ir;
     /* the mu mapping depends on the row's radius: locate mu_s in each of the two rows */
-    double w[4];
-    size_t idx[4];
     int dark = 0;
     for (int row = 0; row < 2; row++) {
         double rr = table_radius(atm, (double)(ir + row) / (table->n_r - 1));
@@ -159,17 +159,39 @@ void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, c
             w[2 * row + 1] = wr * tm;
         }
     }
+    return dark;
+}
+
+static double interpolate(const float *v, const double w[4], const size_t idx[4], int k)
+{
+    return from_depth(w[0] * v[idx[0] + k] + w[1] * v[idx[1] + k] + w[2] * v[idx[2] + k] + w[3] * v[idx[3] + k]);
+}
+
+void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
+                           double mu_s, double *normal, double *horizontal)
+{
+    const int K = table->count;
+    double w[4];
+    size_t idx[4];
+    int dark = locate(table, atm, sun, r, mu_s, w, idx);
     for (int k = 0; k < K; k++) {
-        if (dark) {
-            normal[k] = 0.0;
-            if (horizontal)
-                horizontal[k] = 0.0;
-            continue;
-        }
-        normal[k] = from_depth(w[0] * table->normal[idx[0] + k] + w[1] * table->normal[idx[1] + k] +
-                               w[2] * table->normal[idx[2] + k] + w[3] * table->normal[idx[3] + k]);
+        normal[k] = dark ? 0.0 : interpolate(table->normal, w, idx, k);
         if (horizontal)
-            horizontal[k] = from_depth(w[0] * table->horizontal[idx[0] + k] + w[1] * table->horizontal[idx[1] + k] +
-                                       w[2] * table->horizontal[idx[2] + k] + w[3] * table->horizontal[idx[3] + k]);
+            horizontal[k] = dark ? 0.0 : interpolate(table->horizontal, w, idx, k);
     }
+}
+
+void sun_irradiance_lookup_some(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
+                                double mu_s, int n, const int *ks, double *normal)
+{
+    double w[4];
+    size_t idx[4];
+    int dark = locate(table, atm, sun, r, mu_s, w, idx);
+    for (int i = 0; i < n; i++)
+        normal[i] = dark ? 0.0 : interpolate(table->normal, w, idx, ks[i]);
+}
+
+int sun_in_umbra(const atmosphere *atm, const sun_disk *sun, double r, double mu_s)
+{
+    return mu_s <= mu_low(atm, sun, r);
 }

@@ -35,4 +35,12 @@ void sun_irradiance_free(sun_irradiance *table);
 void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
                            double mu_s, double *normal, double *horizontal);
 
+/* The same for the n grid wavelengths ks[0..n-1] only (normal[i] for ks[i]). */
+void sun_irradiance_lookup_some(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
+                                double mu_s, int n, const int *ks, double *normal);
+
+/* Whether the whole disk is below the horizon of radius r (the umbra): the table is 0 there, and
+ * wherever this holds at the lower of the two table rows around r. */
+int sun_in_umbra(const atmosphere *atm, const sun_disk *sun, double r, double mu_s);
+
 #endif

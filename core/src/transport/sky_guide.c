@@ -1,0 +1,184 @@
+#include "transport/sky_guide.h"
+
+#include "base/threads.h"
+#include "base/units.h"
+#include "spectrum/spectral_grid.h"
+#include "transport/path.h"
+#include "transport/single_scatter.h"
+
+#include <math.h>
+
+/* altitudes of the levels above the observer's (km) */
+static const double level_km[SKY_GUIDE_LEVELS] = {0.0, 4.0, 9.0, 15.0, 22.0, 32.0, 45.0};
+
+/* The vertex's frame: up, the sun's horizontal direction and the horizontal 90 degrees from it. */
+typedef struct local_frame {
+    vec3 up, sun_h, side;
+} local_frame;
+
+static local_frame frame_at(vec3 x, vec3 sun_dir)
+{
+    local_frame f;
+    f.up = v3_normalize(x);
+    vec3 h = v3_madd(sun_dir, f.up, -v3_dot(sun_dir, f.up));
+    if (v3_length(h) < 1e-9)
+        h = frame_from_normal(f.up).t; /* the sun at the vertex's zenith or nadir */
+    f.sun_h = v3_normalize(h);
+    f.side = v3_cross(f.up, f.sun_h);
+    return f;
+}
+
+static vec3 frame_direction(const local_frame *f, double sin_e, double phi)
+{
+    double cos_e = safe_sqrt(1.0 - sin_e * sin_e);
+    vec3 h = v3_add(v3_scale(f->sun_h, cos(phi)), v3_scale(f->side, sin(phi)));
+    return v3_normalize(v3_madd(v3_scale(h, cos_e), f->up, sin_e));
+}
+
+/* Elevation of row edge j for a level whose horizon is at elevation eh (<= 0): crowded at eh. */
+static double row_elevation(int j, double eh)
+{
+    if (j <= SKY_GUIDE_ROWS_DOWN) {
+        double v = (double)(SKY_GUIDE_ROWS_DOWN - j) / SKY_GUIDE_ROWS_DOWN;
+        return eh - (0.5 * FM_PI + eh) * v * v;
+    }
+    double v = (double)(j - SKY_GUIDE_ROWS_DOWN) / SKY_GUIDE_ROWS_UP;
+    return eh + (0.5 * FM_PI - eh) * v * v;
+}
+
+/* Index i with a[i] <= u < a[i + 1] among n bins (a ascending). */
+static int find_bin(const double *a, int n, double u)
+{
+    int lo = 0, hi = n - 1;
+    while (lo < hi) {
+        int mid = (lo + hi + 1) / 2;
+        if (a[mid] <= u)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    return lo;
+}
+
+typedef struct build_job {
+    sky_guide *g;
+    const path_context *single;
+    vec3 up;
+} build_job;
+
+/* Work item: one row of one level; fills the row's cell masses (luminance x solid angle). */
+static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
+{
+    build_job *job = ctx;
+    const atmosphere *atm = job->single->atm;
+    for (int64_t item = begin; item < end; item++) {
+        sky_guide_level *g = &job->g->level[item / SKY_GUIDE_ROWS];
+        int i = (int)(item % SKY_GUIDE_ROWS);
+        vec3 position = v3_scale(job->up, g->radius);
+        local_frame f = frame_at(position, job->single->sun_dir);
+        double eh = -acos(fmin(1.0, atm->bottom_radius_m / g->radius));
+        double e = 0.5 * (row_elevation(i, eh) + row_elevation(i + 1, eh));
+        double omega = (sin(row_elevation(i + 1, eh)) - sin(row_elevation(i, eh))) * 2.0 * FM_PI / SKY_GUIDE_COLS;
+        /* symmetric about the sun's vertical plane: columns c and COLS - 1 - c look alike */
+        for (int c = 0; c < SKY_GUIDE_COLS / 2; c++) {
+            double phi = 2.0 * FM_PI * (c + 0.5) / SKY_GUIDE_COLS;
+            double L[FM_MAX_WAVELENGTHS] = {0}, y = 0.0;
+            single_scatter_radiance(job->single, position, frame_direction(&f, sin(e), phi), L);
+            if (atm->grid.colour) {
+                double xyz[3];
+                spectral_grid_to_xyz(&atm->grid, L, xyz);
+                y = xyz[1];
+            } else {
+                y = L[0];
+            }
+            g->pdf[i][c] = g->pdf[i][SKY_GUIDE_COLS - 1 - c] = fmax(y, 0.0) * omega;
+        }
+    }
+}
+
+/* From the cells' masses (in pdf) to the cdfs and the density per steradian. */
+static int normalise_level(sky_guide_level *g)
+{
+    double row_mass[SKY_GUIDE_ROWS], total = 0.0;
+    for (int i = 0; i < SKY_GUIDE_ROWS; i++) {
+        g->cdf_col[i][0] = 0.0;
+        for (int c = 0; c < SKY_GUIDE_COLS; c++)
+            g->cdf_col[i][c + 1] = g->cdf_col[i][c] + g->pdf[i][c];
+        row_mass[i] = g->cdf_col[i][SKY_GUIDE_COLS];
+        total += row_mass[i];
+    }
+    if (!(total > 0.0))
+        return 0;
+    g->cdf_row[0] = 0.0;
+    for (int i = 0; i < SKY_GUIDE_ROWS; i++) {
+        double omega = (g->edge_sin[i + 1] - g->edge_sin[i]) * 2.0 * FM_PI / SKY_GUIDE_COLS;
+        g->cdf_row[i + 1] = g->cdf_row[i] + row_mass[i] / total;
+        for (int c = 0; c <= SKY_GUIDE_COLS; c++)
+            g->cdf_col[i][c] = row_mass[i] > 0.0 ? g->cdf_col[i][c] / row_mass[i] : (double)c / SKY_GUIDE_COLS;
+        for (int c = 0; c < SKY_GUIDE_COLS; c++)
+            g->pdf[i][c] = omega > 0.0 ? g->pdf[i][c] / total / omega : 0.0;
+    }
+    g->cdf_row[SKY_GUIDE_ROWS] = 1.0;
+    return 1;
+}
+
+int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int threads)
+{
+    const atmosphere *atm = single->atm;
+    double r0 = v3_length(observer);
+    g->levels = 0;
+    for (int i = 0; i < SKY_GUIDE_LEVELS && r0 + level_km[i] * FM_KM < atm->top_radius_m; i++) {
+        sky_guide_level *l = &g->level[g->levels++];
+        l->radius = r0 + level_km[i] * FM_KM;
+        double eh = -acos(fmin(1.0, atm->bottom_radius_m / l->radius));
+        for (int j = 0; j <= SKY_GUIDE_ROWS; j++)
+            l->edge_sin[j] = sin(row_elevation(j, eh));
+    }
+    build_job job = {g, single, v3_scale(observer, 1.0 / r0)};
+    if (parallel_for(threads, (int64_t)g->levels * SKY_GUIDE_ROWS, 1, build_rows, &job, NULL, NULL))
+        return 0;
+    int usable = 0;
+    for (int i = 0; i < g->levels; i++)
+        usable += g->level[i].usable = normalise_level(&g->level[i]);
+    return usable > 0;
+}
+
+/* The usable level nearest the vertex's radius r (sky_guide_build guarantees one). */
+static const sky_guide_level *level_for(const sky_guide *g, double r)
+{
+    int best = -1;
+    for (int i = 0; i < g->levels; i++)
+        if (g->level[i].usable && (best < 0 || fabs(g->level[i].radius - r) < fabs(g->level[best].radius - r)))
+            best = i;
+    return &g->level[best];
+}
+
+vec3 sky_guide_sample(const sky_guide *g, vec3 x, vec3 sun_dir, double u1, double u2, double u3)
+{
+    const sky_guide_level *l = level_for(g, v3_length(x));
+    int i = find_bin(l->cdf_row, SKY_GUIDE_ROWS, u1);
+    while (i > 0 && !(l->cdf_row[i + 1] > l->cdf_row[i]))
+        i--; /* never an empty row */
+    int c = find_bin(l->cdf_col[i], SKY_GUIDE_COLS, u2);
+    while (c > 0 && !(l->cdf_col[i][c + 1] > l->cdf_col[i][c]))
+        c--;
+    double v = (u2 - l->cdf_col[i][c]) / (l->cdf_col[i][c + 1] - l->cdf_col[i][c]);
+    double sin_e = l->edge_sin[i] + (l->edge_sin[i + 1] - l->edge_sin[i]) * u3;
+    double phi = 2.0 * FM_PI * (c + fmin(fmax(v, 0.0), 1.0)) / SKY_GUIDE_COLS;
+    local_frame f = frame_at(x, sun_dir);
+    return frame_direction(&f, sin_e, phi);
+}
+
+double sky_guide_pdf(const sky_guide *g, vec3 x, vec3 sun_dir, vec3 d)
+{
+    const sky_guide_level *l = level_for(g, v3_length(x));
+    local_frame f = frame_at(x, sun_dir);
+    double sin_e = clamp_cosine(v3_dot(d, f.up));
+    double phi = atan2(v3_dot(d, f.side), v3_dot(d, f.sun_h));
+    if (phi < 0.0)
+        phi += 2.0 * FM_PI;
+    int i = find_bin(l->edge_sin, SKY_GUIDE_ROWS, sin_e);
+    int c = (int)(phi / (2.0 * FM_PI) * SKY_GUIDE_COLS);
+    c = c < 0 ? 0 : (c >= SKY_GUIDE_COLS ? SKY_GUIDE_COLS - 1 : c);
+    return l->pdf[i][c];
+}

@@ -1,0 +1,54 @@
+/* A direction guide for scattering vertices when the sun is below the horizon.
+ *
+ * At twilight nearly all the light that a vertex scatters comes from a narrow band of its sky: the
+ * sunlit air toward the sun's azimuth, seen grazing over the Earth's shadow, a little below the
+ * vertex's own horizon when it is high up.  The phase function does not know where that band is,
+ * and the sun guide (path.h) aims at the sun, which is below the horizon.  This guide is a
+ * piecewise-constant density over directions proportional to the single-scattering luminance
+ * (deterministic quadrature, single_scatter.h) seen from a few altitudes above the observer, on a
+ * grid of elevation (crowded at that altitude's horizon) x azimuth from the sun.  The atmosphere is
+ * horizontally homogeneous, so a vertex near the observer sees nearly the sky of the level nearest
+ * its altitude, laid out in its own frame (local horizontal, the sun's azimuth there).  The density
+ * is the same for every wavelength; it enters the path's spectral MIS as a third technique beside
+ * the phase function and the sun guide (one-sample MIS, balance heuristic).  Any density keeps
+ * the estimator unbiased; this one puts the directions where the next order's sunlight is. */
+#ifndef FM_TRANSPORT_SKY_GUIDE_H
+#define FM_TRANSPORT_SKY_GUIDE_H
+
+#include "base/vec.h"
+#include "firmament/firmament.h"
+
+struct path_context;
+
+#define SKY_GUIDE_LEVELS 7
+#define SKY_GUIDE_ROWS_UP 40   /* elevation bins from the level's horizon to the zenith */
+#define SKY_GUIDE_ROWS_DOWN 20 /* and from the nadir to the horizon */
+#define SKY_GUIDE_ROWS (SKY_GUIDE_ROWS_UP + SKY_GUIDE_ROWS_DOWN)
+#define SKY_GUIDE_COLS 36      /* azimuth bins over [0, 360) deg from the sun's azimuth */
+
+typedef struct sky_guide_level {
+    double radius;                                      /* m from the Earth's centre */
+    int usable;                                         /* 0: this level's sky is black */
+    double edge_sin[SKY_GUIDE_ROWS + 1];                /* sin(elevation) of the row edges, ascending */
+    double cdf_row[SKY_GUIDE_ROWS + 1];                 /* marginal over rows */
+    double cdf_col[SKY_GUIDE_ROWS][SKY_GUIDE_COLS + 1]; /* per row, over columns */
+    double pdf[SKY_GUIDE_ROWS][SKY_GUIDE_COLS];         /* per steradian */
+} sky_guide_level;
+
+typedef struct sky_guide {
+    int levels;
+    sky_guide_level level[SKY_GUIDE_LEVELS];
+} sky_guide;
+
+/* Builds the guide from single_scatter_radiance with `single` at altitudes above `observer` (its
+ * own altitude first) on `threads` threads.  A level whose sky is black (deep twilight, low down) is
+ * left out: vertices use the nearest level that sees light.  Returns 0 when every level is black
+ * (the guide is then unusable), else 1. */
+int sky_guide_build(sky_guide *g, const struct path_context *single, vec3 observer, int threads);
+
+/* A direction at the vertex x (Earth-centred) from three uniform numbers, and the density of a
+ * direction d there (per steradian). */
+vec3 sky_guide_sample(const sky_guide *g, vec3 x, vec3 sun_dir, double u1, double u2, double u3);
+double sky_guide_pdf(const sky_guide *g, vec3 x, vec3 sun_dir, vec3 d);
+
+#endif

@@ -1,0 +1,171 @@
+#include "transport/sunlit_segment.h"
+
+#include "atmosphere/optical_depth.h"
+#include "base/units.h"
+
+#include <math.h>
+
+#define PROXY_CELLS 8 /* cells of the piecewise-constant density over the sunlit length */
+#define SUN_SAMPLES 2 /* stratified evaluations per segment */
+#define DEFENSIVE 0.2 /* share of the uniform density in the mixture */
+#define UMBRA_MARGIN 1.0 /* m taken off each end of the umbra interval */
+
+/* The umbra of a sun of angular radius a at infinity behind a sphere of radius R, with
+ * z = -p . s (distance behind the terminator plane) and rho the distance from the shadow's axis:
+ * a point sees no part of the disk above its horizon iff asin(R / r) >= psi + a, psi the angle of p
+ * from -s, which is  z >= r sin a  and  rho cos a + z sin a <= R  (a cone tangent to the sphere,
+ * apex R / sin a behind it; convex).  Inside the atmosphere z >= r_top sin a implies the first; the
+ * second is the quadratic  cos^2 a |p|^2 - z^2 + 2 R sin a z - R^2 <= 0  along the line. */
+int segment_umbra(const path_context *ctx, const ray_segment *seg, double *t0, double *t1)
+{
+    const atmosphere *atm = ctx->atm;
+    const double R = atm->bottom_radius_m, alpha = ctx->sun->angular_radius;
+    const double ca2 = cos(alpha) * cos(alpha), sa = sin(alpha);
+    vec3 s = ctx->sun_dir;
+    double z0 = -v3_dot(seg->origin, s), zd = -v3_dot(seg->dir, s);
+    double a = ca2 - zd * zd;
+    if (!(a > 1e-9))
+        return 0; /* a segment along the shadow's axis: left to the point estimate */
+    double b = 2.0 * (ca2 * seg->s0 - z0 * zd + R * sa * zd);
+    double c = ca2 * v3_dot(seg->origin, seg->origin) - z0 * z0 + 2.0 * R * sa * z0 - R * R;
+    double disc = b * b - 4.0 * a * c;
+    if (!(disc > 0.0))
+        return 0;
+    double q = -0.5 * (b + copysign(sqrt(disc), b));
+    double lo = fmin(q / a, c / q), hi = fmax(q / a, c / q);
+    double zmin = atm->top_radius_m * sa, tz = (zmin - z0) / zd;
+    if (zd > 0.0)
+        lo = fmax(lo, tz);
+    else if (zd < 0.0)
+        hi = fmin(hi, tz);
+    else if (z0 < zmin)
+        return 0;
+    lo = fmax(lo, 0.0) + UMBRA_MARGIN;
+    hi = fmin(hi, seg->t_end) - UMBRA_MARGIN;
+    if (!(hi > lo))
+        return 0;
+    /* both ends in the table's shadow, so (convexity) everything between */
+    for (int e = 0; e < 2; e++) {
+        double t = e ? hi : lo, rad = ray_segment_radius(seg, t);
+        vec3 x = v3_madd(seg->origin, seg->dir, t);
+        if (!sun_in_umbra(atm, ctx->sun, rad, v3_dot(x, s) / rad))
+            return 0;
+    }
+    *t0 = lo;
+    *t1 = hi;
+    return 1;
+}
+
+/* Rays that do not hit the ground: column to the top from the origin minus that from x_t.  Rays that
+ * do: the reversed ray from x_t passes the origin and never meets the ground, so the difference the
+ * other way. */
+void segment_columns_init(segment_columns *sc, const path_context *ctx, const ray_segment *seg)
+{
+    sc->ctx = ctx;
+    sc->seg = seg;
+    sc->reversed = seg->hits_ground;
+    double r0 = v3_length(seg->origin), mu0 = seg->s0 / r0;
+    sc->ok = column_table_lookup(ctx->columns, ctx->atm, r0, sc->reversed ? -mu0 : mu0, sc->start);
+}
+
+void segment_columns_at(const segment_columns *sc, double t, double *col)
+{
+    const atmosphere *atm = sc->ctx->atm;
+    const ray_segment *seg = sc->seg;
+    double rad = ray_segment_radius(seg, t), mu = (t + seg->s0) / rad, here[FM_MAX_SPECIES];
+    if (sc->ok && column_table_lookup(sc->ctx->columns, atm, rad, sc->reversed ? -mu : mu, here)) {
+        for (int c = 0; c < atm->species_count; c++)
+            col[c] = fmax(0.0, sc->reversed ? here[c] - sc->start[c] : sc->start[c] - here[c]);
+        return;
+    }
+    /* a ray grazing the ground, where the table's ground test and the segment's disagree */
+    double r0 = v3_length(seg->origin);
+    column_quadrature(atm, r0, seg->s0 / r0, t, col);
+}
+
+/* Position along the segment of the sunlit length l (the umbra [u0, u1] skipped). */
+static double lit_to_t(double l, double u0, double u1) { return l < u0 ? l : l + (u1 - u0); }
+
+void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0, double u1, rng *r, double *S)
+{
+    const atmosphere *atm = ctx->atm;
+    const int K = atm->grid.count;
+    const double *E0 = atm->grid.solar_irradiance;
+    const double lit = u0 + (seg->t_end - u1), cos_sun = v3_dot(seg->dir, ctx->sun_dir);
+    segment_columns sc;
+    segment_columns_init(&sc, ctx, seg);
+    double col[FM_MAX_SPECIES], n[FM_MAX_SPECIES];
+    double sig_s[FM_MAX_WAVELENGTHS], tbar[FM_MAX_WAVELENGTHS];
+
+    if (lit > 0.0) {
+        /* proxy: sum over three wavelengths of T sigma_s Tbar at the cells' ends; a cell weighs the
+         * larger of its two ends */
+        int ks[3], nk = K < 3 ? K : 3;
+        for (int i = 0; i < nk; i++)
+            ks[i] = K < 3 ? i : K * (i + 1) / 4;
+        double h[PROXY_CELLS + 1], cdf[PROXY_CELLS + 1], ts[3];
+        for (int j = 0; j <= PROXY_CELLS; j++) {
+            double t = lit_to_t(lit * j / PROXY_CELLS, u0, u1), rad = ray_segment_radius(seg, t);
+            vec3 x = v3_madd(seg->origin, seg->dir, t);
+            h[j] = 0.0;
+            sun_irradiance_lookup_some(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, nk, ks, ts);
+            if (ts[0] + ts[nk - 1] + ts[nk / 2] == 0.0)
+                continue;
+            segment_columns_at(&sc, t, col);
+            atmosphere_densities(atm, rad, n);
+            for (int i = 0; i < nk; i++) {
+                double sigma = 0.0;
+                for (int c = 0; c < atm->scattering_count; c++)
+                    sigma += atm->species[c].sigma_s[ks[i]] * n[c];
+                h[j] += sigma * exp(-atmosphere_optical_depth(atm, col, ks[i])) * ts[i];
+            }
+        }
+        double total = 0.0, mass[PROXY_CELLS];
+        for (int j = 0; j < PROXY_CELLS; j++)
+            total += (mass[j] = fmax(h[j], h[j + 1]));
+        cdf[0] = 0.0;
+        for (int j = 0; j < PROXY_CELLS; j++) {
+            double pj = total > 0.0 ? (1.0 - DEFENSIVE) * mass[j] / total + DEFENSIVE / PROXY_CELLS : 1.0 / PROXY_CELLS;
+            cdf[j + 1] = cdf[j] + pj;
+        }
+        const double cell = lit / PROXY_CELLS;
+        double phase[FM_MAX_WAVELENGTHS];
+        for (int i = 0; i < SUN_SAMPLES; i++) {
+            double u = (i + rng_uniform(r)) / SUN_SAMPLES * cdf[PROXY_CELLS];
+            int j = 0;
+            while (j < PROXY_CELLS - 1 && u >= cdf[j + 1])
+                j++;
+            double pj = cdf[j + 1] - cdf[j];
+            double l = cell * (j + fmin(fmax((u - cdf[j]) / pj, 0.0), 1.0));
+            double t = lit_to_t(l, u0, u1), rad = ray_segment_radius(seg, t);
+            vec3 x = v3_madd(seg->origin, seg->dir, t);
+            sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, tbar, NULL);
+            double any = 0.0;
+            for (int k = 0; k < K; k++)
+                any += tbar[k];
+            if (!(any > 0.0))
+                continue;
+            double inv_pdf = cell / (pj / cdf[PROXY_CELLS]) / SUN_SAMPLES;
+            segment_columns_at(&sc, t, col);
+            atmosphere_densities(atm, rad, n);
+            medium_phase(atm, n, cos_sun, phase, sig_s);
+            for (int k = 0; k < K; k++)
+                S[k] += inv_pdf * exp(-atmosphere_optical_depth(atm, col, k)) * sig_s[k] * phase[k] * E0[k] * tbar[k];
+        }
+    }
+
+    if (seg->hits_ground) {
+        vec3 x = v3_madd(seg->origin, seg->dir, seg->t_end);
+        double rad = v3_length(x), thor[FM_MAX_WAVELENGTHS];
+        sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, atm->bottom_radius_m, v3_dot(x, ctx->sun_dir) / rad, tbar,
+                              thor);
+        double any = 0.0;
+        for (int k = 0; k < K; k++)
+            any += thor[k];
+        if (any > 0.0) {
+            segment_columns_at(&sc, seg->t_end, col);
+            for (int k = 0; k < K; k++)
+                S[k] += exp(-atmosphere_optical_depth(atm, col, k)) * atm->ground_albedo[k] / FM_PI * E0[k] * thor[k];
+        }
+    }
+}

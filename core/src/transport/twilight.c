@@ -1,0 +1,72 @@
+#include "transport/twilight.h"
+
+#include "base/rng.h"
+#include "spectrum/spectral_grid.h"
+#include "transport/view_ray_vertices.h"
+
+#include <stdlib.h>
+
+/* Half the directions from the guide: of 0.25 / 0.5 tried, 0.5 was best at -4 and -10 degrees. */
+#define SKY_GUIDE_FRACTION 0.5
+
+sky_guide *twilight_guide_create(const fm_sky *sky, int threads, int *no_memory)
+{
+    *no_memory = 0;
+    if (!(v3_dot(sky->sun_dir, sky->observer) < 0.0))
+        return NULL;
+    sky_guide *g = malloc(sizeof *g);
+    if (!g) {
+        *no_memory = 1;
+        return NULL;
+    }
+    path_context single = sky_path_context(sky, 1, 1);
+    if (!sky_guide_build(g, &single, sky->observer, threads)) {
+        free(g); /* a black sky (deep night): nothing to guide toward */
+        return NULL;
+    }
+    return g;
+}
+
+path_context twilight_path_context(const fm_sky *sky, const sky_guide *guide, int min_order, int max_order)
+{
+    path_context pc = sky_path_context(sky, min_order, max_order);
+    if (guide) {
+        pc.sky_guide = guide;
+        pc.sky_guide_fraction = SKY_GUIDE_FRACTION;
+        /* every segment along its length: with guided directions of small weight, a point estimate
+         * after Russian roulette would bring the noise back */
+        pc.segment_sunlight = 2;
+    }
+    return pc;
+}
+
+void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
+                         uint64_t item, int offset, double *L, double *sum_y2)
+{
+    const int K = sky->atm.grid.count;
+    view_ray_vertices v;
+    if (pc->sky_guide && !view_ray_vertices_init(&v, pc, sky->observer, d))
+        return; /* no air along the ray */
+    for (int p = 0; p < paths; p++) {
+        rng r = rng_for(seed, item, (uint64_t)p);
+        double own[FM_MAX_WAVELENGTHS] = {0}, *Lp = sum_y2 ? own : L;
+        if (pc->sky_guide) {
+            double weight[FM_MAX_WAVELENGTHS];
+            vec3 x = view_ray_vertex(&v, pc, (p + rng_uniform(&r)) / paths, weight);
+            path_trace_from(pc, x, d, weight, (p + offset) % K, &r, Lp);
+        } else {
+            path_trace(pc, sky->observer, d, (p + offset) % K, &r, Lp);
+        }
+        if (sum_y2) {
+            for (int k = 0; k < K; k++)
+                L[k] += own[k];
+            double y = own[0];
+            if (sky->atm.grid.colour) {
+                double xyz[3];
+                spectral_grid_to_xyz(&sky->atm.grid, own, xyz);
+                y = xyz[1];
+            }
+            *sum_y2 += y * y;
+        }
+    }
+}

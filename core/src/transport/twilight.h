@@ -1,0 +1,32 @@
+/* When and how the renderer changes its estimator at twilight.
+ *
+ * Below the horizon (the sun's centre under the observer's horizontal plane) the light of the sky
+ * comes from sunlit air far off and high up, seen across the Earth's shadow.  Then every render
+ * builds the sky guide (sky_guide.h), draws half the scattering directions from it, counts every
+ * segment's sunlight along the segment (sunlit_segment.h), and the fast path places the first
+ * vertex of its table nodes' paths by stratified sampling along the view ray
+ * (view_ray_vertices.h).  All of these are unbiased changes of sampling; by day none of them is
+ * used (except the along-segment sunlight on the rare segments that enter the Earth's umbra), and
+ * daytime maps are the same bits as before. */
+#ifndef FM_TRANSPORT_TWILIGHT_H
+#define FM_TRANSPORT_TWILIGHT_H
+
+#include "sky.h"
+#include "transport/sky_guide.h"
+
+/* The guide for a sky whose sun is below the horizon (malloc'ed, free() it); NULL by day, for a
+ * black sky, or out of memory (*no_memory set). */
+sky_guide *twilight_guide_create(const fm_sky *sky, int threads, int *no_memory);
+
+/* sky_path_context with, when guide is not NULL, the twilight sampling. */
+path_context twilight_path_context(const fm_sky *sky, const sky_guide *guide, int min_order, int max_order);
+
+/* The fast path's estimate of orders >= 2 toward d at one table node: adds the sum of `paths` path
+ * estimates (K values) to L; with twilight sampling (pc carries a guide) the first vertices are
+ * stratified along the view ray.  sum_y2, if not NULL, receives the sum over paths of the squared
+ * luminance-weighted estimate (CIE Y, or the one value of a monochromatic sky), for a standard
+ * error. */
+void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
+                         uint64_t item, int offset, double *L, double *sum_y2);
+
+#endif
