@@ -61,7 +61,7 @@ h.check(not os.path.exists(user_file), "user preset removed")
 
 # --- the thesis figures (scenes/thesis/) load as presets: their sky, not their view ---------------
 thesis = os.path.join(h.ROOT, "scenes", "thesis")
-for f in sorted(os.listdir(thesis)):
+for f in sorted(f for f in os.listdir(thesis) if f.endswith(".json")):
     job = json.load(open(os.path.join(thesis, f)))
     bpy.ops.firmament_sky.load_preset(filepath=os.path.join(thesis, f))
     h.check(p.biome == job["biome"] and p.sun_source == "ANGLES" and abs(p.sun_elevation - job["sun_elevation"]) < 1e-6
