@@ -122,15 +122,22 @@ class FIRMAMENT_OT_generate(bpy.types.Operator):
     def poll(cls, context):
         return context.scene is not None and _active["runner"] is None
 
-    def execute(self, context):  # blocking: background mode, scripts
+    def _start(self, context):
+        """The prepared job with its child started, or None (reported)."""
         job = prepare(context, self)
         if job is None:
-            return {"CANCELLED"}
+            return None
         try:
             job.runner.start()
         except OSError as e:
             job.discard()
             self.report({"ERROR"}, "Firmament: cannot run %s: %s" % (job.runner.args[0], e))
+            return None
+        return job
+
+    def execute(self, context):  # blocking: background mode, scripts
+        job = self._start(context)
+        if job is None:
             return {"CANCELLED"}
         job.runner.wait()
         return finish(context, self, job)
@@ -138,14 +145,8 @@ class FIRMAMENT_OT_generate(bpy.types.Operator):
     def invoke(self, context, event):
         if bpy.app.background or context.window is None:
             return self.execute(context)
-        job = prepare(context, self)
+        job = self._start(context)
         if job is None:
-            return {"CANCELLED"}
-        try:
-            job.runner.start()
-        except OSError as e:
-            job.discard()
-            self.report({"ERROR"}, "Firmament: cannot run %s: %s" % (job.runner.args[0], e))
             return {"CANCELLED"}
         self._job = job
         _active["runner"] = job.runner
