@@ -3,8 +3,8 @@
 #include "base/json_file.h"
 #include "base/status.h"
 #include "base/units.h"
+#include "presets.h"
 
-#include <dirent.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -20,36 +20,6 @@ static int is_path(const char *s)
     return strchr(s, '/') != NULL || (n > 5 && strcmp(s + n - 5, ".json") == 0);
 }
 
-/* "background, desert-dust, ..." from the directory listing, sorted. */
-static void known_names(const char *dir, char *out, size_t size)
-{
-    char names[32][64];
-    int count = 0;
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    while (d && (e = readdir(d)) != NULL && count < 32) {
-        size_t n = strlen(e->d_name);
-        if (n > 5 && n < 64 && strcmp(e->d_name + n - 5, ".json") == 0) {
-            snprintf(names[count], sizeof names[count], "%.*s", (int)(n - 5), e->d_name);
-            count++;
-        }
-    }
-    if (d)
-        closedir(d);
-    for (int i = 1; i < count; i++) /* insertion sort: a handful of names */
-        for (int j = i; j > 0 && strcmp(names[j - 1], names[j]) > 0; j--) {
-            char t[64];
-            memcpy(t, names[j], sizeof t);
-            memcpy(names[j], names[j - 1], sizeof t);
-            memcpy(names[j - 1], t, sizeof t);
-        }
-    out[0] = '\0';
-    size_t used = 0;
-    for (int i = 0; i < count && used < size; i++)
-        used += (size_t)snprintf(out + used, size - used, "%s%s", i ? ", " : "", names[i]);
-    if (count == 0)
-        snprintf(out, size, "no biome files found in %.400s", dir);
-}
 
 static int known_component(const char *code)
 {
@@ -179,7 +149,7 @@ fm_status biome_load(const char *name_or_path, const char *presets_dir, biome *o
         FILE *f = valid ? fopen(path, "r") : NULL;
         if (!f) {
             char names[600];
-            known_names(dir, names, sizeof names);
+            presets_list(dir, "biome", names, sizeof names);
             return fm_fail_parameter(err, "biome", "unknown biome '%s' (known: none, %s)", name_or_path, names);
         }
         fclose(f);

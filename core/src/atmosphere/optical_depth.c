@@ -128,6 +128,22 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* Appends the ray parameters in (s0, s1) where the ray, at squared distance p2 from the planet's
+ * centre at its closest, crosses the sphere of radius rb; returns the new count (room for 2 is
+ * the caller's to leave). */
+static int add_sphere_crossings(double rb, double p2, double s0, double s1, double *s, int n)
+{
+    double d = rb * rb - p2;
+    if (d <= 0.0)
+        return n;
+    double sc = sqrt(d);
+    if (-sc > s0 && -sc < s1)
+        s[n++] = -sc;
+    if (sc > s0 && sc < s1)
+        s[n++] = sc;
+    return n;
+}
+
 int ray_pieces(const atmosphere *atm, double r, double mu, double t_max, double *s, int max_count)
 {
     double p2 = fmax(0.0, r * r * (1.0 - mu * mu));
@@ -140,26 +156,12 @@ int ray_pieces(const atmosphere *atm, double r, double mu, double t_max, double 
         double rb = atm->bottom_radius_m + breakpoint_altitude_km[i] * FM_KM;
         if (rb >= atm->top_radius_m)
             break; /* the list is ascending; the top is the ray's end anyway */
-        double d = rb * rb - p2;
-        if (d <= 0.0)
-            continue;
-        double sc = sqrt(d);
-        if (-sc > s0 && -sc < s1)
-            s[n++] = -sc;
-        if (sc > s0 && sc < s1 && n + 1 < max_count)
-            s[n++] = sc;
+        n = add_sphere_crossings(rb, p2, s0, s1, s, n);
     }
     /* where a species' profile starts or ends (aerosol layers), its density jumps */
     for (int i = 0; i < atm->edge_count && n + 3 < max_count; i++) {
         double rb = atm->bottom_radius_m + atm->edge_altitude_m[i];
-        double d = rb * rb - p2;
-        if (d <= 0.0)
-            continue;
-        double sc = sqrt(d);
-        if (-sc > s0 && -sc < s1)
-            s[n++] = -sc;
-        if (sc > s0 && sc < s1)
-            s[n++] = sc;
+        n = add_sphere_crossings(rb, p2, s0, s1, s, n);
     }
     s[n++] = s1;
     qsort(s, (size_t)n, sizeof *s, cmp_double);

@@ -9,7 +9,6 @@
 #include "base/status.h"
 #include "presets.h"
 
-#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -116,34 +115,6 @@ static fm_status parse_preset(const json_reader *rd, const cJSON *root, fm_sky_p
     return FM_OK;
 }
 
-/* "clear-noon, golden-hour, ..." from the directory listing, sorted. */
-static void known_names(const char *dir, char *out, size_t size)
-{
-    char names[48][64];
-    int count = 0;
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    while (d && (e = readdir(d)) != NULL && count < 48) {
-        size_t n = strlen(e->d_name);
-        if (n > 5 && n < 64 && strcmp(e->d_name + n - 5, ".json") == 0)
-            snprintf(names[count++], sizeof names[0], "%.*s", (int)(n - 5), e->d_name);
-    }
-    if (d)
-        closedir(d);
-    for (int i = 1; i < count; i++) /* insertion sort: a handful of names */
-        for (int j = i; j > 0 && strcmp(names[j - 1], names[j]) > 0; j--) {
-            char t[64];
-            memcpy(t, names[j], sizeof t);
-            memcpy(names[j], names[j - 1], sizeof t);
-            memcpy(names[j - 1], t, sizeof t);
-        }
-    out[0] = '\0';
-    size_t used = 0;
-    for (int i = 0; i < count && used < size; i++)
-        used += (size_t)snprintf(out + used, size - used, "%s%s", i ? ", " : "", names[i]);
-    if (count == 0)
-        snprintf(out, size, "no preset files found in %.400s", dir);
-}
 
 fm_status fm_sky_preset_load(const char *name_or_path, const char *presets_directory, fm_sky_preset *out,
                              fm_error *err)
@@ -158,7 +129,7 @@ fm_status fm_sky_preset_load(const char *name_or_path, const char *presets_direc
         FILE *f = valid_name(name_or_path) ? fopen(out->path, "r") : NULL;
         if (!f) {
             char names[700];
-            known_names(dir, names, sizeof names);
+            presets_list(dir, "preset", names, sizeof names);
             return fm_fail_parameter(err, "preset", "unknown sky preset '%s' (known: %s)", name_or_path,
                                      names);
         }
