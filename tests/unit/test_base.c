@@ -1,8 +1,10 @@
-/* Base utilities: Gauss-Legendre exactness, random-number streams, the parallel loop. */
+/* Base utilities: Gauss-Legendre exactness, random-number streams, the Sobol points and their
+ * scramble, the parallel loop. */
 #include "check.h"
 
 #include "base/quadrature.h"
 #include "base/rng.h"
+#include "base/sobol.h"
 #include "base/threads.h"
 
 #include <math.h>
@@ -47,6 +49,66 @@ static void rng_streams_are_deterministic_and_uniform(void **state)
     check_abs(s2 / n - (s / n) * (s / n), 1.0 / 12.0, 1e-3, "variance of uniform");
 }
 
+/* The first ten points in three dimensions, in Gray-code order, as published with the direction
+ * numbers (Joe & Kuo 2008; e.g. the Python reader distributed with new-joe-kuo-6.21201). */
+static void sobol_matches_published_points(void **state)
+{
+    const double published[10][3] = {{0, 0, 0},          {0.5, 0.5, 0.5},       {0.75, 0.25, 0.25},
+                                     {0.25, 0.75, 0.75}, {0.375, 0.375, 0.625}, {0.875, 0.875, 0.125},
+                                     {0.625, 0.125, 0.875}, {0.125, 0.625, 0.375}, {0.1875, 0.3125, 0.9375},
+                                     {0.6875, 0.8125, 0.4375}};
+    for (uint32_t i = 0; i < 10; i++)
+        for (int d = 0; d < 3; d++)
+            assert_true(sobol_u32(i ^ (i >> 1), d) * 0x1.0p-32 == published[i][d]);
+}
+
+/* Scrambled or not, the first 2^m points put one point in each of 2^m equal cells of every
+ * coordinate, and in each 2^a x 2^(m-a) box of the first two coordinates (a (0, m, 2)-net); the
+ * scramble's points are uniform (mean 1/2 over many seeds); rng_for_qmc hands them out first. */
+static void sobol_owen_points_are_stratified(void **state)
+{
+    enum { M = 10, N = 1 << M };
+    static int cell[N];
+    for (uint64_t seed = 0; seed < 4; seed++) {
+        for (int d = 0; d < FM_SOBOL_DIMS; d++) {
+            for (int i = 0; i < N; i++)
+                cell[i] = 0;
+            for (uint32_t i = 0; i < N; i++) {
+                double u = seed ? sobol_owen(i, d, seed, seed == 1 ? 24 : M) : sobol_u32(i, d) * 0x1.0p-32;
+                assert_true(u >= 0.0 && u < 1.0);
+                cell[(int)(u * N)]++;
+            }
+            for (int i = 0; i < N; i++)
+                if (cell[i] != 1)
+                    fail_msg("seed %d dim %d: cell %d holds %d points", (int)seed, d, i, cell[i]);
+        }
+        for (int a = 0; a <= M; a++) {
+            for (int i = 0; i < N; i++)
+                cell[i] = 0;
+            for (uint32_t i = 0; i < N; i++) {
+                double u = sobol_owen(i, 0, seed + 10, M), v = sobol_owen(i, 1, seed + 10, M);
+                cell[(int)(u * (1 << a)) * (1 << (M - a)) + (int)(v * (1 << (M - a)))]++;
+            }
+            for (int i = 0; i < N; i++)
+                if (cell[i] != 1)
+                    fail_msg("seed %d: box %d of the 2^%d x 2^%d net holds %d points", (int)seed, i, a, M - a,
+                             cell[i]);
+        }
+    }
+    const int seeds = 20000;
+    double s = 0.0;
+    for (int k = 0; k < seeds; k++)
+        s += sobol_owen(5, 3, (uint64_t)k, 4);
+    check_abs(s / seeds, 0.5, 5.0 * sqrt(1.0 / 12.0 / seeds), "mean of scrambled points");
+    assert_int_equal(sobol_levels(N), M);
+    assert_int_equal(sobol_levels(N + 1), M + 1);
+    rng r = rng_for_qmc(3, 4, 5, 64), plain = rng_for(3, 4, 5);
+    uint64_t key = r.qmc_seed;
+    for (int d = 0; d < FM_SOBOL_DIMS; d++)
+        assert_true(rng_uniform(&r) == sobol_owen(5, d, key, 6));
+    assert_true(rng_uniform(&r) == rng_uniform(&plain)); /* then the sample's own PCG stream */
+}
+
 static void count_items(void *ctx, int64_t begin, int64_t end, int thread)
 {
     atomic_llong *sum = ctx;
@@ -74,6 +136,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(gauss_legendre_is_exact_for_polynomials),
         cmocka_unit_test(rng_streams_are_deterministic_and_uniform),
+        cmocka_unit_test(sobol_matches_published_points),
+        cmocka_unit_test(sobol_owen_points_are_stratified),
         cmocka_unit_test(parallel_for_visits_every_item_once),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

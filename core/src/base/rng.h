@@ -1,13 +1,21 @@
 /* Random numbers: PCG32 (M. E. O'Neill, "PCG: a family of simple fast space-efficient
  * statistically good algorithms for random number generation", 2014), seeded per work item so that
- * results depend only on (seed, item, sample), never on threads or scheduling. */
+ * results depend only on (seed, item, sample), never on threads or scheduling.  A stream made by
+ * rng_for_qmc draws its first FM_SOBOL_DIMS numbers from point `sample` of a scrambled Sobol
+ * sequence (base/sobol.h) shared by the item's samples, the rest from PCG32. */
 #ifndef FM_BASE_RNG_H
 #define FM_BASE_RNG_H
+
+#include "base/sobol.h"
 
 #include <stdint.h>
 
 typedef struct rng {
     uint64_t state, inc;
+    uint64_t qmc_seed;           /* the item's scramble */
+    uint32_t qmc_index;          /* the sample's point */
+    int qmc_dim, qmc_dims;       /* next coordinate; how many come from the point (0: none) */
+    int qmc_levels;              /* scrambled digits (sobol_owen) */
 } rng;
 
 /* SplitMix64 finaliser: a bijective 64-bit mix, used to derive seeds from tuples. */
@@ -38,12 +46,31 @@ static inline rng rng_for(uint64_t seed, uint64_t item, uint64_t sample)
     rng_next_u32(&r);
     r.state += h;
     rng_next_u32(&r);
+    r.qmc_seed = 0;
+    r.qmc_index = 0;
+    r.qmc_dim = r.qmc_dims = r.qmc_levels = 0;
+    return r;
+}
+
+/* As rng_for, but the first draws are a quasi-Monte Carlo point: the samples 0 to samples - 1 of
+ * one item together stratify each of those dimensions.  (Past 2^31 samples, plain random numbers.) */
+static inline rng rng_for_qmc(uint64_t seed, uint64_t item, uint64_t sample, uint64_t samples)
+{
+    rng r = rng_for(seed, item, sample);
+    if (samples <= (1ull << 31) && sample < samples) {
+        r.qmc_seed = mix64(seed ^ mix64(item ^ 0x2545F4914F6CDD1Dull));
+        r.qmc_index = (uint32_t)sample;
+        r.qmc_dims = FM_SOBOL_DIMS;
+        r.qmc_levels = sobol_levels(samples);
+    }
     return r;
 }
 
 /* Uniform double in [0, 1) with 53 random bits. */
 static inline double rng_uniform(rng *r)
 {
+    if (r->qmc_dim < r->qmc_dims)
+        return sobol_owen(r->qmc_index, r->qmc_dim++, r->qmc_seed, r->qmc_levels);
     uint64_t hi = rng_next_u32(r), lo = rng_next_u32(r);
     return (double)(((hi << 32) | lo) >> 11) * 0x1.0p-53;
 }

@@ -39,7 +39,7 @@ static void build_blocks(void *ctx, int64_t begin, int64_t end, int thread)
         int first = block * BLOCK, last = first + BLOCK < job->paths ? first + BLOCK : job->paths;
         int offset = (int)(mix64(job->seed ^ (uint64_t)node) % (uint64_t)K);
         for (int p = first; p < last; p++) {
-            rng r = rng_for(job->seed, ITEM_GROUND + (uint64_t)node, (uint64_t)p);
+            rng r = rng_for_qmc(job->seed, ITEM_GROUND + (uint64_t)node, (uint64_t)p, (uint64_t)job->paths);
             double u1 = rng_uniform(&r), u2 = rng_uniform(&r), sr = sqrt(u1), phi = 2.0 * FM_PI * u2;
             vec3 d = v3_normalize(frame_to_world(&local, v3(sr * cos(phi), sr * sin(phi), sqrt(1.0 - u1))));
             path_trace(job->pc, origin, d, (p + offset) % K, &r, out);

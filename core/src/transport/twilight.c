@@ -48,7 +48,7 @@ void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int 
     if (pc->sky_guide && !view_ray_vertices_init(&v, pc, sky->observer, d))
         return; /* no air along the ray */
     for (int p = 0; p < paths; p++) {
-        rng r = rng_for(seed, item, (uint64_t)p);
+        rng r = rng_for_qmc(seed, item, (uint64_t)p, (uint64_t)paths);
         double own[FM_MAX_WAVELENGTHS] = {0}, *Lp = sum_y2 ? own : L;
         if (pc->sky_guide) {
             double weight[FM_MAX_WAVELENGTHS];

@@ -1,0 +1,84 @@
+#include "base/sobol.h"
+
+#include "base/rng.h"
+
+#include <pthread.h>
+
+/* Joe & Kuo (2008), new-joe-kuo-6.21201, dimensions 2 to 16 (the first is the van der Corput
+ * sequence): degree s of the primitive polynomial, its inner coefficients a, initial numbers m. */
+static const struct {
+    int s, a, m[6];
+} PRIMITIVE[FM_SOBOL_DIMS - 1] = {
+    {1, 0, {1}},
+    {2, 1, {1, 3}},
+    {3, 1, {1, 3, 1}},
+    {3, 2, {1, 1, 1}},
+    {4, 1, {1, 1, 3, 3}},
+    {4, 4, {1, 3, 5, 13}},
+    {5, 2, {1, 1, 5, 5, 17}},
+    {5, 4, {1, 1, 5, 5, 5}},
+    {5, 7, {1, 1, 7, 11, 19}},
+    {5, 11, {1, 1, 5, 1, 1}},
+    {5, 13, {1, 1, 1, 3, 11}},
+    {5, 14, {1, 3, 5, 5, 31}},
+    {6, 1, {1, 3, 3, 9, 7, 49}},
+    {6, 13, {1, 1, 1, 15, 21, 21}},
+    {6, 16, {1, 3, 1, 13, 27, 49}},
+};
+
+static uint32_t V[FM_SOBOL_DIMS][32]; /* direction numbers: V[d][i] for bit i of the index */
+static pthread_once_t once = PTHREAD_ONCE_INIT;
+
+static void build_direction_numbers(void)
+{
+    for (int i = 0; i < 32; i++)
+        V[0][i] = 1u << (31 - i);
+    for (int d = 1; d < FM_SOBOL_DIMS; d++) {
+        const int s = PRIMITIVE[d - 1].s, a = PRIMITIVE[d - 1].a;
+        uint32_t *v = V[d];
+        for (int i = 0; i < s; i++)
+            v[i] = (uint32_t)PRIMITIVE[d - 1].m[i] << (31 - i);
+        /* the recurrence of the primitive polynomial x^s + a_1 x^(s-1) + ... + 1 */
+        for (int i = s; i < 32; i++) {
+            v[i] = v[i - s] ^ (v[i - s] >> s);
+            for (int k = 1; k < s; k++)
+                if ((a >> (s - 1 - k)) & 1)
+                    v[i] ^= v[i - k];
+        }
+    }
+}
+
+uint32_t sobol_u32(uint32_t index, int dim)
+{
+    pthread_once(&once, build_direction_numbers);
+    uint32_t x = 0;
+    for (int i = 0; index; i++, index >>= 1)
+        if (index & 1u)
+            x ^= V[dim][i];
+    return x;
+}
+
+int sobol_levels(uint64_t points)
+{
+    int levels = 1;
+    while (levels < 32 && (1ull << levels) < points)
+        levels++;
+    return levels;
+}
+
+double sobol_owen(uint32_t index, int dim, uint64_t seed, int levels)
+{
+    uint32_t x = sobol_u32(index, dim);
+    uint64_t key = mix64(seed ^ mix64((uint64_t)dim + 0x5851F42D4C957F2Dull));
+    uint32_t y = 0;
+    for (int level = 0; level < levels; level++) {
+        /* flip this digit or not, by a hash of the digits above it (its node in the binary tree) */
+        uint32_t prefix = level ? x >> (32 - level) : 0u;
+        uint32_t flip = (uint32_t)(mix64(key ^ ((uint64_t)level << 32 | prefix)) >> 63);
+        y |= (((x >> (31 - level)) & 1u) ^ flip) << (31 - level);
+    }
+    /* below the scrambled digits: random digits drawn from the point's own prefix */
+    uint64_t prefix = levels < 32 ? y >> (32 - levels) : y;
+    uint64_t low = mix64(key ^ 0xA0761D6478BD642Full ^ ((uint64_t)levels << 40) ^ prefix) >> (11 + levels);
+    return (double)(prefix << (53 - levels) | low) * 0x1.0p-53;
+}
