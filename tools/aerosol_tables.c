@@ -1,7 +1,11 @@
 /* Generates core/src/data/aerosol_optics_opac.c: Mie optics per particle of every OPAC component
  * (data/opac_components.c) on firmament's wavelength grid, with tabulated phase functions.
  *
- *     make-aerosol-tables [OUTPUT.c] [THREADS]     (scripts/make-aerosol-tables runs it)
+ *     make-aerosol-tables [OUTPUT.c] [THREADS] [--spot-check]   (scripts/make-aerosol-tables runs it)
+ *
+ * --spot-check computes one wavelength per component (wavelength index 7 e mod W for component e,
+ * so the 38 components visit most of the grid) and writes zeros for everything else: the test of
+ * the stored table (tests/physics/test_aerosol_tables.c) regenerates those in seconds, not minutes.
  *
  * Method: aerosol/mie_lognormal.c at each wavelength 300, 320, ..., 1000 nm, the refractive index
  * interpolated linearly in wavelength between OPAC's tabulated ones.  The phase function is
@@ -36,7 +40,11 @@ typedef struct fine_grid {
     int coarse[FINE_COUNT]; /* coarse interval j (between nodes j and j + 1) the node starts */
 } fine_grid;
 
+/* the one wavelength a spot check computes for component e */
+#define SPOT_WAVELENGTH(e) ((7 * (e)) % W)
+
 typedef struct job {
+    int spot_check;
     fine_grid grid;
     double coarse_theta[A];
     aerosol_optics *out;
@@ -110,6 +118,8 @@ static void run_items(void *ctx, int64_t begin, int64_t end, int thread)
     double fine[FINE_COUNT];
     for (int64_t item = begin; item < end; item++) {
         int e = (int)(item / W), i = (int)(item % W);
+        if (jb->spot_check && i != SPOT_WAVELENGTH(e))
+            continue;
         const fm_opac_component *c = &fm_opac_components[e];
         lognormal_size size = {c->r_mod_um, c->sigma, c->r_min_um, c->r_max_um};
         double lambda_um = aerosol_optics_wavelength_nm(i) * 1e-3;
@@ -182,6 +192,7 @@ int main(int argc, char **argv)
     const char *path = argc > 1 ? argv[1] : "core/src/data/aerosol_optics_opac.c";
     int threads = argc > 2 ? atoi(argv[2]) : 2;
     static job jb;
+    jb.spot_check = argc > 3 && strcmp(argv[3], "--spot-check") == 0;
     make_grid(&jb);
     jb.out = calloc(FM_OPAC_COMPONENT_COUNT, sizeof *jb.out);
     if (!jb.out)
@@ -201,6 +212,8 @@ int main(int argc, char **argv)
     double worst_norm = 0.0, worst_g = 0.0;
     for (int e = 0; e < FM_OPAC_COMPONENT_COUNT; e++)
         for (int i = 0; i < W; i++) {
+            if (jb.spot_check && i != SPOT_WAVELENGTH(e))
+                continue;
             double mc, norm = aerosol_phase_integral(jb.out[e].phase[i], &mc);
             if (fabs(norm - 1.0) > worst_norm)
                 worst_norm = fabs(norm - 1.0);
