@@ -357,6 +357,14 @@ typedef struct fm_image {
 /* Renders the sky through the camera of params (an equirectangular map by default).  The result holds
  * XYZ (colour skies) or spectral radiance. */
 fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image **out, fm_error *err);
+
+/* The reference estimate of chosen pixels of the equirect map only (what the reference quality
+ * renders there, at the same seed: params->reference_samples paths per pixel through jittered
+ * positions in it, default 256): for a converged reference of a few hundred pixels (bench/).  out
+ * gets each pixel's channels (CIE XYZ for colour skies, else spectral radiance), se (may be NULL)
+ * their standard errors; count x channels floats each. */
+fm_status fm_render_pixels(const fm_sky *sky, const fm_render_params *params, int count, const int *x, const int *y,
+                           float *out, float *se, fm_error *err);
 void fm_image_destroy(fm_image *image); /* accepts NULL */
 
 /* The XYZ image of a spectral map (FM_IMAGE_SPECTRAL_GRID): a new image, sun disk plane included,
@@ -415,7 +423,9 @@ int fm_image_diffuse_horizontal(const fm_image *image, double out[3]);
 fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err);
 
 /* Comparing a map with a reference b of the same size: per-pixel relative error of luminance (CIE Y,
- * or the value of a one-channel image), e = (Y_a - Y_b) / Y_b over pixels with Y_b > 0. */
+ * or the value of a one-channel image), e = (Y_a - Y_b) / max(Y_b, F) over pixels with Y_b > 0, where
+ * F = 1e-6 times b's mean luminance keeps black pixels (both 0 up to rounding) from dividing by
+ * nothing; chromaticity over pixels brighter than F. */
 typedef struct fm_comparison {
     long pixels;         /* compared */
     double rms;          /* root mean square of e */
