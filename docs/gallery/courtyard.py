@@ -59,9 +59,9 @@ with open(sidecar_path) as f:
 # instead (direct normal + diffuse horizontal illuminance), by the same rule: EV = log2(683 pi / E).
 facing_sun_lux = sidecar["sun"]["direct_normal_illuminance_lux"] + sidecar["sky"]["diffuse_horizontal_illuminance_lux"]
 scene.view_settings.exposure = math.log2(683.0 * math.pi / facing_sun_lux)
-# the scene's 60 m paving ends where the map's own ground (albedo 0.2) begins: widen it to 2.4 km so
-# that it meets the sky at the horizon
-bpy.data.objects["Ground"].scale = (40.0, 40.0, 1.0)
+# the scene's 60 m paving ends where the map's own ground (albedo 0.2) begins: widen it to 30 km so
+# that it meets the sky at the horizon (its edge 0.013 degrees below the horizontal: under a pixel)
+bpy.data.objects["Ground"].scale = (500.0, 500.0, 1.0)
 
 r = scene.render
 r.resolution_x, r.resolution_y, r.resolution_percentage = WIDTH, HEIGHT, 100

@@ -160,7 +160,7 @@ def courtyard_section(work, stage):
         image(stage, "courtyard-golden-hour.png", "the demo courtyard at golden hour"),
         "",
         "`scenes/demo_courtyard.py` (the U-shaped building the add-on's tests use; its 60 m paving widened "
-        "to 2.4 km here, so that it meets the sky at the horizon), lit by the world the add-on generates "
+        "to 30 km here, so that it meets the sky at the horizon), lit by the world the add-on generates "
         "(installed from `build/firmament_sky.zip`, Generate run headless) with its shipped preset "
         "\"Golden hour\": Paris, %s %s UTC%s, sun %s up at azimuth %s (west-north-west, behind the camera "
         "on the right), `%s` aerosols at turbidity %g, ozone from the climatology, albedo %s; global "
