@@ -206,7 +206,7 @@ def main():
         "```sh",
         "docs/gallery/render                 # every core",
         "docs/gallery/render --threads 1",
-        "docs/gallery/render --quick --out /tmp/gallery   # a trial in seconds, elsewhere",
+        "docs/gallery/render --quick --out /tmp/gallery   # a trial in about a minute, elsewhere",
         "```",
         "",
         "This run (%s): biomes %.0f s, the day %.0f s, the courtyard %.0f s (Generate and Cycles)."
