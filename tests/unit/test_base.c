@@ -104,9 +104,28 @@ static void sobol_owen_points_are_stratified(void **state)
     assert_int_equal(sobol_levels(N + 1), M + 1);
     rng r = rng_for_qmc(3, 4, 5, 64), plain = rng_for(3, 4, 5);
     uint64_t key = r.qmc_seed;
+    uint32_t point = sobol_shuffle(5, 6, key);
     for (int d = 0; d < FM_SOBOL_DIMS; d++)
-        assert_true(rng_uniform(&r) == sobol_owen(5, d, key, 6));
+        assert_true(rng_uniform(&r) == sobol_owen(point, d, key, 6));
     assert_true(rng_uniform(&r) == rng_uniform(&plain)); /* then the sample's own PCG stream */
+}
+
+/* The sample order shuffle is a bijection of [0, 2^levels) that keeps the digits above. */
+static void sobol_shuffle_is_a_permutation(void **state)
+{
+    enum { M = 10, N = 1 << M };
+    static int seen[N];
+    int moved = 0;
+    for (uint32_t i = 0; i < N; i++) {
+        uint32_t j = sobol_shuffle(i, M, 77);
+        assert_true(j < N);
+        seen[j]++;
+        moved += j != i;
+    }
+    for (int i = 0; i < N; i++)
+        assert_int_equal(seen[i], 1);
+    assert_true(moved > N / 2);
+    assert_int_equal(sobol_shuffle(3u << M | 5u, M, 77) >> M, 3);
 }
 
 static void count_items(void *ctx, int64_t begin, int64_t end, int thread)
@@ -138,6 +157,7 @@ int main(void)
         cmocka_unit_test(rng_streams_are_deterministic_and_uniform),
         cmocka_unit_test(sobol_matches_published_points),
         cmocka_unit_test(sobol_owen_points_are_stratified),
+        cmocka_unit_test(sobol_shuffle_is_a_permutation),
         cmocka_unit_test(parallel_for_visits_every_item_once),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -66,6 +66,19 @@ int sobol_levels(uint64_t points)
     return levels;
 }
 
+uint32_t sobol_shuffle(uint32_t index, int levels, uint64_t seed)
+{
+    uint64_t key = mix64(seed ^ 0x8EBC6AF09C88C6E3ull);
+    uint32_t out = index >> levels << levels; /* digits above the scrambled ones stay */
+    for (int level = 0; level < levels; level++) {
+        int bit = levels - 1 - level; /* from the most significant scrambled digit down */
+        uint32_t prefix = level ? index >> (bit + 1) & ((1u << level) - 1u) : 0u;
+        uint32_t flip = (uint32_t)(mix64(key ^ ((uint64_t)level << 32 | prefix)) >> 63);
+        out |= (((index >> bit) & 1u) ^ flip) << bit;
+    }
+    return out;
+}
+
 double sobol_owen(uint32_t index, int dim, uint64_t seed, int levels)
 {
     uint32_t x = sobol_u32(index, dim);
