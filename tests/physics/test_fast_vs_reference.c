@@ -21,7 +21,7 @@
 
 #include <math.h>
 
-#define FAST_SEEDS 3
+#define FAST_SEEDS 2
 
 /* 0 sky, 1 the rows at the horizon, 2 ground */
 static int region_of(int y, int H) { return y < H / 2 - 1 ? 0 : (y <= H / 2 ? 1 : 2); }

@@ -211,11 +211,14 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
 
         /* Delta tracking until a scattering or the end of the segment.  The pdf of a flight for
          * wavelength k is exp(-depth_k) times the probability of the event that ends it. */
+        /* The flights' transmittance ratios exp(depth_h - depth_k) are summed as depths and applied
+         * once the flight ends: one exp per wavelength per segment, not per tentative collision. */
+        double pending[FM_MAX_WAVELENGTHS] = {0};
         for (;;) {
             int shell;
             int collided = free_flight_advance(atm, &seg, t, tau, h, &t, depth, &shell);
             for (int k = 0; k < K; k++)
-                q[k] *= exp(depth[h] - depth[k]);
+                pending[k] += depth[h] - depth[k];
             if (!collided)
                 break; /* reached the ground or the top */
             double rad = ray_segment_radius(&seg, t);
@@ -238,9 +241,11 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
                 w[k] *= cont > 0.0 ? fmax(maj[k] - sig_t[k], 0.0) / cont : 0.0;
                 q[k] *= cont / cont_h;
             }
-            renormalise(q, K);
             tau = -log1p(-rng_uniform(r));
         }
+        for (int k = 0; k < K; k++)
+            q[k] *= exp(pending[k]);
+        renormalise(q, K);
 
     vertex:
         if (scattered) {

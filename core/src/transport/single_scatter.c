@@ -67,6 +67,7 @@ void single_scatter_radiance(const path_context *ctx, vec3 origin, vec3 dir, dou
 
     double col_start[FM_MAX_SPECIES] = {0}, col[FM_MAX_SPECIES], part[FM_MAX_SPECIES];
     double n[FM_MAX_SPECIES], phase[FM_MAX_WAVELENGTHS], sig_s[FM_MAX_WAVELENGTHS], tbar[FM_MAX_WAVELENGTHS];
+    double sun_depth[FM_MAX_WAVELENGTHS];
     for (int i = 0; i + 1 < np; i++) {
         double sa = pieces[i], sb = pieces[i + 1];
         double half = 0.5 * (sb - sa), mid = 0.5 * (sb + sa);
@@ -81,11 +82,12 @@ void single_scatter_radiance(const path_context *ctx, vec3 origin, vec3 dir, dou
             atmosphere_densities(atm, rad, n);
             medium_phase(atm, n, cos_sun, phase, sig_s);
             vec3 x = v3_madd(origin, dir, s - seg.s0);
-            sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, tbar, NULL);
+            /* sunlight in, transmittance out: one exp of the two optical depths */
+            sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, sun_depth);
             double wgt = half * g->w[j];
             for (int k = 0; k < K; k++) {
-                double tv = exp(-atmosphere_optical_depth(atm, col, k));
-                L[k] += wgt * tv * sig_s[k] * phase[k] * E0[k] * tbar[k];
+                double t = exp(-(atmosphere_optical_depth(atm, col, k) + sun_depth[k]));
+                L[k] += wgt * t * sig_s[k] * phase[k] * E0[k];
             }
         }
         piece_columns(atm, seg.p2, sa, sb, g, part);

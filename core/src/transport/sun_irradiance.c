@@ -181,6 +181,20 @@ void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, c
     }
 }
 
+void sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
+                                 double mu_s, double *depth)
+{
+    const int K = table->count;
+    const float *v = table->normal;
+    double w[4];
+    size_t idx[4];
+    int dark = locate(table, atm, sun, r, mu_s, w, idx);
+    for (int k = 0; k < K; k++) {
+        double d = w[0] * v[idx[0] + k] + w[1] * v[idx[1] + k] + w[2] * v[idx[2] + k] + w[3] * v[idx[3] + k];
+        depth[k] = dark || d >= MAX_DEPTH ? INFINITY : d; /* as from_depth: 0 beyond MAX_DEPTH */
+    }
+}
+
 void sun_irradiance_lookup_some(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
                                 double mu_s, int n, const int *ks, double *normal)
 {

@@ -35,6 +35,11 @@ void sun_irradiance_free(sun_irradiance *table);
 void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
                            double mu_s, double *normal, double *horizontal);
 
+/* The same as optical depths, -ln Tbar_k (infinite where Tbar is 0), for callers that multiply Tbar
+ * by another transmittance: one exp of the summed depths instead of two. */
+void sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
+                                 double mu_s, double *depth);
+
 /* The same for the n grid wavelengths ks[0..n-1] only (normal[i] for ks[i]). */
 void sun_irradiance_lookup_some(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
                                 double mu_s, int n, const int *ks, double *normal);
