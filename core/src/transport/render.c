@@ -580,6 +580,12 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
         }
         report(params, 0.0, "ground irradiance");
         path_context all = twilight_path_context(sky, job.guide, 1, 0);
+        /* The ground's diffuse light: every segment's sunlight along its length (sunlit_segment.h),
+         * not at one point.  With a low sun behind thick haze the light comes from the few
+         * vertices above the haze: urban sunset (sun 2, turbidity 2), the ground's bias against the
+         * reference mode +1.6% (mean z 0.71) -> +0.4% (0.03), for 12% more time there; noon
+         * unchanged. */
+        all.segment_sunlight = 2;
         double r_obs = v3_length(sky->observer);
         double visible = acos(fmin(1.0, atm->bottom_radius_m / r_obs)); /* ground seen up to the horizon */
         s = ground_irradiance_build(&job.ground, &all, acos(clamp_cosine(sky->sun_dir.z)), visible, q->ground_paths,
