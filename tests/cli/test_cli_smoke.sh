@@ -37,7 +37,7 @@ runs "aerosols, humidity, hg phase" render --width 16 --biome desert-dust --humi
 runs "aod550" render --width 16 --biome urban --aod550 0.4 "${quick[@]}" -o "$o/urban.exr"
 runs "date, time, place" render --width 16 --date 2024-06-21 --time 18:30 --utc-offset +02:00 --latitude 48.85 \
     --longitude 2.35 --altitude 3000 "${quick[@]}" -o "$o/paris.exr"
-runs "time series" render --width 8 --date 2024-06-21 --time-start 12:00 --time-end 12:30 --step 30 --latitude 40 \
+runs "time series" render --width 8 --date 2024-06-21 --time-start 12:00 --time-end 12:30 --step 30 --latitude 40 --longitude 0 \
     "${quick[@]}" -o "$o/series.exr"
 written "$o/series_0000.exr" "$o/series_0001.exr"
 runs "wavelength" render --width 16 --wavelength 550 "${quick[@]}" -o "$o/mono.exr"
