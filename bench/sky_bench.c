@@ -13,14 +13,16 @@
 
 #include "firmament/firmament.h"
 
+#include "base/rng.h"
+#include "base/units.h"
+#include "camera/equirect.h"
+
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-#define PI 3.14159265358979323846
 
 #define PROBES 400
 #define EXCLUDE_DEG 1.0
@@ -62,37 +64,15 @@ static fm_sky *make_sky(const bench_sky *b)
     return sky;
 }
 
-static uint64_t mix(uint64_t z)
-{
-    z += 0x9E3779B97F4A7C15ull;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
-/* Direction of the centre of pixel (x, y) of a W x H equirect map (README, "Map layout": north at
- * u = 0.25, east at the centre, zenith at the top). */
-static void pixel_direction(int W, int H, int x, int y, double d[3])
-{
-    double u = (x + 0.5) / W, v = (y + 0.5) / H;
-    double elevation = PI * (0.5 - v), azimuth = 2.0 * PI * (u - 0.25); /* from north toward east */
-    d[0] = cos(elevation) * sin(azimuth);
-    d[1] = cos(elevation) * cos(azimuth);
-    d[2] = sin(elevation);
-}
-
 static int probe_pixels(const bench_sky *b, int W, int *x, int *y)
 {
     const int H = W / 2;
-    double e = b->sun_elevation * PI / 180.0, a = b->sun_azimuth * PI / 180.0;
-    double sun[3] = {cos(e) * sin(a), cos(e) * cos(a), sin(e)};
+    vec3 sun = direction_from_elevation_azimuth(b->sun_elevation * FM_DEG, b->sun_azimuth * FM_DEG);
     int n = 0;
     for (uint64_t i = 0; n < PROBES; i++) {
-        uint64_t h = mix(i ^ 0x5EEDull);
+        uint64_t h = mix64(i ^ 0x5EEDull);
         int px = (int)((h >> 32) % (uint64_t)W), py = (int)((h & 0xffffffffull) % (uint64_t)H);
-        double d[3];
-        pixel_direction(W, H, px, py, d);
-        if (d[0] * sun[0] + d[1] * sun[1] + d[2] * sun[2] > cos(EXCLUDE_DEG * PI / 180.0))
+        if (v3_dot(equirect_direction(W, H, px + 0.5, py + 0.5), sun) > cos(EXCLUDE_DEG * FM_DEG))
             continue;
         x[n] = px;
         y[n] = py;

@@ -40,9 +40,6 @@ typedef struct fine_grid {
     int coarse[FINE_COUNT]; /* coarse interval j (between nodes j and j + 1) the node starts */
 } fine_grid;
 
-/* the one wavelength a spot check computes for component e */
-#define SPOT_WAVELENGTH(e) ((7 * (e)) % W)
-
 typedef struct job {
     int spot_check;
     fine_grid grid;
@@ -118,7 +115,7 @@ static void run_items(void *ctx, int64_t begin, int64_t end, int thread)
     double fine[FINE_COUNT];
     for (int64_t item = begin; item < end; item++) {
         int e = (int)(item / W), i = (int)(item % W);
-        if (jb->spot_check && i != SPOT_WAVELENGTH(e))
+        if (jb->spot_check && i != AEROSOL_SPOT_WAVELENGTH(e))
             continue;
         const fm_opac_component *c = &fm_opac_components[e];
         lognormal_size size = {c->r_mod_um, c->sigma, c->r_min_um, c->r_max_um};
@@ -212,7 +209,7 @@ int main(int argc, char **argv)
     double worst_norm = 0.0, worst_g = 0.0;
     for (int e = 0; e < FM_OPAC_COMPONENT_COUNT; e++)
         for (int i = 0; i < W; i++) {
-            if (jb.spot_check && i != SPOT_WAVELENGTH(e))
+            if (jb.spot_check && i != AEROSOL_SPOT_WAVELENGTH(e))
                 continue;
             double mc, norm = aerosol_phase_integral(jb.out[e].phase[i], &mc);
             if (fabs(norm - 1.0) > worst_norm)

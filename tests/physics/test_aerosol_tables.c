@@ -123,7 +123,7 @@ static void regenerates_stored_table(void **state)
     assert_int_equal(n_new, n_old);
     assert_int_equal(n_new, per * (size_t)aerosol_optics_count + 1); /* + the closing count */
     for (size_t i = 0; i + 1 < n_new; i++) {
-        size_t e = i / per, j = i % per, spot = (7 * e) % W; /* tools/aerosol_tables.c: SPOT_WAVELENGTH */
+        size_t e = i / per, j = i % per, spot = (size_t)AEROSOL_SPOT_WAVELENGTH((int)e);
         int regenerated = j == 0 || (j <= 3 * W && (j - 1) % W == spot) ||
                           (j > 3 * W && (j - 1 - 3 * W) / A == spot);
         if (!regenerated)

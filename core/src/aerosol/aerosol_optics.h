@@ -20,6 +20,9 @@
 #define AEROSOL_FIRST_NM 300.0
 #define AEROSOL_STEP_NM 20.0
 #define AEROSOL_ANGLE_COUNT 301     /* theta_j = pi * (j / (A - 1))^2 */
+/* The one wavelength index of entry e that make-aerosol-tables --spot-check regenerates (the test
+ * of the stored table compares those): 7 e mod 36 visits most of the grid over the 38 entries. */
+#define AEROSOL_SPOT_WAVELENGTH(e) ((7 * (e)) % AEROSOL_WAVELENGTH_COUNT)
 
 typedef struct aerosol_optics {
     const char *component;    /* OPAC code, e.g. "waso" */

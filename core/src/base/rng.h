@@ -63,9 +63,9 @@ static inline rng rng_for_qmc(uint64_t seed, uint64_t item, uint64_t sample, uin
     rng r = rng_for(seed, item, sample);
     if (samples <= (1ull << 31) && sample < samples) {
         r.qmc_seed = mix64(seed ^ mix64(item ^ 0x2545F4914F6CDD1Dull));
-        r.qmc_index = sobol_shuffle((uint32_t)sample, sobol_levels(samples), r.qmc_seed);
-        r.qmc_dims = FM_SOBOL_DIMS;
         r.qmc_levels = sobol_levels(samples);
+        r.qmc_index = sobol_shuffle((uint32_t)sample, r.qmc_levels, r.qmc_seed);
+        r.qmc_dims = FM_SOBOL_DIMS;
     }
     return r;
 }

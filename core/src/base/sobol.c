@@ -66,30 +66,31 @@ int sobol_levels(uint64_t points)
     return levels;
 }
 
-uint32_t sobol_shuffle(uint32_t index, int levels, uint64_t seed)
+/* The nested uniform scramble of the top `levels` binary digits of x (the rest cleared): each digit
+ * is flipped or not by a hash of the key, its level and the digits above it (its node in the binary
+ * tree). */
+static uint32_t nested_scramble(uint32_t x, int levels, uint64_t key)
 {
-    uint64_t key = mix64(seed ^ 0x8EBC6AF09C88C6E3ull);
-    uint32_t out = index >> levels << levels; /* digits above the scrambled ones stay */
-    for (int level = 0; level < levels; level++) {
-        int bit = levels - 1 - level; /* from the most significant scrambled digit down */
-        uint32_t prefix = level ? index >> (bit + 1) & ((1u << level) - 1u) : 0u;
-        uint32_t flip = (uint32_t)(mix64(key ^ ((uint64_t)level << 32 | prefix)) >> 63);
-        out |= (((index >> bit) & 1u) ^ flip) << bit;
-    }
-    return out;
-}
-
-double sobol_owen(uint32_t index, int dim, uint64_t seed, int levels)
-{
-    uint32_t x = sobol_u32(index, dim);
-    uint64_t key = mix64(seed ^ mix64((uint64_t)dim + 0x5851F42D4C957F2Dull));
     uint32_t y = 0;
     for (int level = 0; level < levels; level++) {
-        /* flip this digit or not, by a hash of the digits above it (its node in the binary tree) */
         uint32_t prefix = level ? x >> (32 - level) : 0u;
         uint32_t flip = (uint32_t)(mix64(key ^ ((uint64_t)level << 32 | prefix)) >> 63);
         y |= (((x >> (31 - level)) & 1u) ^ flip) << (31 - level);
     }
+    return y;
+}
+
+uint32_t sobol_shuffle(uint32_t index, int levels, uint64_t seed)
+{
+    /* the scrambled digits, from the most significant down, are the index's lowest `levels` */
+    uint32_t low = nested_scramble(index << (32 - levels), levels, mix64(seed ^ 0x8EBC6AF09C88C6E3ull));
+    return index >> levels << levels | low >> (32 - levels);
+}
+
+double sobol_owen(uint32_t index, int dim, uint64_t seed, int levels)
+{
+    uint64_t key = mix64(seed ^ mix64((uint64_t)dim + 0x5851F42D4C957F2Dull));
+    uint32_t y = nested_scramble(sobol_u32(index, dim), levels, key);
     /* below the scrambled digits: random digits drawn from the point's own prefix */
     uint64_t prefix = levels < 32 ? y >> (32 - levels) : y;
     uint64_t low = mix64(key ^ 0xA0761D6478BD642Full ^ ((uint64_t)levels << 40) ^ prefix) >> (11 + levels);

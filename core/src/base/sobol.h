@@ -21,7 +21,7 @@ uint32_t sobol_u32(uint32_t index, int dim);
 double sobol_owen(uint32_t index, int dim, uint64_t seed, int levels);
 int sobol_levels(uint64_t points);
 
-/* A bijection of [0, 2^levels) drawn from seed (a nested uniform scramble of the index's digits),
+/* A bijection of [0, 2^levels), levels 1 to 31, drawn from seed (a nested uniform scramble of the index's digits),
  * so that samples 0 .. N-1 still use points 0 .. N-1 of the sequence (N a power of 2) but in an
  * order unrelated to the sample number. */
 uint32_t sobol_shuffle(uint32_t index, int levels, uint64_t seed);

@@ -51,49 +51,51 @@ fm_status fm_image_compare(const fm_image *a, const fm_image *b, double exclude_
         free(errs);
         return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the reference's camera does not fit its %d x %d pixels", W, H);
     }
-    /* pass 0: the reference's mean luminance; pass 1: the errors */
-    long n = 0, lit = 0;
-    double sum = 0.0, sum2 = 0.0, chroma = 0.0, worst = 0.0, mean_ref = 0.0, black = 0.0;
-    for (int pass = 0; pass < 2; pass++) {
-        if (pass == 1) {
-            mean_ref = lit ? mean_ref / lit : 0.0;
-            /* Relative error means nothing on black pixels (an unlit ground of albedo 0 is 0 up to
-             * rounding, 1e-20 in one map and 1e-13 in the other): below 1e-6 of the mean, errors
-             * are relative to that floor, so black matches black and light where the reference
-             * is black still counts. */
-            black = 1e-6 * mean_ref;
-        }
-        for (int y = 0; y < H; y++)
-            for (int x = 0; x < W; x++) {
-                if (cos_exclude <= 1.0) {
-                    vec3 d;
-                    camera_direction(&cam, x + 0.5, y + 0.5, &d);
-                    if (d.x * around[0] + d.y * around[1] + d.z * around[2] > cos_exclude)
-                        continue;
-                }
-                size_t i = (size_t)y * W + x;
-                double xa[3], xb[3];
-                pixel_xyz(b, i, xb);
-                if (!(xb[1] > 0.0))
-                    continue;
-                if (pass == 0) {
-                    mean_ref += xb[1];
-                    lit++;
-                    continue;
-                }
-                pixel_xyz(a, i, xa);
-                double e = (xa[1] - xb[1]) / fmax(xb[1], black);
-                errs[n++] = fabs(e);
-                sum += e;
-                sum2 += e * e;
-                worst = fmax(worst, fabs(e));
-                if (a->channels == 3 && xb[1] > black) {
-                    double sa = xa[0] + xa[1] + xa[2], sb = xb[0] + xb[1] + xb[2];
-                    if (sa > 0.0 && sb > 0.0)
-                        chroma += hypot(xa[0] / sa - xb[0] / sb, xa[1] / sa - xb[1] / sb);
-                }
-            }
+    /* the compared pixels (lit in the reference, away from the sun) and the reference's mean */
+    size_t *kept = malloc(sizeof(size_t) * (size_t)W * H);
+    if (!kept) {
+        free(errs);
+        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
     }
+    long n = 0;
+    double mean_ref = 0.0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            if (cos_exclude <= 1.0) {
+                vec3 d;
+                camera_direction(&cam, x + 0.5, y + 0.5, &d);
+                if (d.x * around[0] + d.y * around[1] + d.z * around[2] > cos_exclude)
+                    continue;
+            }
+            size_t i = (size_t)y * W + x;
+            double xb[3];
+            pixel_xyz(b, i, xb);
+            if (xb[1] > 0.0) {
+                kept[n++] = i;
+                mean_ref += xb[1];
+            }
+        }
+    /* Relative error means nothing on black pixels (an unlit ground of albedo 0 is 0 up to rounding,
+     * 1e-20 in one map and 1e-13 in the other): below 1e-6 of the mean, errors are relative to that
+     * floor, so black matches black and light where the reference is black still counts. */
+    const double black = n ? 1e-6 * mean_ref / n : 0.0;
+    double sum = 0.0, sum2 = 0.0, chroma = 0.0, worst = 0.0;
+    for (long j = 0; j < n; j++) {
+        double xa[3], xb[3];
+        pixel_xyz(a, kept[j], xa);
+        pixel_xyz(b, kept[j], xb);
+        double e = (xa[1] - xb[1]) / fmax(xb[1], black);
+        errs[j] = fabs(e);
+        sum += e;
+        sum2 += e * e;
+        worst = fmax(worst, fabs(e));
+        if (a->channels == 3 && xb[1] > black) {
+            double sa = xa[0] + xa[1] + xa[2], sb = xb[0] + xb[1] + xb[2];
+            if (sa > 0.0 && sb > 0.0)
+                chroma += hypot(xa[0] / sa - xb[0] / sb, xa[1] / sa - xb[1] / sb);
+        }
+    }
+    free(kept);
     if (n == 0) {
         free(errs);
         return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "no pixel to compare");

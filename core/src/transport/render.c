@@ -520,6 +520,24 @@ static void report(const fm_render_params *p, double fraction, const char *stage
         p->progress(p->progress_user, fraction, stage);
 }
 
+/* The seed of a render: the wavelengths are part of it, so different wavelengths draw independent
+ * random numbers. */
+static uint64_t render_seed(const atmosphere *atm, uint64_t seed)
+{
+    for (int k = 0; k < atm->grid.count; k++)
+        seed = mix64(seed ^ (uint64_t)llround(atm->grid.lambda_nm[k] * 1000.0));
+    return seed;
+}
+
+/* The twilight guide when the sun is below the observer's horizon plane (NULL otherwise, and for a
+ * black sky). */
+static fm_status make_guide(const fm_sky *sky, int threads, sky_guide **guide, fm_error *err)
+{
+    int no_memory;
+    *guide = twilight_guide_create(sky, threads, &no_memory);
+    return no_memory ? fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the twilight guide") : FM_OK;
+}
+
 fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image **out, fm_error *err)
 {
     *out = NULL;
@@ -533,10 +551,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
         job.q.reference_paths = params->reference_samples;
     const int spectral = atm->grid.colour && params->spectral;
     job.channels = spectral ? atm->grid.count : (atm->grid.colour ? 3 : 1);
-    /* the wavelengths are part of the seed: different wavelengths, independent random numbers */
-    job.seed = params->seed;
-    for (int k = 0; k < atm->grid.count; k++)
-        job.seed = mix64(job.seed ^ (uint64_t)llround(atm->grid.lambda_nm[k] * 1000.0));
+    job.seed = render_seed(atm, params->seed);
     const int W = job.cam.width, H = job.cam.height;
     const int equirect = job.cam.type == FM_CAMERA_EQUIRECT;
     const int reference = params->quality == FM_QUALITY_REFERENCE;
@@ -554,16 +569,12 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     job.img->sun_direction[2] = sky->sun_dir.z;
 
     double horizon = asin(horizon_mu(atm, v3_length(sky->observer))); /* elevation, <= 0 */
-    int no_memory;
     sky_guide *guide = NULL;
-    if (v3_dot(sky->sun_dir, sky->observer) < 0.0) {
+    if (v3_dot(sky->sun_dir, sky->observer) < 0.0)
         report(params, 0.0, "twilight guide");
-        job.guide = guide = twilight_guide_create(sky, params->threads, &no_memory);
-        if (no_memory) {
-            s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the twilight guide");
-            goto done;
-        }
-    }
+    if ((s = make_guide(sky, params->threads, &guide, err)))
+        goto done;
+    job.guide = guide;
     if (reference) {
         parallel_progress pr = {params->progress, params->progress_user, "path tracing", 0.0, 0.98};
         s = parallel_for(params->threads, H, 1, equirect ? reference_rows : reference_rows_camera, &job, params->cancel,
@@ -634,7 +645,6 @@ done:
 
 typedef struct pixels_job {
     render_job job;
-    int count;
     const int *x, *y;
     float *out, *se;
 } pixels_job;
@@ -653,7 +663,7 @@ static void reference_pixels(void *ctx, int64_t begin, int64_t end, int thread)
 fm_status fm_render_pixels(const fm_sky *sky, const fm_render_params *params, int count, const int *x, const int *y,
                            float *out, float *se, fm_error *err)
 {
-    pixels_job pj = {.job = {.sky = sky, .params = params}, .count = count, .x = x, .y = y, .out = out, .se = se};
+    pixels_job pj = {.job = {.sky = sky, .params = params}, .x = x, .y = y, .out = out, .se = se};
     render_job *job = &pj.job;
     fm_status s = validate(params, &job->cam, err);
     if (s)
@@ -671,16 +681,11 @@ fm_status fm_render_pixels(const fm_sky *sky, const fm_render_params *params, in
     if (params->reference_samples > 0)
         job->q.reference_paths = params->reference_samples;
     job->channels = atm->grid.colour ? 3 : 1;
-    job->seed = params->seed; /* as fm_render: the wavelengths are part of the seed */
-    for (int k = 0; k < atm->grid.count; k++)
-        job->seed = mix64(job->seed ^ (uint64_t)llround(atm->grid.lambda_nm[k] * 1000.0));
-    int no_memory;
+    job->seed = render_seed(atm, params->seed);
     sky_guide *guide = NULL;
-    if (v3_dot(sky->sun_dir, sky->observer) < 0.0) {
-        job->guide = guide = twilight_guide_create(sky, params->threads, &no_memory);
-        if (no_memory)
-            return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the twilight guide");
-    }
+    if ((s = make_guide(sky, params->threads, &guide, err)))
+        return s;
+    job->guide = guide;
     parallel_progress pr = {params->progress, params->progress_user, "path tracing", 0.0, 1.0};
     s = parallel_for(params->threads, count, 1, reference_pixels, &pj, params->cancel, &pr);
     free(guide);

@@ -162,9 +162,14 @@ static int locate(const sun_irradiance *table, const atmosphere *atm, const sun_
     return dark;
 }
 
+static double interpolate_depth(const float *v, const double w[4], const size_t idx[4], int k)
+{
+    return w[0] * v[idx[0] + k] + w[1] * v[idx[1] + k] + w[2] * v[idx[2] + k] + w[3] * v[idx[3] + k];
+}
+
 static double interpolate(const float *v, const double w[4], const size_t idx[4], int k)
 {
-    return from_depth(w[0] * v[idx[0] + k] + w[1] * v[idx[1] + k] + w[2] * v[idx[2] + k] + w[3] * v[idx[3] + k]);
+    return from_depth(interpolate_depth(v, w, idx, k));
 }
 
 void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
@@ -184,14 +189,12 @@ void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, c
 void sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
                                  double mu_s, double *depth)
 {
-    const int K = table->count;
-    const float *v = table->normal;
     double w[4];
     size_t idx[4];
     int dark = locate(table, atm, sun, r, mu_s, w, idx);
-    for (int k = 0; k < K; k++) {
-        double d = w[0] * v[idx[0] + k] + w[1] * v[idx[1] + k] + w[2] * v[idx[2] + k] + w[3] * v[idx[3] + k];
-        depth[k] = dark || d >= MAX_DEPTH ? INFINITY : d; /* as from_depth: 0 beyond MAX_DEPTH */
+    for (int k = 0; k < table->count; k++) {
+        double d = dark ? INFINITY : interpolate_depth(table->normal, w, idx, k);
+        depth[k] = d >= MAX_DEPTH ? INFINITY : d; /* as from_depth: 0 beyond MAX_DEPTH */
     }
 }
 
