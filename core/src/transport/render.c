@@ -16,6 +16,7 @@
 #include "transport/sky_grid.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -69,6 +70,7 @@ typedef struct render_job {
     sky_grid ss, ms;
     ground_irradiance ground;
     fm_image *img;
+    atomic_int no_memory; /* a worker could not allocate */
 } render_job;
 
 /* Spectral radiance (K values) -> C image channels: XYZ (colour, C = 3), else the K values
@@ -92,20 +94,34 @@ static vec3 view_direction(const fm_sky *sky, double elevation, double rel_azimu
     return direction_from_elevation_azimuth(elevation, sky->params.sun_azimuth_deg * FM_DEG + rel_azimuth);
 }
 
-static void ss_nodes(void *ctx, int64_t begin, int64_t end, int thread)
+/* Work item: one row of the single-scattering table; the view ray's part once per row
+ * (single_scatter.h), the sun's part per column. */
+static void ss_rows(void *ctx, int64_t begin, int64_t end, int thread)
 {
     render_job *job = ctx;
     const fm_sky *sky = job->sky;
     path_context pc = sky_path_context(sky, 1, 1);
     pc.ground_diffuse = &job->ground;
-    for (int64_t i = begin; i < end; i++) {
-        double e, phi, L[FM_MAX_WAVELENGTHS] = {0};
-        sky_grid_node_angles(&job->ss, (int)i, &e, &phi);
-        single_scatter_radiance(&pc, sky->observer, view_direction(sky, e, phi), L);
-        float v[FM_MAX_WAVELENGTHS];
-        to_channels(&sky->atm, job->channels, L, v);
-        for (int c = 0; c < job->channels; c++)
-            sky_grid_set(&job->ss, (int)i, c, v[c]);
+    const int cols = job->ss.cols;
+    for (int64_t row = begin; row < end; row++) {
+        double e, phi;
+        sky_grid_node_angles(&job->ss, (int)row * cols, &e, &phi);
+        single_scatter_ray ray;
+        if (single_scatter_ray_init(&ray, &pc, sky->observer, view_direction(sky, e, phi))) {
+            atomic_store(&job->no_memory, 1);
+            return;
+        }
+        for (int col = 0; col < cols; col++) {
+            int i = (int)row * cols + col;
+            double L[FM_MAX_WAVELENGTHS] = {0};
+            sky_grid_node_angles(&job->ss, i, &e, &phi);
+            single_scatter_ray_radiance(&ray, &pc, view_direction(sky, e, phi), L);
+            float v[FM_MAX_WAVELENGTHS];
+            to_channels(&sky->atm, job->channels, L, v);
+            for (int c = 0; c < job->channels; c++)
+                sky_grid_set(&job->ss, i, c, v[c]);
+        }
+        single_scatter_ray_free(&ray);
     }
 }
 
@@ -608,8 +624,11 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
         parallel_progress pss = {params->progress, params->progress_user, "single scattering", 0.05, 0.10};
         parallel_progress pms = {params->progress, params->progress_user, "multiple scattering", 0.15, 0.75};
         parallel_progress ppx = {params->progress, params->progress_user, "pixels", 0.9, 0.08};
-        if (!s && !(s = parallel_for(params->threads, sky_grid_nodes(&job.ss), 8, ss_nodes, &job, params->cancel, &pss)) &&
-            !(s = parallel_for(params->threads, sky_grid_nodes(&job.ms), 1, ms_nodes, &job, params->cancel, &pms))) {
+        if (!s && !(s = parallel_for(params->threads, job.ss.rows_sky + job.ss.rows_ground, 1, ss_rows, &job,
+                                     params->cancel, &pss)) &&
+            atomic_load(&job.no_memory))
+            s = FM_ERR_OUT_OF_MEMORY;
+        if (!s && !(s = parallel_for(params->threads, sky_grid_nodes(&job.ms), 1, ms_nodes, &job, params->cancel, &pms))) {
             sky_grid_average_poles(&job.ms);
             s = parallel_for(params->threads, H, 4, equirect ? fast_rows : fast_rows_camera, &job, params->cancel, &ppx);
         }

@@ -3,11 +3,13 @@
 #include "atmosphere/optical_depth.h"
 #include "base/quadrature.h"
 #include "base/units.h"
+#include "phase/phase.h"
 #include "transport/free_flight.h"
 #include "transport/ground_irradiance.h"
 
 #include <math.h>
 #include <stddef.h>
+#include <stdlib.h>
 
 #define SS_POINTS 6      /* Gauss-Legendre points per piece */
 #define SS_SUB_POINTS 4  /* points of the nested column quadratures */
@@ -31,27 +33,17 @@ static void piece_columns(const atmosphere *atm, double p2, double sa, double sb
     }
 }
 
-void single_scatter_radiance(const path_context *ctx, vec3 origin, vec3 dir, double *L)
+/* Quadrature pieces of the ray: between altitude breakpoints, split further where the majorant
+ * says they are thick.  Returns the count of piece ends in `pieces`. */
+static int ray_quadrature_pieces(const atmosphere *atm, const ray_segment *seg, double r0, double *pieces)
 {
-    const atmosphere *atm = ctx->atm;
-    const int K = atm->grid.count, C = atm->species_count;
-    const double *E0 = atm->grid.solar_irradiance;
-    const gauss_rule *g = gauss_legendre_cached(SS_POINTS);
-    const gauss_rule *gs = gauss_legendre_cached(SS_SUB_POINTS);
-    ray_segment seg;
-    ray_segment_init(&seg, atm, origin, dir);
-    double r0 = v3_length(origin);
-    double mu0 = seg.s0 / r0;
-    double cos_sun = v3_dot(dir, ctx->sun_dir);
-
-    /* Pieces between altitude breakpoints, split further where the majorant says they are thick. */
-    double bounds[SS_MAX_BOUNDS];
-    int nb = ray_pieces(atm, r0, mu0, seg.t_end, bounds, SS_MAX_BOUNDS);
-    double pieces[SS_MAX_BOUNDS * SS_MAX_SPLIT + 1], depth[FM_MAX_WAVELENGTHS];
+    const int K = atm->grid.count;
+    double bounds[SS_MAX_BOUNDS], depth[FM_MAX_WAVELENGTHS];
+    int nb = ray_pieces(atm, r0, seg->s0 / r0, seg->t_end, bounds, SS_MAX_BOUNDS);
     int np = 0;
     for (int i = 0; i + 1 < nb; i++) {
-        double ta = bounds[i] - seg.s0, tb = bounds[i + 1] - seg.s0;
-        free_flight_majorant_depth(atm, &seg, ta, tb, depth);
+        double ta = bounds[i] - seg->s0, tb = bounds[i + 1] - seg->s0;
+        free_flight_majorant_depth(atm, seg, ta, tb, depth);
         double thickest = 0.0;
         for (int k = 0; k < K; k++)
             thickest = fmax(thickest, depth[k]);
@@ -64,10 +56,34 @@ void single_scatter_radiance(const path_context *ctx, vec3 origin, vec3 dir, dou
             pieces[np++] = bounds[i] + (bounds[i + 1] - bounds[i]) * j / sub;
     }
     pieces[np++] = bounds[nb - 1];
+    return np;
+}
 
+static int point_stride(const atmosphere *atm) { return 3 + atm->species_count + atm->grid.count; }
+
+fm_status single_scatter_ray_init(single_scatter_ray *ray, const path_context *ctx, vec3 origin, vec3 dir)
+{
+    const atmosphere *atm = ctx->atm;
+    const int K = atm->grid.count, C = atm->species_count, stride = point_stride(atm);
+    const gauss_rule *g = gauss_legendre_cached(SS_POINTS);
+    const gauss_rule *gs = gauss_legendre_cached(SS_SUB_POINTS);
+    ray_segment seg;
+    ray_segment_init(&seg, atm, origin, dir);
+    double r0 = v3_length(origin);
+    double *pieces = malloc(sizeof(double) * (SS_MAX_BOUNDS * SS_MAX_SPLIT + 1));
+    if (!pieces)
+        return FM_ERR_OUT_OF_MEMORY;
+    int np = ray_quadrature_pieces(atm, &seg, r0, pieces);
+    ray->origin = origin;
+    ray->hits_ground = seg.hits_ground;
+    ray->t_end = seg.t_end;
+    ray->n = 0;
+    ray->point = malloc(sizeof(double) * (size_t)stride * (size_t)(np > 1 ? np - 1 : 1) * (size_t)g->n);
+    if (!ray->point) {
+        free(pieces);
+        return FM_ERR_OUT_OF_MEMORY;
+    }
     double col_start[FM_MAX_SPECIES] = {0}, col[FM_MAX_SPECIES], part[FM_MAX_SPECIES];
-    double n[FM_MAX_SPECIES], phase[FM_MAX_WAVELENGTHS], sig_s[FM_MAX_WAVELENGTHS], tbar[FM_MAX_WAVELENGTHS];
-    double sun_depth[FM_MAX_WAVELENGTHS];
     for (int i = 0; i + 1 < np; i++) {
         double sa = pieces[i], sb = pieces[i + 1];
         double half = 0.5 * (sb - sa), mid = 0.5 * (sb + sa);
@@ -75,38 +91,85 @@ void single_scatter_radiance(const path_context *ctx, vec3 origin, vec3 dir, dou
             continue;
         for (int j = 0; j < g->n; j++) {
             double s = mid + half * g->x[j];
+            double *pt = ray->point + (size_t)ray->n++ * stride;
             piece_columns(atm, seg.p2, sa, s, gs, part);
             for (int c = 0; c < C; c++)
                 col[c] = col_start[c] + part[c];
-            double rad = sqrt(seg.p2 + s * s);
-            atmosphere_densities(atm, rad, n);
-            medium_phase(atm, n, cos_sun, phase, sig_s);
-            vec3 x = v3_madd(origin, dir, s - seg.s0);
-            /* sunlight in, transmittance out: one exp of the two optical depths */
-            sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, sun_depth);
-            double wgt = half * g->w[j];
-            for (int k = 0; k < K; k++) {
-                double t = exp(-(atmosphere_optical_depth(atm, col, k) + sun_depth[k]));
-                L[k] += wgt * t * sig_s[k] * phase[k] * E0[k];
-            }
+            pt[0] = s - seg.s0;
+            pt[1] = half * g->w[j];
+            pt[2] = sqrt(seg.p2 + s * s);
+            atmosphere_densities(atm, pt[2], pt + 3);
+            for (int k = 0; k < K; k++)
+                pt[3 + C + k] = atmosphere_optical_depth(atm, col, k);
         }
         piece_columns(atm, seg.p2, sa, sb, g, part);
         for (int c = 0; c < C; c++)
             col_start[c] += part[c];
     }
+    for (int k = 0; k < K; k++)
+        ray->ground_depth[k] = atmosphere_optical_depth(atm, col_start, k);
+    free(pieces);
+    return FM_OK;
+}
 
-    if (seg.hits_ground) {
-        vec3 x = v3_madd(origin, dir, seg.t_end);
+void single_scatter_ray_free(single_scatter_ray *ray)
+{
+    free(ray->point);
+    ray->point = NULL;
+}
+
+void single_scatter_ray_radiance(const single_scatter_ray *ray, const path_context *ctx, vec3 dir, double *L)
+{
+    const atmosphere *atm = ctx->atm;
+    const int K = atm->grid.count, C = atm->species_count, stride = point_stride(atm);
+    const double *E0 = atm->grid.solar_irradiance;
+    double cos_sun = v3_dot(dir, ctx->sun_dir), origin_sun = v3_dot(ray->origin, ctx->sun_dir);
+    /* The scattering angle is the same at every point of the ray: each species' phase function
+     * once per direction, as sigma_s,c(k) p_c(k) per unit density. */
+    double scatter[FM_MAX_SPECIES][FM_MAX_WAVELENGTHS], value[FM_MAX_WAVELENGTHS];
+    for (int c = 0; c < atm->scattering_count; c++) {
+        phase_evaluate_all(&atm->species[c].phase, K, cos_sun, value);
+        for (int k = 0; k < K; k++)
+            scatter[c][k] = atm->species[c].sigma_s[k] * value[k];
+    }
+    double sun_depth[FM_MAX_WAVELENGTHS], coef[FM_MAX_WAVELENGTHS];
+    for (int i = 0; i < ray->n; i++) {
+        const double *pt = ray->point + (size_t)i * stride;
+        double t = pt[0], wgt = pt[1], rad = pt[2];
+        const double *n = pt + 3, *view_depth = pt + 3 + C;
+        for (int k = 0; k < K; k++)
+            coef[k] = 0.0;
+        for (int c = 0; c < atm->scattering_count; c++)
+            if (n[c] != 0.0) /* aerosol layers are absent at most altitudes */
+                for (int k = 0; k < K; k++)
+                    coef[k] += n[c] * scatter[c][k];
+        /* sunlight in, transmittance out: one exp of the two optical depths */
+        sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, (origin_sun + t * cos_sun) / rad, sun_depth);
+        for (int k = 0; k < K; k++)
+            L[k] += wgt * exp(-(view_depth[k] + sun_depth[k])) * coef[k] * E0[k];
+    }
+
+    if (ray->hits_ground) {
+        vec3 x = v3_madd(ray->origin, dir, ray->t_end);
         double rad = v3_length(x);
         double mu_s = v3_dot(x, ctx->sun_dir) / rad;
-        double thor[FM_MAX_WAVELENGTHS];
+        double tbar[FM_MAX_WAVELENGTHS], thor[FM_MAX_WAVELENGTHS];
         sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, atm->bottom_radius_m, mu_s, tbar, thor);
         double diffuse[FM_MAX_WAVELENGTHS] = {0};
         if (ctx->ground_diffuse)
             ground_irradiance_lookup(ctx->ground_diffuse, mu_s, diffuse);
         for (int k = 0; k < K; k++) {
-            double tv = exp(-atmosphere_optical_depth(atm, col_start, k));
+            double tv = exp(-ray->ground_depth[k]);
             L[k] += tv * atm->ground_albedo[k] / FM_PI * (E0[k] * thor[k] + diffuse[k]);
         }
     }
+}
+
+void single_scatter_radiance(const path_context *ctx, vec3 origin, vec3 dir, double *L)
+{
+    single_scatter_ray ray;
+    if (single_scatter_ray_init(&ray, ctx, origin, dir))
+        abort(); /* a few hundred kilobytes at most */
+    single_scatter_ray_radiance(&ray, ctx, dir, L);
+    single_scatter_ray_free(&ray);
 }

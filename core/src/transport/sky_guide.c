@@ -7,6 +7,7 @@
 #include "transport/single_scatter.h"
 
 #include <math.h>
+#include <stdatomic.h>
 
 /* altitudes of the levels above the observer's (km) */
 static const double level_km[SKY_GUIDE_LEVELS] = {0.0, 4.0, 9.0, 15.0, 22.0, 32.0, 45.0};
@@ -64,6 +65,7 @@ typedef struct build_job {
     sky_guide *g;
     const path_context *single;
     vec3 up;
+    atomic_int no_memory;
 } build_job;
 
 /* Work item: one row of one level; fills the row's cell masses (luminance x solid angle). */
@@ -79,11 +81,17 @@ static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
         double eh = -acos(fmin(1.0, atm->bottom_radius_m / g->radius));
         double e = 0.5 * (row_elevation(i, eh) + row_elevation(i + 1, eh));
         double omega = (sin(row_elevation(i + 1, eh)) - sin(row_elevation(i, eh))) * 2.0 * FM_PI / SKY_GUIDE_COLS;
+        /* one view ray profile per row (single_scatter.h) */
+        single_scatter_ray ray;
+        if (single_scatter_ray_init(&ray, job->single, position, frame_direction(&f, sin(e), 0.0))) {
+            atomic_store(&job->no_memory, 1);
+            return;
+        }
         /* symmetric about the sun's vertical plane: columns c and COLS - 1 - c look alike */
         for (int c = 0; c < SKY_GUIDE_COLS / 2; c++) {
             double phi = 2.0 * FM_PI * (c + 0.5) / SKY_GUIDE_COLS;
             double L[FM_MAX_WAVELENGTHS] = {0}, y = 0.0;
-            single_scatter_radiance(job->single, position, frame_direction(&f, sin(e), phi), L);
+            single_scatter_ray_radiance(&ray, job->single, frame_direction(&f, sin(e), phi), L);
             if (atm->grid.colour) {
                 double xyz[3];
                 spectral_grid_to_xyz(&atm->grid, L, xyz);
@@ -93,6 +101,7 @@ static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
             }
             g->pdf[i][c] = g->pdf[i][SKY_GUIDE_COLS - 1 - c] = fmax(y, 0.0) * omega;
         }
+        single_scatter_ray_free(&ray);
     }
 }
 
@@ -134,9 +143,11 @@ int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int
         for (int j = 0; j <= SKY_GUIDE_ROWS; j++)
             l->edge_sin[j] = sin(row_elevation(j, eh));
     }
-    build_job job = {g, single, v3_scale(observer, 1.0 / r0)};
+    build_job job = {g, single, v3_scale(observer, 1.0 / r0), 0};
     if (parallel_for(threads, (int64_t)g->levels * SKY_GUIDE_ROWS, 1, build_rows, &job, NULL, NULL))
         return 0;
+    if (atomic_load(&job.no_memory))
+        return -1;
     int usable = 0;
     for (int i = 0; i < g->levels; i++)
         usable += g->level[i].usable = normalise_level(&g->level[i]);

@@ -43,7 +43,7 @@ typedef struct sky_guide {
 /* Builds the guide from single_scatter_radiance with `single` at altitudes above `observer` (its
  * own altitude first) on `threads` threads.  A level whose sky is black (deep twilight, low down) is
  * left out: vertices use the nearest level that sees light.  Returns 0 when every level is black
- * (the guide is then unusable), else 1. */
+ * (the guide is then unusable), -1 when memory ran out, else 1. */
 int sky_guide_build(sky_guide *g, const struct path_context *single, vec3 observer, int threads);
 
 /* A direction at the vertex x (Earth-centred) from three uniform numbers, and the density of a

@@ -89,7 +89,7 @@ static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
     for (int64_t i = begin; i < end; i++) {
         int ir = (int)(i / t->n_mu), imu = (int)(i % t->n_mu);
         double r = table_radius(job->atm, (double)ir / (t->n_r - 1));
-        double lo = mu_low(job->atm, job->sun, r);
+        double lo = t->mu_lo[ir];
         double x = (double)imu / (t->n_mu - 1);
         double mu_s = lo + (1.0 - lo) * x * x;
         sun_transmittance_direct(job->atm, job->columns, job->sun, r, mu_s, normal, horizontal);
@@ -109,10 +109,13 @@ fm_status sun_irradiance_build(sun_irradiance *table, const atmosphere *atm, con
     size_t n = (size_t)n_r * (size_t)n_mu * (size_t)table->count;
     table->normal = malloc(n * sizeof(float));
     table->horizontal = malloc(n * sizeof(float));
-    if (!table->normal || !table->horizontal) {
+    table->mu_lo = malloc((size_t)n_r * sizeof(double));
+    if (!table->normal || !table->horizontal || !table->mu_lo) {
         sun_irradiance_free(table);
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the sun irradiance table");
     }
+    for (int i = 0; i < n_r; i++)
+        table->mu_lo[i] = mu_low(atm, sun, table_radius(atm, (double)i / (n_r - 1)));
     build_job job = {table, atm, columns, sun};
     parallel_for(threads, (int64_t)n_r * n_mu, 32, build_rows, &job, NULL, NULL);
     return FM_OK;
@@ -122,7 +125,9 @@ void sun_irradiance_free(sun_irradiance *table)
 {
     free(table->normal);
     free(table->horizontal);
+    free(table->mu_lo);
     table->normal = table->horizontal = NULL;
+    table->mu_lo = NULL;
 }
 
 /* Bilinear weights and node offsets of (r, mu_s); returns 1 when the point is fully in the Earth's
@@ -139,8 +144,7 @@ static int locate(const sun_irradiance *table, const atmosphere *atm, const sun_
     /* the mu mapping depends on the row's radius: locate mu_s in each of the two rows */
     int dark = 0;
     for (int row = 0; row < 2; row++) {
-        double rr = table_radius(atm, (double)(ir + row) / (table->n_r - 1));
-        double lo = mu_low(atm, sun, rr);
+        double lo = table->mu_lo[ir + row];
         double x = mu_s <= lo ? 0.0 : sqrt((mu_s - lo) / (1.0 - lo));
         double fm = fmin(x, 1.0) * (table->n_mu - 1);
         int im = (int)fm;

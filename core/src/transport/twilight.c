@@ -20,8 +20,10 @@ sky_guide *twilight_guide_create(const fm_sky *sky, int threads, int *no_memory)
         return NULL;
     }
     path_context single = sky_path_context(sky, 1, 1);
-    if (!sky_guide_build(g, &single, sky->observer, threads)) {
+    int built = sky_guide_build(g, &single, sky->observer, threads);
+    if (built <= 0) {
         free(g); /* a black sky (deep night): nothing to guide toward */
+        *no_memory = built < 0;
         return NULL;
     }
     return g;
