@@ -20,6 +20,18 @@
 #include "spectrum/spectral_grid.h"
 
 #define FM_SUN_CHORD_POINTS 12
+/* Points of the whole-disk rule for a disk well above the horizon (sun_disk.coarse) */
+#define FM_SUN_COARSE_CHORD_POINTS 3
+
+/* Chord quadrature over the disk part above an elevation offset: nodes are offsets delta (rad,
+ * positive toward the zenith) from the centre; weights are per wavelength and sum to 1 over the
+ * whole disk.  Only the part with delta > delta_min is included (delta_min <= -radius: all).
+ * Returns the number of nodes. */
+typedef struct sun_chord_rule {
+    int n;
+    double delta[FM_SUN_CHORD_POINTS];
+    double weight[FM_SUN_CHORD_POINTS][FM_MAX_WAVELENGTHS];
+} sun_chord_rule;
 
 typedef struct sun_disk {
     double angular_radius;                    /* rad */
@@ -28,6 +40,11 @@ typedef struct sun_disk {
     double ld_mean[FM_MAX_WAVELENGTHS];       /* disk mean of the polynomial */
     double chord_b[6];                        /* B_m */
     double chord_norm[FM_MAX_WAVELENGTHS];    /* sum_m A_m B_m C_(m+2): the full-disk chord integral */
+    /* The whole disk with FM_SUN_COARSE_CHORD_POINTS nodes in delta, weights summing to 1: where
+     * the disk is well above the horizon, the transmittance across its 0.53 degrees is a
+     * low-degree polynomial in delta and three chords integrate it as well as the full rule
+     * (sun_transmittance_direct). */
+    sun_chord_rule coarse;
 } sun_disk;
 
 void sun_disk_init(sun_disk *sun, const spectral_grid *grid, double earth_sun_distance_au);
@@ -42,16 +59,7 @@ static inline double sun_limb_darkening(const sun_disk *sun, int k, double mu2)
     return a[0] + mu2 * (a[1] + mu2 * (a[2] + mu2 * (a[3] + mu2 * (a[4] + mu2 * a[5]))));
 }
 
-/* Chord quadrature over the disk part above an elevation offset: nodes are offsets delta (rad,
- * positive toward the zenith) from the centre; weights are per wavelength and sum to 1 over the
- * whole disk.  Only the part with delta > delta_min is included (delta_min <= -radius: all).
- * Returns the number of nodes. */
-typedef struct sun_chord_rule {
-    int n;
-    double delta[FM_SUN_CHORD_POINTS];
-    double weight[FM_SUN_CHORD_POINTS][FM_MAX_WAVELENGTHS];
-} sun_chord_rule;
-
+/* The chord rule (FM_SUN_CHORD_POINTS nodes) over the disk part above delta_min. */
 void sun_chord_rule_above(const sun_disk *sun, int wavelengths, double delta_min, sun_chord_rule *rule);
 
 #endif

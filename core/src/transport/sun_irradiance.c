@@ -14,6 +14,12 @@ static double mu_low(const atmosphere *atm, const sun_disk *sun, double r)
     return cos(fmin(FM_PI, theta_h + sun->angular_radius));
 }
 
+/* Above this elevation of its centre over the local horizon (rad) the disk takes the coarse
+ * three-chord rule (sun_disk.coarse).  Against the 12-chord rule for clear air, urban and desert
+ * dust at turbidity 3, at 0, 2 and 20 km: within 4e-5 from 4 degrees up (1.2e-4 at 2 degrees),
+ * which is the column table's own interpolation error; 4 times fewer exps for most of the table. */
+#define SUN_COARSE_ELEVATION (4.0 * FM_DEG)
+
 void sun_transmittance_direct(const atmosphere *atm, const column_table *columns, const sun_disk *sun,
                               double r, double mu_s, double *normal, double *horizontal)
 {
@@ -25,11 +31,15 @@ void sun_transmittance_direct(const atmosphere *atm, const column_table *columns
     }
     double theta_s = acos(clamp_cosine(mu_s));
     double theta_h = acos(horizon_mu(atm, r));
-    sun_chord_rule rule;
-    sun_chord_rule_above(sun, K, theta_s - theta_h, &rule);
+    sun_chord_rule cut;
+    const sun_chord_rule *rule = &sun->coarse;
+    if (theta_h - theta_s < SUN_COARSE_ELEVATION) {
+        sun_chord_rule_above(sun, K, theta_s - theta_h, &cut);
+        rule = &cut;
+    }
     double col[FM_MAX_SPECIES];
-    for (int j = 0; j < rule.n; j++) {
-        double mu_j = cos(theta_s - rule.delta[j]);
+    for (int j = 0; j < rule->n; j++) {
+        double mu_j = cos(theta_s - rule->delta[j]);
         if (columns) {
             if (!column_table_lookup(columns, atm, r, mu_j, col))
                 continue;
@@ -39,7 +49,7 @@ void sun_transmittance_direct(const atmosphere *atm, const column_table *columns
             column_quadrature(atm, r, mu_j, ray_distance_to_top(atm, r, mu_j), col);
         }
         for (int k = 0; k < K; k++) {
-            double t = rule.weight[j][k] * exp(-atmosphere_optical_depth(atm, col, k));
+            double t = rule->weight[j][k] * exp(-atmosphere_optical_depth(atm, col, k));
             normal[k] += t;
             if (horizontal)
                 horizontal[k] += t * mu_j;
