@@ -46,19 +46,18 @@ void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int 
                          uint64_t item, int offset, double *L, double *sum_y2)
 {
     const int K = sky->atm.grid.count;
+    /* First vertices stratified along the view ray (view_ray_vertices.h), by day too: against delta
+     * tracking from the observer, 256 x 128 final maps, two seeds: rural sun 30 seed-to-seed RMS
+     * 0.56 -> 0.46% in 9% less time, urban sunset (sun 2, turbidity 2) 4.2 -> 3.8% in 17% less. */
     view_ray_vertices v;
-    if (pc->sky_guide && !view_ray_vertices_init(&v, pc, sky->observer, d))
+    if (!view_ray_vertices_init(&v, pc, sky->observer, d))
         return; /* no air along the ray */
     for (int p = 0; p < paths; p++) {
         rng r = rng_for_qmc(seed, item, (uint64_t)p, (uint64_t)paths);
         double own[FM_MAX_WAVELENGTHS] = {0}, *Lp = sum_y2 ? own : L;
-        if (pc->sky_guide) {
-            double weight[FM_MAX_WAVELENGTHS];
-            vec3 x = view_ray_vertex(&v, pc, (p + rng_uniform(&r)) / paths, weight);
-            path_trace_from(pc, x, d, weight, (p + offset) % K, &r, Lp);
-        } else {
-            path_trace(pc, sky->observer, d, (p + offset) % K, &r, Lp);
-        }
+        double weight[FM_MAX_WAVELENGTHS];
+        vec3 x = view_ray_vertex(&v, pc, (p + rng_uniform(&r)) / paths, weight);
+        path_trace_from(pc, x, d, weight, (p + offset) % K, &r, Lp);
         if (sum_y2) {
             for (int k = 0; k < K; k++)
                 L[k] += own[k];

@@ -22,8 +22,9 @@ sky_guide *twilight_guide_create(const fm_sky *sky, int threads, int *no_memory)
 path_context twilight_path_context(const fm_sky *sky, const sky_guide *guide, int min_order, int max_order);
 
 /* The fast path's estimate of orders >= 2 toward d at one table node: adds the sum of `paths` path
- * estimates (K values) to L; with twilight sampling (pc carries a guide) the first vertices are
- * stratified along the view ray.  sum_y2, if not NULL, receives the sum over paths of the squared
+ * estimates (K values) to L, their first vertices stratified along the view ray
+ * (view_ray_vertices.h) and, with twilight sampling (pc carries a guide), the guide's directions
+ * after them.  sum_y2, if not NULL, receives the sum over paths of the squared
  * luminance-weighted estimate (CIE Y, or the one value of a monochromatic sky), for a standard
  * error. */
 void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
