@@ -39,14 +39,20 @@ void silence_library()
     OCIO::SetLoggingLevel(OCIO::LOGGING_LEVEL_NONE);
 }
 
+// Applies the processor to n triples as an image of lines of LINE pixels and one short line for the
+// rest: OCIO converts line by line through one buffer of a line per call, so lines of a million
+// pixels cost a 16 MB buffer, zeroed page by page (0.56 s for a 4096 x 2048 map; 0.16 s like this).
 int apply(OCIO::ConstProcessorRcPtr processor, float *rgb, size_t n)
 {
     OCIO::ConstCPUProcessorRcPtr cpu = processor->getDefaultCPUProcessor();
-    // PackedImageDesc takes a long width; convert in rows to stay within range.
-    const size_t row = 1u << 20;
-    for (size_t start = 0; start < n; start += row) {
-        size_t count = n - start < row ? n - start : row;
-        OCIO::PackedImageDesc desc(rgb + 3 * start, static_cast<long>(count), 1, 3);
+    const size_t LINE = 4096;
+    size_t lines = n / LINE, rest = n % LINE;
+    if (lines > 0) {
+        OCIO::PackedImageDesc desc(rgb, static_cast<long>(LINE), static_cast<long>(lines), 3);
+        cpu->apply(desc);
+    }
+    if (rest > 0) {
+        OCIO::PackedImageDesc desc(rgb + 3 * lines * LINE, static_cast<long>(rest), 1, 3);
         cpu->apply(desc);
     }
     return 0;

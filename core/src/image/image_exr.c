@@ -1,11 +1,14 @@
 #include "image/image_exr.h"
 
 #include "base/status.h"
+#include "base/threads.h"
 #include "base/units.h"
 #include "colour/colour.h"
 
 #include <openexr.h>
+#include <stdatomic.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* OpenEXR reports details through a callback, called with the context locked (so the callback
@@ -97,8 +100,75 @@ static int channel_offset(const fm_image *img, const char *name)
     return 0;
 }
 
+/* One chunk's bytes as they go into the file. */
+typedef struct encoded_chunk {
+    exr_chunk_info_t info;
+    void *data;
+    uint64_t bytes;
+} encoded_chunk;
+
+typedef struct encode_job {
+    exr_context_t ctxt;
+    int part;
+    const fm_image *img;
+    int chunks, threads;
+    encoded_chunk *chunk;
+    exr_encode_pipeline_t *pipe; /* one per thread */
+    int *started;
+    atomic_int failed; /* the first OpenEXR error */
+} encode_job;
+
+/* The pipeline's last step: keep the compressed bytes instead of writing them (the thread that
+ * owns the file writes every chunk in order). */
+static exr_result_t keep_chunk(exr_encode_pipeline_t *pipe)
+{
+    encoded_chunk *c = pipe->encoding_user_data;
+    c->data = malloc(pipe->compressed_bytes ? pipe->compressed_bytes : 1);
+    if (!c->data)
+        return EXR_ERR_OUT_OF_MEMORY;
+    memcpy(c->data, pipe->compressed_buffer, pipe->compressed_bytes);
+    c->bytes = pipe->compressed_bytes;
+    return EXR_ERR_SUCCESS;
+}
+
+static void encode_chunks(void *ctx, int64_t begin, int64_t end, int thread)
+{
+    encode_job *job = ctx;
+    const fm_image *img = job->img;
+    const int W = img->width, C = img->channels;
+    exr_encode_pipeline_t *pipe = &job->pipe[thread];
+    for (int64_t i = begin; i < end && atomic_load(&job->failed) == EXR_ERR_SUCCESS; i++) {
+        encoded_chunk *c = &job->chunk[i];
+        exr_result_t rv = job->started[thread] ? exr_encoding_update(job->ctxt, job->part, &c->info, pipe)
+                                               : exr_encoding_initialize(job->ctxt, job->part, &c->info, pipe);
+        for (int ch = 0; !rv && ch < pipe->channel_count; ch++) {
+            exr_coding_channel_info_t *info = &pipe->channels[ch];
+            info->user_bytes_per_element = 4;
+            info->user_data_type = EXR_PIXEL_FLOAT;
+            info->user_pixel_stride = C * (int32_t)sizeof(float);
+            info->user_line_stride = W * C * (int32_t)sizeof(float);
+            info->encode_from_ptr = (const uint8_t *)&img->pixels[((size_t)c->info.start_y * W) * C +
+                                                                  channel_offset(img, info->channel_name)];
+        }
+        if (!rv && !job->started[thread]) {
+            rv = exr_encoding_choose_default_routines(job->ctxt, job->part, pipe);
+            job->started[thread] = !rv;
+        }
+        if (!rv) {
+            pipe->yield_until_ready_fn = NULL;
+            pipe->write_fn = keep_chunk;
+            pipe->encoding_user_data = c;
+            rv = exr_encoding_run(job->ctxt, job->part, pipe);
+        }
+        if (rv) {
+            int none = EXR_ERR_SUCCESS;
+            atomic_compare_exchange_strong(&job->failed, &none, rv);
+        }
+    }
+}
+
 fm_status image_write_exr(const char *path, const fm_image *img, const metadata *meta, int half,
-                          fm_exr_compression compression, const atomic_int *cancel, fm_error *err)
+                          fm_exr_compression compression, int threads, const atomic_int *cancel, fm_error *err)
 {
     const exr_compression_t method = compression == FM_EXR_PIZ ? EXR_COMPRESSION_PIZ : EXR_COMPRESSION_ZIP;
     exr_messages *msgs_ptr = &thread_messages;
@@ -132,39 +202,39 @@ fm_status image_write_exr(const char *path, const fm_image *img, const metadata 
     int32_t lines = 1;
     if ((rv = exr_get_scanlines_per_chunk(ctxt, part, &lines)))
         goto fail;
-    exr_encode_pipeline_t encoder = EXR_ENCODE_PIPELINE_INITIALIZER;
-    int started = 0;
-    for (int y = 0; y < H; y += lines) {
-        if (cancel && atomic_load(cancel)) {
+    /* Chunks are packed and compressed on all threads, each into its own buffer, and written to the
+     * file in order by this thread (zlib was a third of a 4096 x 2048 render's time). */
+    encode_job job = {.ctxt = ctxt, .part = part, .img = img, .chunks = (H + lines - 1) / lines};
+    job.threads = parallel_thread_count(threads);
+    job.chunk = calloc((size_t)job.chunks, sizeof *job.chunk);
+    job.pipe = calloc((size_t)job.threads, sizeof *job.pipe);
+    job.started = calloc((size_t)job.threads, sizeof *job.started);
+    if (!job.chunk || !job.pipe || !job.started) {
+        status = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory writing '%s'", path);
+    } else {
+        atomic_init(&job.failed, EXR_ERR_SUCCESS);
+        for (int i = 0; i < job.chunks && !rv; i++)
+            rv = exr_write_scanline_chunk_info(ctxt, part, i * lines, &job.chunk[i].info);
+        fm_status run = rv ? FM_OK : parallel_for(job.threads, job.chunks, 1, encode_chunks, &job, cancel, NULL);
+        if (!rv)
+            rv = atomic_load(&job.failed);
+        if (run == FM_ERR_CANCELLED || (cancel && atomic_load(cancel)))
             status = fm_fail(err, FM_ERR_CANCELLED, "cancelled while writing '%s'", path);
-            break;
-        }
-        exr_chunk_info_t cinfo;
-        if ((rv = exr_write_scanline_chunk_info(ctxt, part, y, &cinfo)))
-            break;
-        rv = started ? exr_encoding_update(ctxt, part, &cinfo, &encoder)
-                     : exr_encoding_initialize(ctxt, part, &cinfo, &encoder);
-        if (rv)
-            break;
-        for (int c = 0; c < encoder.channel_count; c++) {
-            exr_coding_channel_info_t *ch = &encoder.channels[c];
-            ch->user_bytes_per_element = 4;
-            ch->user_data_type = EXR_PIXEL_FLOAT;
-            ch->user_pixel_stride = C * (int32_t)sizeof(float);
-            ch->user_line_stride = W * C * (int32_t)sizeof(float);
-            ch->encode_from_ptr = (const uint8_t *)&img->pixels[((size_t)cinfo.start_y * W) * C +
-                                                                channel_offset(img, ch->channel_name)];
-        }
-        if (!started) {
-            if ((rv = exr_encoding_choose_default_routines(ctxt, part, &encoder)))
-                break;
-            started = 1;
-        }
-        if ((rv = exr_encoding_run(ctxt, part, &encoder)))
-            break;
+        else if (run)
+            status = fm_fail(err, run, "cannot write '%s': %s", path, fm_status_name(run));
+        for (int i = 0; i < job.chunks && status == FM_OK && !rv; i++)
+            rv = exr_write_scanline_chunk(ctxt, part, job.chunk[i].info.start_y, job.chunk[i].data,
+                                          job.chunk[i].bytes);
+        for (int t = 0; t < job.threads; t++)
+            if (job.started[t])
+                exr_encoding_destroy(ctxt, &job.pipe[t]);
     }
-    if (started)
-        exr_encoding_destroy(ctxt, &encoder);
+    if (job.chunk)
+        for (int i = 0; i < job.chunks; i++)
+            free(job.chunk[i].data);
+    free(job.chunk);
+    free(job.pipe);
+    free(job.started);
     if (status == FM_OK && rv != EXR_ERR_SUCCESS)
         status = exr_failure(err, path, "cannot write pixels", rv, msgs_view);
     rv = exr_finish(&ctxt);

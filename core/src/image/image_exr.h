@@ -7,8 +7,9 @@
 
 #include "image/metadata.h"
 
-/* half: 16-bit channels (the caller has checked the range); compression: FM_EXR_*. */
+/* half: 16-bit channels (the caller has checked the range); compression: FM_EXR_*; threads: those
+ * that compress the chunks (0 = one per core). */
 fm_status image_write_exr(const char *path, const fm_image *img, const metadata *meta, int half,
-                          fm_exr_compression compression, const atomic_int *cancel, fm_error *err);
+                          fm_exr_compression compression, int threads, const atomic_int *cancel, fm_error *err);
 
 #endif

@@ -115,13 +115,13 @@ fm_status fm_output_open(const char *exr_path, const char *json_path, fm_output 
 /* DWAA: OpenEXR's C library writes the map losslessly to a staging file beside the destination, its
  * C++ library re-encodes that as DWAA into path (exr_recode.h); the staging file is always removed. */
 #define FM_DWAA_LEVEL 45.0f
-static fm_status write_dwaa(const char *path, const fm_image *image, const metadata *meta, int half,
+static fm_status write_dwaa(const char *path, const fm_image *image, const metadata *meta, int half, int threads,
                             const atomic_int *cancel, fm_error *err)
 {
     char *staging = image_reserve_temp(path, err);
     if (!staging)
         return err ? err->status : FM_ERR_IO;
-    fm_status s = image_write_exr(staging, image, meta, half, FM_EXR_ZIP, cancel, err);
+    fm_status s = image_write_exr(staging, image, meta, half, FM_EXR_ZIP, threads, cancel, err);
     if (!s && cancel && atomic_load(cancel))
         s = fm_fail(err, FM_ERR_CANCELLED, "cancelled while writing '%s'", path);
     char msg[256];
@@ -155,9 +155,10 @@ fm_status fm_output_commit(fm_output *o, const fm_sky *sky, const fm_render_para
     }
     metadata meta;
     metadata_collect(&meta, sky, params, image, o->exr_path);
-    fm_status s = o->compression == FM_EXR_DWAA ? write_dwaa(o->exr_tmp, image, &meta, o->half, cancel, err)
-                                                : image_write_exr(o->exr_tmp, image, &meta, o->half, o->compression,
-                                                                  cancel, err);
+    fm_status s = o->compression == FM_EXR_DWAA
+                      ? write_dwaa(o->exr_tmp, image, &meta, o->half, params->threads, cancel, err)
+                      : image_write_exr(o->exr_tmp, image, &meta, o->half, o->compression, params->threads, cancel,
+                                        err);
     if (!s)
         s = sidecar_write(o->json_tmp, &meta, err);
     if (!s && cancel && atomic_load(cancel))
@@ -202,7 +203,7 @@ fm_status fm_output_write_spectral(const char *path, const fm_sky *sky, const fm
         return err ? err->status : FM_ERR_IO;
     metadata meta;
     metadata_collect(&meta, sky, params, colour, path);
-    fm_status s = image_write_exr(tmp, spectral, &meta, 0, FM_EXR_ZIP, cancel, err);
+    fm_status s = image_write_exr(tmp, spectral, &meta, 0, FM_EXR_ZIP, params->threads, cancel, err);
     if (!s && rename(tmp, path) != 0)
         s = fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
     if (s)
