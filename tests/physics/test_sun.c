@@ -9,12 +9,17 @@
 
 #include <math.h>
 
+static void visible_sun_at_1_au(spectral_grid *g, sun_disk *sun)
+{
+    spectral_grid_visible(g);
+    sun_disk_init(sun, g, 1.0);
+}
+
 static void angular_radius(void **state)
 {
     spectral_grid g;
-    spectral_grid_visible(&g);
     sun_disk sun;
-    sun_disk_init(&sun, &g, 1.0);
+    visible_sun_at_1_au(&g, &sun);
     check_rel(sun.angular_radius / FM_DEG, 0.26645, 1e-4, "mean angular radius (deg)");
     sun_disk_init(&sun, &g, 1.0167); /* aphelion: the disk shrinks as 1/d */
     check_rel(sun.angular_radius / FM_DEG, 0.26645 / 1.0167, 1e-4, "aphelion angular radius (deg)");
@@ -46,9 +51,8 @@ static void limb_darkening_disk_mean(void **state)
 static void coarse_rule_matches_the_full_rule(void **state)
 {
     spectral_grid g;
-    spectral_grid_visible(&g);
     sun_disk sun;
-    sun_disk_init(&sun, &g, 1.0);
+    visible_sun_at_1_au(&g, &sun);
     sun_chord_rule fine;
     sun_chord_rule_above(&sun, g.count, -1.0, &fine);
     const sun_chord_rule *c = &sun.coarse;
@@ -74,9 +78,8 @@ static void coarse_rule_matches_the_full_rule(void **state)
 static void chord_rule_integrates_the_disk(void **state)
 {
     spectral_grid g;
-    spectral_grid_visible(&g);
     sun_disk sun;
-    sun_disk_init(&sun, &g, 1.0);
+    visible_sun_at_1_au(&g, &sun);
     sun_chord_rule rule;
     sun_chord_rule_above(&sun, g.count, -1.0, &rule);
     for (int k = 0; k < g.count; k++) {

@@ -122,49 +122,62 @@ static const double breakpoint_altitude_km[] = {0.25, 0.5, 1, 1.5, 2, 2.5, 3, 4,
                                                 70, 80, 90, 100, 150, 200, 300, 500, 1000, 2000, 5000};
 #define N_BREAKPOINTS ((int)(sizeof breakpoint_altitude_km / sizeof breakpoint_altitude_km[0]))
 
-static int cmp_double(const void *a, const void *b)
+/* Inserts v into the ascending s[0..n-1]; returns the new count. */
+static int insert_sorted(double *s, int n, double v)
 {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Appends the ray parameters in (s0, s1) where the ray, at squared distance p2 from the planet's
- * centre at its closest, crosses the sphere of radius rb; returns the new count (room for 2 is
- * the caller's to leave). */
-static int add_sphere_crossings(double rb, double p2, double s0, double s1, double *s, int n)
-{
-    double d = rb * rb - p2;
-    if (d <= 0.0)
-        return n;
-    double sc = sqrt(d);
-    if (-sc > s0 && -sc < s1)
-        s[n++] = -sc;
-    if (sc > s0 && sc < s1)
-        s[n++] = sc;
-    return n;
+    int i = n;
+    while (i > 0 && s[i - 1] > v) {
+        s[i] = s[i - 1];
+        i--;
+    }
+    s[i] = v;
+    return n + 1;
 }
 
 int ray_pieces(const atmosphere *atm, double r, double mu, double t_max, double *s, int max_count)
 {
     double p2 = fmax(0.0, r * r * (1.0 - mu * mu));
     double s0 = r * mu, s1 = s0 + t_max;
-    int n = 0;
-    s[n++] = s0;
-    if (s0 < 0.0 && s1 > 0.0)
-        s[n++] = 0.0;
-    for (int i = 0; i < N_BREAKPOINTS && n + 2 < max_count; i++) {
+    /* A sphere of radius rb meets the ray's line at -sqrt(rb^2 - p2) and +sqrt(rb^2 - p2): over the
+     * ascending breakpoints the first fall and the second rise, so the list comes out sorted
+     * without a sort (the ray is inside the atmosphere, below every breakpoint's sphere it crosses
+     * twice, above the others once). */
+    double below[N_BREAKPOINTS], above[N_BREAKPOINTS];
+    int nb = 0, na = 0;
+    for (int i = 0; i < N_BREAKPOINTS && nb + na + 4 < max_count; i++) {
         double rb = atm->bottom_radius_m + breakpoint_altitude_km[i] * FM_KM;
         if (rb >= atm->top_radius_m)
             break; /* the list is ascending; the top is the ray's end anyway */
-        n = add_sphere_crossings(rb, p2, s0, s1, s, n);
+        double d = rb * rb - p2;
+        if (d <= 0.0)
+            continue;
+        double sc = sqrt(d);
+        if (-sc > s0 && -sc < s1)
+            below[nb++] = -sc;
+        if (sc > s0 && sc < s1)
+            above[na++] = sc;
     }
+    int n = 0;
+    s[n++] = s0;
+    for (int i = nb - 1; i >= 0; i--)
+        s[n++] = below[i];
+    if (s0 < 0.0 && s1 > 0.0)
+        s[n++] = 0.0;
+    for (int i = 0; i < na; i++)
+        s[n++] = above[i];
     /* where a species' profile starts or ends (aerosol layers), its density jumps */
     for (int i = 0; i < atm->edge_count && n + 3 < max_count; i++) {
         double rb = atm->bottom_radius_m + atm->edge_altitude_m[i];
-        n = add_sphere_crossings(rb, p2, s0, s1, s, n);
+        double d = rb * rb - p2;
+        if (d <= 0.0)
+            continue;
+        double sc = sqrt(d);
+        if (-sc > s0 && -sc < s1)
+            n = insert_sorted(s, n, -sc);
+        if (sc > s0 && sc < s1)
+            n = insert_sorted(s, n, sc);
     }
     s[n++] = s1;
-    qsort(s, (size_t)n, sizeof *s, cmp_double);
     return n;
 }
 

@@ -60,8 +60,8 @@ void sun_disk_init(sun_disk *sun, const spectral_grid *grid, double earth_sun_di
      * weight in delta) at the grid's middle wavelength, and weights per wavelength that integrate
      * 1 and delta^2 exactly there: exact for cubic transmittance, and for the quartic at the
      * middle wavelength. */
-    sun_chord_rule fine;
-    chord_rule(sun, grid->count, -0.5 * FM_PI, FM_SUN_CHORD_POINTS, &fine);
+    chord_rule(sun, grid->count, -0.5 * FM_PI, FM_SUN_CHORD_POINTS, &sun->full);
+    const sun_chord_rule fine = sun->full;
     double m2[FM_MAX_WAVELENGTHS], m4 = 0.0;
     const int mid = grid->count / 2;
     for (int k = 0; k < grid->count; k++) {

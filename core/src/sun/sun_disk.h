@@ -45,6 +45,7 @@ typedef struct sun_disk {
      * low-degree polynomial in delta and three chords integrate it as well as the full rule
      * (sun_transmittance_direct). */
     sun_chord_rule coarse;
+    sun_chord_rule full; /* the 12-chord rule of the whole disk, computed once */
 } sun_disk;
 
 void sun_disk_init(sun_disk *sun, const spectral_grid *grid, double earth_sun_distance_au);

@@ -25,12 +25,12 @@ quality_settings render_quality_settings(fm_quality quality, double scale)
     quality_settings q;
     switch (quality) {
     case FM_QUALITY_PREVIEW:
-        q = (quality_settings){64, 32, 48, 12, 8, 12, 512, 4096, 2, 64};
+        q = (quality_settings){64, 32, 48, 12, 8, 12, 512, 4096, 2, 64, 4};
         break;
     case FM_QUALITY_REFERENCE:
     case FM_QUALITY_FINAL:
     default:
-        q = (quality_settings){128, 64, 96, 20, 12, 16, 2048, 16384, 3, 256};
+        q = (quality_settings){128, 64, 96, 20, 12, 16, 2048, 16384, 3, 256, 6};
         break;
     }
     q.ms_paths = (int)fmax(1.0, round(q.ms_paths * scale));
@@ -107,7 +107,7 @@ static void ss_rows(void *ctx, int64_t begin, int64_t end, int thread)
         double e, phi;
         sky_grid_node_angles(&job->ss, (int)row * cols, &e, &phi);
         single_scatter_ray ray;
-        if (single_scatter_ray_init(&ray, &pc, sky->observer, view_direction(sky, e, phi))) {
+        if (single_scatter_ray_init(&ray, &pc, sky->observer, view_direction(sky, e, phi), job->q.ss_points)) {
             atomic_store(&job->no_memory, 1);
             return;
         }

@@ -18,6 +18,7 @@ typedef struct quality_settings {
     int ground_paths;                         /* paths per diffuse ground irradiance angle */
     int subpixels;                            /* footprint samples per pixel and axis */
     int reference_paths;                      /* reference: paths per pixel */
+    int ss_points;                            /* single-scattering quadrature points per piece */
 } quality_settings;
 
 /* The settings of a quality level, with every sample count scaled by `scale`. */

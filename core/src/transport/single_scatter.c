@@ -11,7 +11,7 @@
 #include <stddef.h>
 #include <stdlib.h>
 
-#define SS_POINTS 6      /* Gauss-Legendre points per piece */
+#define SS_POINTS 6      /* Gauss-Legendre points per piece (single_scatter_radiance) */
 #define SS_SUB_POINTS 4  /* points of the nested column quadratures */
 #define SS_MAX_PIECE_DEPTH 0.5 /* grey majorant optical depth per piece */
 #define SS_MAX_BOUNDS 140      /* altitude breakpoints along a ray (ray_pieces) */
@@ -61,11 +61,12 @@ static int ray_quadrature_pieces(const atmosphere *atm, const ray_segment *seg, 
 
 static int point_stride(const atmosphere *atm) { return 3 + atm->species_count + atm->grid.count; }
 
-fm_status single_scatter_ray_init(single_scatter_ray *ray, const path_context *ctx, vec3 origin, vec3 dir)
+fm_status single_scatter_ray_init(single_scatter_ray *ray, const path_context *ctx, vec3 origin, vec3 dir,
+                                  int points)
 {
     const atmosphere *atm = ctx->atm;
     const int K = atm->grid.count, C = atm->species_count, stride = point_stride(atm);
-    const gauss_rule *g = gauss_legendre_cached(SS_POINTS);
+    const gauss_rule *g = gauss_legendre_cached(points);
     const gauss_rule *gs = gauss_legendre_cached(SS_SUB_POINTS);
     ray_segment seg;
     ray_segment_init(&seg, atm, origin, dir);
@@ -168,7 +169,7 @@ void single_scatter_ray_radiance(const single_scatter_ray *ray, const path_conte
 void single_scatter_radiance(const path_context *ctx, vec3 origin, vec3 dir, double *L)
 {
     single_scatter_ray ray;
-    if (single_scatter_ray_init(&ray, ctx, origin, dir))
+    if (single_scatter_ray_init(&ray, ctx, origin, dir, SS_POINTS))
         abort(); /* a few hundred kilobytes at most */
     single_scatter_ray_radiance(&ray, ctx, dir, L);
     single_scatter_ray_free(&ray);

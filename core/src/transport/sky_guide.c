@@ -61,6 +61,9 @@ static int find_bin(const double *a, int n, double u)
     return lo;
 }
 
+/* A sampling density needs no more than the coarser single-scattering quadrature (single_scatter.h) */
+#define GUIDE_QUADRATURE_POINTS 4
+
 typedef struct build_job {
     sky_guide *g;
     const path_context *single;
@@ -83,7 +86,8 @@ static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
         double omega = (sin(row_elevation(i + 1, eh)) - sin(row_elevation(i, eh))) * 2.0 * FM_PI / SKY_GUIDE_COLS;
         /* one view ray profile per row (single_scatter.h) */
         single_scatter_ray ray;
-        if (single_scatter_ray_init(&ray, job->single, position, frame_direction(&f, sin(e), 0.0))) {
+        if (single_scatter_ray_init(&ray, job->single, position, frame_direction(&f, sin(e), 0.0),
+                                    GUIDE_QUADRATURE_POINTS)) {
             atomic_store(&job->no_memory, 1);
             return;
         }

@@ -31,10 +31,13 @@ void sun_transmittance_direct(const atmosphere *atm, const column_table *columns
     }
     double theta_s = acos(clamp_cosine(mu_s));
     double theta_h = acos(horizon_mu(atm, r));
+    /* the disk's centre this far above the local horizon: the coarse rule, the full one, or the
+     * part of the disk above the horizon */
+    double elevation = theta_h - theta_s;
     sun_chord_rule cut;
-    const sun_chord_rule *rule = &sun->coarse;
-    if (theta_h - theta_s < SUN_COARSE_ELEVATION) {
-        sun_chord_rule_above(sun, K, theta_s - theta_h, &cut);
+    const sun_chord_rule *rule = elevation >= SUN_COARSE_ELEVATION ? &sun->coarse : &sun->full;
+    if (elevation < sun->angular_radius) {
+        sun_chord_rule_above(sun, K, -elevation, &cut);
         rule = &cut;
     }
     double col[FM_MAX_SPECIES];
