@@ -2,12 +2,11 @@
  *
  * Below the horizon (the sun's centre under the observer's horizontal plane) the light of the sky
  * comes from sunlit air far off and high up, seen across the Earth's shadow.  Then every render
- * builds the sky guide (sky_guide.h), draws half the scattering directions from it, counts every
- * segment's sunlight along the segment (sunlit_segment.h), and the fast path places the first
- * vertex of its table nodes' paths by stratified sampling along the view ray
- * (view_ray_vertices.h).  All of these are unbiased changes of sampling; by day none of them is
- * used (except the along-segment sunlight on the rare segments that enter the Earth's umbra), and
- * daytime maps are the same bits as before. */
+ * builds the sky guide (sky_guide.h), draws half the scattering directions from it and counts every
+ * segment's sunlight along the segment (sunlit_segment.h).  Both are unbiased changes of sampling;
+ * by day neither is used (except the along-segment sunlight on the rare segments that enter the
+ * Earth's umbra).  Day and night, the fast path places the first vertex of its table nodes' paths
+ * by stratified sampling along the view ray (view_ray_vertices.h). */
 #ifndef FM_TRANSPORT_TWILIGHT_H
 #define FM_TRANSPORT_TWILIGHT_H
 
