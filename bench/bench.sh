@@ -2,7 +2,8 @@
 # The speed benchmark (README, "Performance").  For each sky it renders, with the sun disk left out
 # (its aureole stays in) and all cores:
 #   - a preview map 1024 x 512 and a final map 4096 x 2048 (and 1024 x 512 at final quality), timing
-#     the whole `firmament render` run (wall s, peak MiB: /usr/bin/time);
+#     the whole `firmament render` run (wall s, peak MiB: /usr/bin/time; the median of three runs,
+#     since the wall time of one varies by 10-20% from run to run on this machine);
 #   - their error against the same sky rendered with 16 times the final quality's samples at the same
 #     size (its own noise is about a quarter of the final map's, below 0.1% RMS by day): RMS and 99th
 #     percentile of the relative luminance error over all pixels, from `firmament compare`.  That the
@@ -33,12 +34,16 @@ trap 'rm -rf "$out"' EXIT
 
 field() { sed -n "s/.*\"$1\": \([0-9.eE+-]*\).*/\1/p" | tail -n 1; }
 
-render() { # name, args... -> prints "wall_s peak_mib"
+render() { # name, args... -> prints "wall_s peak_mib" of one run
     local name=$1
     shift
     /usr/bin/time -f '%e %M' -o "$out/$name.time" "$FM" render --no-sun-disk --progress none \
         -o "$out/$name.exr" "$@" >/dev/null
     awk '{ printf "%.2f %.0f\n", $1, $2 / 1024 }' "$out/$name.time"
+}
+
+timed() { # name, args... -> the median wall time of three runs (the same map each time) and the peak
+    for run in 1 2 3; do render "$@"; done | sort -n | sed -n 2p
 }
 
 compare() { # a b -> prints "rms% p99%"
@@ -56,7 +61,7 @@ if [ "${1:-}" = "--biomes" ]; then
     clear_cost=""
     for b in none background desert-dust maritime-clean maritime-mineral polar-antarctic polar-arctic \
         remote-continental rural urban; do
-        read -r sec _ <<<"$(render "$b" --width 1024 --sun-elevation 30 --biome "$b")"
+        read -r sec _ <<<"$(timed "$b" --width 1024 --sun-elevation 30 --biome "$b")"
         render "$b-16x" --width 1024 --sun-elevation 30 --biome "$b" --sample-scale 16 >/dev/null
         read -r rms p99 <<<"$(compare "$b" "$b-16x")"
         cost=$(awk -v s="$sec" -v r="$rms" 'BEGIN { print s * r * r }')
@@ -78,7 +83,7 @@ for sky in default sunset; do
         name="$sky-$width-$quality"
         [ -f "$out/$sky-$width-16x.exr" ] ||
             render "$sky-$width-16x" "${args[@]}" --width "$width" --sample-scale 16 >/dev/null
-        read -r sec mib <<<"$(render "$name" "${args[@]}" --width "$width" --quality "$quality")"
+        read -r sec mib <<<"$(timed "$name" "${args[@]}" --width "$width" --quality "$quality")"
         read -r rms p99 <<<"$(compare "$name" "$sky-$width-16x")"
         speedup=$(awk -v t="$t_ref" -v e="$e_ref" -v E="$rms" -v w="$width" -v s="$sec" \
             'BEGIN { printf "%.0fx", w * w / 2 * t * (100 * e / E) ^ 2 / s }')
