@@ -53,8 +53,7 @@ uint32_t sobol_u32(uint32_t index, int dim)
     pthread_once(&once, build_direction_numbers);
     uint32_t x = 0;
     for (int i = 0; index; i++, index >>= 1)
-        if (index & 1u)
-            x ^= V[dim][i];
+        x ^= V[dim][i] & (0u - (index & 1u)); /* no branch on the index's bits: they are random */
     return x;
 }
 
