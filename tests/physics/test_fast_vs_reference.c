@@ -6,9 +6,12 @@
  * The reference maps (luminance and its standard error per pixel, 1024 to 4096 paths per pixel:
  * about 4 CPU-minutes in all) are stored in tests/data/fast_vs_reference/; FM_REGENERATE=1 renders
  * and writes them again (after a deliberate change of the physics).  Each run checks that the
- * reference mode still gives the stored map: 48 of its pixels, rendered afresh with other random
- * numbers, must agree with the stored ones within their joint noise (mean z^2 < 1.8, |mean z| <
- * 0.6, every |z| < 5); so the stored map stays what the reference mode renders today.
+ * reference mode still gives the stored map: 96 of its pixels, rendered afresh with 2048 paths and
+ * other random numbers, must agree with the stored ones within their joint noise (mean z^2 < 1.5
+ * and |mean z| < 0.45, 3.5 and 4.4 standard deviations of those means; every |z| < 5); so the
+ * stored map stays what the reference mode renders today.  (With the Rayleigh cross section 2%
+ * higher this check alone fails at noon, mean z^2 1.55, and the fast path fails its own checks in
+ * five of the seven skies.)
  *
  * Metric: for each pixel's luminance, z = (Y_fast - Y_ref) / se_ref with se_ref the reference's own
  * standard error.  If the fast path were exact, z would be standard normal noise: mean z^2 = 1,
@@ -36,7 +39,7 @@
 #define W 48
 #define H 24
 #define REFERENCE_SEED 11
-#define SPOT_PIXELS 48
+#define SPOT_PIXELS 96
 #define SPOT_PATHS 2048
 
 /* 0 sky, 1 the rows at the horizon, 2 ground */
@@ -137,8 +140,8 @@ static void check_reference_still_holds(const fm_sky *sky, const reference_map *
     assert_true(n > SPOT_PIXELS / 2);
     print_message("reference mode now vs stored: %d pixels, mean z^2 = %.3f, mean z = %+.3f, worst |z| = %.2f\n", n,
                   z2 / n, zs / n, worst);
-    assert_true(z2 / n < 1.8);
-    assert_true(fabs(zs / n) < 0.6);
+    assert_true(z2 / n < 1.5);
+    assert_true(fabs(zs / n) < 0.45);
     assert_true(worst < 5.0);
 }
 
