@@ -71,19 +71,15 @@ fm_status single_scatter_ray_init(single_scatter_ray *ray, const path_context *c
     ray_segment seg;
     ray_segment_init(&seg, atm, origin, dir);
     double r0 = v3_length(origin);
-    double *pieces = malloc(sizeof(double) * (SS_MAX_BOUNDS * SS_MAX_SPLIT + 1));
-    if (!pieces)
-        return FM_ERR_OUT_OF_MEMORY;
+    double pieces[SS_MAX_BOUNDS * SS_MAX_SPLIT + 1];
     int np = ray_quadrature_pieces(atm, &seg, r0, pieces);
     ray->origin = origin;
     ray->hits_ground = seg.hits_ground;
     ray->t_end = seg.t_end;
     ray->n = 0;
     ray->point = malloc(sizeof(double) * (size_t)stride * (size_t)(np > 1 ? np - 1 : 1) * (size_t)g->n);
-    if (!ray->point) {
-        free(pieces);
+    if (!ray->point)
         return FM_ERR_OUT_OF_MEMORY;
-    }
     double col_start[FM_MAX_SPECIES] = {0}, col[FM_MAX_SPECIES], part[FM_MAX_SPECIES];
     for (int i = 0; i + 1 < np; i++) {
         double sa = pieces[i], sb = pieces[i + 1];
@@ -109,7 +105,6 @@ fm_status single_scatter_ray_init(single_scatter_ray *ray, const path_context *c
     }
     for (int k = 0; k < K; k++)
         ray->ground_depth[k] = atmosphere_optical_depth(atm, col_start, k);
-    free(pieces);
     return FM_OK;
 }
 
