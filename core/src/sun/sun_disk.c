@@ -28,11 +28,36 @@ void sun_limb_darkening_coefficients(double lambda_nm, double a[6])
         a[m] = t[i][1 + m] * (1.0 - f) + t[i + 1][1 + m] * f;
 }
 
-static void chord_rule(const sun_disk *sun, int wavelengths, double lo, int points, sun_chord_rule *rule);
-
 /* integral of cos^n over [-pi/2, pi/2] and of (1 - t^2)^(m/2) over [-1, 1] */
 static double cos_power_integral(int n) { return sqrt(FM_PI) * tgamma(0.5 * (n + 1)) / tgamma(0.5 * n + 1.0); }
 static double chord_factor(int m) { return sqrt(FM_PI) * tgamma(0.5 * m + 1.0) / tgamma(0.5 * m + 1.5); }
+
+/* Gauss-Legendre in phi over [lo, pi/2] with FM_SUN_CHORD_POINTS nodes */
+static void chord_rule(const sun_disk *sun, int wavelengths, double lo, sun_chord_rule *rule)
+{
+    double rho = sun->angular_radius;
+    double hi = 0.5 * FM_PI;
+    if (hi - lo <= 0.0) {
+        rule->n = 0;
+        return;
+    }
+    const gauss_rule *g = gauss_legendre_cached(FM_SUN_CHORD_POINTS);
+    double half = 0.5 * (hi - lo), mid = 0.5 * (hi + lo);
+    rule->n = g->n;
+    for (int j = 0; j < g->n; j++) {
+        double phi = mid + half * g->x[j];
+        double c = cos(phi);
+        rule->delta[j] = rho * sin(phi);
+        for (int k = 0; k < wavelengths; k++) {
+            double chord = 0.0, cp = c * c; /* cos^(m+2) */
+            for (int m = 0; m < 6; m++) {
+                chord += sun->ld[k][m] * sun->chord_b[m] * cp;
+                cp *= c;
+            }
+            rule->weight[j][k] = half * g->w[j] * chord / sun->chord_norm[k];
+        }
+    }
+}
 
 void sun_disk_init(sun_disk *sun, const spectral_grid *grid, double earth_sun_distance_au)
 {
@@ -60,17 +85,17 @@ void sun_disk_init(sun_disk *sun, const spectral_grid *grid, double earth_sun_di
      * weight in delta) at the grid's middle wavelength, and weights per wavelength that integrate
      * 1 and delta^2 exactly there: exact for cubic transmittance, and for the quartic at the
      * middle wavelength. */
-    chord_rule(sun, grid->count, -0.5 * FM_PI, FM_SUN_CHORD_POINTS, &sun->full);
-    const sun_chord_rule fine = sun->full;
+    chord_rule(sun, grid->count, -0.5 * FM_PI, &sun->full);
+    const sun_chord_rule *fine = &sun->full;
     double m2[FM_MAX_WAVELENGTHS], m4 = 0.0;
     const int mid = grid->count / 2;
     for (int k = 0; k < grid->count; k++) {
         m2[k] = 0.0;
-        for (int j = 0; j < fine.n; j++) {
-            double d2 = fine.delta[j] * fine.delta[j];
-            m2[k] += fine.weight[j][k] * d2;
+        for (int j = 0; j < fine->n; j++) {
+            double d2 = fine->delta[j] * fine->delta[j];
+            m2[k] += fine->weight[j][k] * d2;
             if (k == mid)
-                m4 += fine.weight[j][k] * d2 * d2;
+                m4 += fine->weight[j][k] * d2 * d2;
         }
     }
     double a2 = m4 / m2[mid];
@@ -85,36 +110,9 @@ void sun_disk_init(sun_disk *sun, const spectral_grid *grid, double earth_sun_di
     }
 }
 
-/* Gauss-Legendre in phi over [lo, pi/2] with `points` nodes */
-static void chord_rule(const sun_disk *sun, int wavelengths, double lo, int points, sun_chord_rule *rule)
-{
-    double rho = sun->angular_radius;
-    double hi = 0.5 * FM_PI;
-    if (hi - lo <= 0.0) {
-        rule->n = 0;
-        return;
-    }
-    const gauss_rule *g = gauss_legendre_cached(points);
-    double half = 0.5 * (hi - lo), mid = 0.5 * (hi + lo);
-    rule->n = g->n;
-    for (int j = 0; j < g->n; j++) {
-        double phi = mid + half * g->x[j];
-        double c = cos(phi);
-        rule->delta[j] = rho * sin(phi);
-        for (int k = 0; k < wavelengths; k++) {
-            double chord = 0.0, cp = c * c; /* cos^(m+2) */
-            for (int m = 0; m < 6; m++) {
-                chord += sun->ld[k][m] * sun->chord_b[m] * cp;
-                cp *= c;
-            }
-            rule->weight[j][k] = half * g->w[j] * chord / sun->chord_norm[k];
-        }
-    }
-}
-
 void sun_chord_rule_above(const sun_disk *sun, int wavelengths, double delta_min, sun_chord_rule *rule)
 {
     double rho = sun->angular_radius;
     double lo = delta_min <= -rho ? -0.5 * FM_PI : (delta_min >= rho ? 0.5 * FM_PI : asin(delta_min / rho));
-    chord_rule(sun, wavelengths, lo, FM_SUN_CHORD_POINTS, rule);
+    chord_rule(sun, wavelengths, lo, rule);
 }

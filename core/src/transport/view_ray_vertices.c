@@ -5,14 +5,13 @@
 #define SPREAD (1.0 / 6.0) /* share of the density spread by length */
 
 /* sigma_s,k T_k(0, t) at the point t of the ray, for every grid wavelength */
-static void scattered_fraction(const view_ray_vertices *v, const path_context *ctx, const segment_columns *sc,
-                               double t, double *f)
+static void scattered_fraction(const view_ray_vertices *v, const path_context *ctx, double t, double *f)
 {
     const atmosphere *atm = ctx->atm;
     double n[FM_MAX_SPECIES], col[FM_MAX_SPECIES], sig_s[FM_MAX_WAVELENGTHS], sig_t[FM_MAX_WAVELENGTHS];
     atmosphere_densities(atm, ray_segment_radius(&v->seg, t), n);
     atmosphere_coefficients_from_densities(atm, n, sig_s, sig_t);
-    segment_columns_at(sc, t, col);
+    segment_columns_at(&v->columns, t, col);
     for (int k = 0; k < atm->grid.count; k++)
         f[k] = sig_s[k] * exp(-atmosphere_optical_depth(atm, col, k));
 }
@@ -23,8 +22,7 @@ int view_ray_vertices_init(view_ray_vertices *v, const path_context *ctx, vec3 o
     ray_segment_init(&v->seg, ctx->atm, origin, dir);
     if (!(v->seg.t_end > 0.0))
         return 0;
-    segment_columns sc;
-    segment_columns_init(&sc, ctx, &v->seg);
+    segment_columns_init(&v->columns, ctx, &v->seg);
     const int ks[3] = {K / 4, K / 2, (3 * K) / 4};
     double mass[VIEW_RAY_CELLS], total = 0.0, f[FM_MAX_WAVELENGTHS];
     for (int j = 0; j <= VIEW_RAY_CELLS; j++) {
@@ -32,7 +30,7 @@ int view_ray_vertices_init(view_ray_vertices *v, const path_context *ctx, vec3 o
         v->edge[j] = v->seg.t_end * u * u;
     }
     for (int j = 0; j < VIEW_RAY_CELLS; j++) {
-        scattered_fraction(v, ctx, &sc, 0.5 * (v->edge[j] + v->edge[j + 1]), f);
+        scattered_fraction(v, ctx, 0.5 * (v->edge[j] + v->edge[j + 1]), f);
         mass[j] = (f[ks[0]] + f[ks[1]] + f[ks[2]]) * (v->edge[j + 1] - v->edge[j]);
         total += mass[j];
     }
@@ -59,9 +57,7 @@ vec3 view_ray_vertex(const view_ray_vertices *v, const path_context *ctx, double
     double p = (v->cdf[lo + 1] - v->cdf[lo]) / v->cdf[VIEW_RAY_CELLS];
     double a = fmin(fmax((u - v->cdf[lo]) / (v->cdf[lo + 1] - v->cdf[lo]), 0.0), 1.0);
     double length = v->edge[lo + 1] - v->edge[lo], t = v->edge[lo] + a * length;
-    segment_columns sc;
-    segment_columns_init(&sc, ctx, &v->seg);
-    scattered_fraction(v, ctx, &sc, t, weight);
+    scattered_fraction(v, ctx, t, weight);
     for (int k = 0; k < ctx->atm->grid.count; k++)
         weight[k] *= length / p;
     return v3_madd(v->seg.origin, v->seg.dir, t);

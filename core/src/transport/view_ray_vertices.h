@@ -22,11 +22,13 @@
 
 typedef struct view_ray_vertices {
     ray_segment seg;
+    segment_columns columns;         /* species columns along seg (points at seg: do not copy) */
     double edge[VIEW_RAY_CELLS + 1]; /* cell edges, distances along the ray (m) */
     double cdf[VIEW_RAY_CELLS + 1];
 } view_ray_vertices;
 
-/* Sets up the density for the ray from origin along dir; 0 when the ray crosses no air. */
+/* Sets up the density for the ray from origin along dir, in place (the struct refers to itself);
+ * 0 when the ray crosses no air. */
 int view_ray_vertices_init(view_ray_vertices *v, const path_context *ctx, vec3 origin, vec3 dir);
 
 /* The vertex for the uniform number u in [0, 1): its position and spectral weights. */
