@@ -2,10 +2,16 @@
  *
  * Light reflected by a Lambertian ground toward the observer is albedo / pi times the ground's
  * total irradiance, direct plus diffuse.  By spherical symmetry the diffuse part at a ground point
- * depends only on the local sun zenith angle, so it is estimated once per render on a few angles
- * spanning the ground the observer can see (one angle for an observer on the ground), with many
- * paths each: E_d = pi * mean(L) over cosine-distributed directions, all orders of scattering
- * (ground-sky interreflections included).  The fast path then adds the ground's reflection
+ * depends only on the local sun zenith angle, so it is computed once per render on a few angles
+ * spanning the ground the observer can see (one angle for an observer on the ground):
+ *  - order 1 (sunlight scattered once on its way down) by deterministic quadrature of the
+ *    single-scattering radiance over the ground point's sky (single_scatter.h), on a grid crowded
+ *    at the horizon and about the sun, where an aerosol's forward peak is;
+ *  - orders >= 2 (ground-sky interreflections included) by many paths: pi * mean(L) over
+ *    cosine-distributed directions.
+ * Order 1 is most of the diffuse light by day and, through the forward peak, most of the paths'
+ * noise: at sun 30 deg their standard deviation per path is 3.4 (desert dust) / 2.3 (urban) / 1.8
+ * (rural) of E_d for all orders and 0.8 / 1.2 / 0.5 for orders >= 2.  The fast path then adds the ground's reflection
  * deterministically and its multiple-scattering paths skip the ground as a first interaction, so
  * nothing is counted twice and the ground carries no per-direction noise. */
 #ifndef FM_TRANSPORT_GROUND_IRRADIANCE_H
@@ -21,9 +27,18 @@ typedef struct ground_irradiance {
     int K;
 } ground_irradiance;
 
-/* Builds the table for local sun zenith angles within max_offset (rad) of theta_s. */
+/* The order-1 quadrature: rows in elevation, columns in azimuth over half the sky, Gauss-Legendre
+ * points per piece along each ray (single_scatter.h). */
+typedef struct ground_quadrature {
+    int rows, cols, points;
+} ground_quadrature;
+
+/* Builds the table for local sun zenith angles within max_offset (rad) of theta_s: order 1 from
+ * all_orders' sun and atmosphere on the given grid, orders >= 2 from `paths` paths of all_orders
+ * (its min_order raised to 2). */
 fm_status ground_irradiance_build(ground_irradiance *g, const path_context *all_orders, double theta_s,
-                                  double max_offset, int paths, uint64_t seed, int threads, const atomic_int *cancel);
+                                  double max_offset, ground_quadrature quadrature, int paths, uint64_t seed,
+                                  int threads, const atomic_int *cancel);
 void ground_irradiance_free(ground_irradiance *g);
 
 /* Diffuse irradiance for every grid wavelength at a ground point whose local sun zenith cosine is mu_s. */

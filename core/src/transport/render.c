@@ -25,12 +25,12 @@ quality_settings render_quality_settings(fm_quality quality, double scale)
     quality_settings q;
     switch (quality) {
     case FM_QUALITY_PREVIEW:
-        q = (quality_settings){64, 32, 48, 12, 8, 12, 512, 4096, 2, 64, 4};
+        q = (quality_settings){64, 32, 48, 12, 8, 12, 512, 4096, 2, 64, 4, 24, 32};
         break;
     case FM_QUALITY_REFERENCE:
     case FM_QUALITY_FINAL:
     default:
-        q = (quality_settings){128, 64, 96, 20, 12, 16, 2048, 16384, 3, 256, 6};
+        q = (quality_settings){128, 64, 96, 20, 12, 16, 2048, 16384, 3, 256, 6, 32, 32};
         break;
     }
     q.ms_paths = (int)fmax(1.0, round(q.ms_paths * scale));
@@ -615,7 +615,8 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
         all.segment_sunlight = 2;
         double r_obs = v3_length(sky->observer);
         double visible = acos(fmin(1.0, atm->bottom_radius_m / r_obs)); /* ground seen up to the horizon */
-        s = ground_irradiance_build(&job.ground, &all, acos(clamp_cosine(sky->sun_dir.z)), visible, q->ground_paths,
+        ground_quadrature gq = {q->ground_rows, q->ground_cols, q->ss_points};
+        s = ground_irradiance_build(&job.ground, &all, acos(clamp_cosine(sky->sun_dir.z)), visible, gq, q->ground_paths,
                                     job.seed, params->threads, params->cancel);
         if (s == FM_ERR_OUT_OF_MEMORY) {
             s = fm_fail(err, s, "out of memory for the ground irradiance");

@@ -19,6 +19,7 @@ typedef struct quality_settings {
     int subpixels;                            /* footprint samples per pixel and axis */
     int reference_paths;                      /* reference: paths per pixel */
     int ss_points;                            /* single-scattering quadrature points per piece */
+    int ground_rows, ground_cols;             /* the ground irradiance's order-1 quadrature */
 } quality_settings;
 
 /* The settings of a quality level, with every sample count scaled by `scale`. */
