@@ -2,7 +2,14 @@
 
 #include <math.h>
 
-#define SPREAD (1.0 / 6.0) /* share of the density spread by length */
+/* Share of the density spread by length, so that it is positive wherever the integrand can be.  By
+ * day the rest, sigma_s T, is where the light is scattered: a sixth by length put a tenth of the
+ * vertices above 40 km, where nothing scatters; at 1/25 the relative variance per path is 17% lower
+ * for rural and clear air at sun 30 and 10% lower for the urban sunset, in the same time (map noise
+ * at 512 x 256, four seeds: 0.48 -> 0.44% and 3.65 -> 3.38% RMS).  At twilight the light reaches the
+ * vertices high up, which sigma_s T underrates: a sixth. */
+#define SPREAD_DAY (1.0 / 25.0)
+#define SPREAD_TWILIGHT (1.0 / 6.0)
 
 /* sigma_s,k T_k(0, t) at the point t of the ray, for every grid wavelength */
 static void scattered_fraction(const view_ray_vertices *v, const path_context *ctx, double t, double *f)
@@ -34,10 +41,11 @@ int view_ray_vertices_init(view_ray_vertices *v, const path_context *ctx, vec3 o
         mass[j] = (f[ks[0]] + f[ks[1]] + f[ks[2]]) * (v->edge[j + 1] - v->edge[j]);
         total += mass[j];
     }
+    const double spread = ctx->sky_guide ? SPREAD_TWILIGHT : SPREAD_DAY;
     v->cdf[0] = 0.0;
     for (int j = 0; j < VIEW_RAY_CELLS; j++) {
         double length = (v->edge[j + 1] - v->edge[j]) / v->seg.t_end;
-        double p = total > 0.0 ? (1.0 - SPREAD) * mass[j] / total + SPREAD * length : length;
+        double p = total > 0.0 ? (1.0 - spread) * mass[j] / total + spread * length : length;
         v->cdf[j + 1] = v->cdf[j] + p;
     }
     return 1;
