@@ -21,6 +21,14 @@ typedef struct build_job {
     atomic_int no_memory;
 } build_job;
 
+/* The zenith of node's ground point: the angle theta_node with the sun, the sun direction rotated. */
+static vec3 ground_up(const build_job *job, int node)
+{
+    double theta = job->g->theta0 + node * job->g->dtheta;
+    frame f = frame_from_normal(job->pc->sun_dir);
+    return v3_normalize(frame_to_world(&f, v3(sin(theta), 0.0, cos(theta))));
+}
+
 /* Work item = (node, block of paths); blocks are summed per node afterwards in a fixed order. */
 #define BLOCK 1024
 
@@ -33,11 +41,7 @@ static void build_blocks(void *ctx, int64_t begin, int64_t end, int thread)
     const atmosphere *atm = job->pc->atm;
     for (int64_t item = begin; item < end; item++) {
         int node = (int)(item / blocks), block = (int)(item % blocks);
-        double theta = g->theta0 + node * g->dtheta;
-        /* a ground point whose zenith makes the angle theta with the sun: rotate the sun direction */
-        vec3 s = job->pc->sun_dir;
-        frame f = frame_from_normal(s);
-        vec3 up = v3_normalize(frame_to_world(&f, v3(sin(theta), 0.0, cos(theta))));
+        vec3 up = ground_up(job, node);
         vec3 origin = v3_scale(up, atm->bottom_radius_m);
         frame local = frame_from_normal(up);
         double *out = &g->E[((size_t)node * blocks + block) * K];
@@ -93,9 +97,7 @@ static void single_rows(void *ctx, int64_t begin, int64_t end, int thread)
         const int rows = job->quadrature.rows;
         int node = (int)(item / rows), row = (int)(item % rows);
         double theta = g->theta0 + node * g->dtheta;
-        vec3 s = job->pc->sun_dir;
-        frame f = frame_from_normal(s);
-        vec3 up = v3_normalize(frame_to_world(&f, v3(sin(theta), 0.0, cos(theta))));
+        vec3 s = job->pc->sun_dir, up = ground_up(job, node);
         vec3 origin = v3_scale(up, atm->bottom_radius_m);
         /* the ground point's frame: the sun's horizontal direction and the one 90 degrees from it */
         vec3 h = v3_madd(s, up, -v3_dot(s, up));
@@ -111,7 +113,8 @@ static void single_rows(void *ctx, int64_t begin, int64_t end, int thread)
         }
         double *out = &g->E[((size_t)node * rows + row) * K];
         /* away from the sun's elevation radiance is smooth in azimuth */
-        const int cols = fabs(e - (0.5 * FM_PI - theta)) < FAR_FROM_SUN ? job->quadrature.cols : job->quadrature.cols / 4;
+        const int full = job->quadrature.cols;
+        const int cols = fabs(e - (0.5 * FM_PI - theta)) < FAR_FROM_SUN ? full : (full + 3) / 4;
         const gauss_rule *gc = gauss_legendre_cached(cols);
         for (int c = 0; c < cols; c++) {
             double w = 0.5 * (gc->x[c] + 1.0);

@@ -27,8 +27,8 @@ typedef struct ground_irradiance {
     int K;
 } ground_irradiance;
 
-/* The order-1 quadrature: rows in elevation, columns in azimuth over half the sky, Gauss-Legendre
- * points per piece along each ray (single_scatter.h). */
+/* The order-1 quadrature: rows in elevation, columns in azimuth over half the sky (each at most
+ * FM_GAUSS_MAX, base/quadrature.h), Gauss-Legendre points per piece along each ray (single_scatter.h). */
 typedef struct ground_quadrature {
     int rows, cols, points;
 } ground_quadrature;
