@@ -11,6 +11,7 @@
 #include <stdlib.h>
 
 #define ITEM_GROUND 0x300000000ull
+#define NODE_SPACING (0.5 * FM_DEG) /* of the local sun zenith angle, at most */
 
 typedef struct build_job {
     ground_irradiance *g;
@@ -138,7 +139,10 @@ fm_status ground_irradiance_build(ground_irradiance *g, const path_context *all_
     const int K = all_orders->atm->grid.count;
     double lo = fmax(0.0, theta_s - max_offset), hi = fmin(FM_PI, theta_s + max_offset);
     g->K = K;
-    g->count = hi - lo < 1e-4 ? 1 : 5;
+    /* angles no farther apart than NODE_SPACING, between 2 and 5: an observer at eye height (2 m)
+     * sees the ground over +-0.05 degrees of sun angle, where two suffice for the linear
+     * interpolation (and five had cost 1 s more than at 0 m) */
+    g->count = hi - lo < 1e-4 ? 1 : (int)fmin(5.0, fmax(2.0, ceil((hi - lo) / NODE_SPACING) + 1.0));
     g->theta0 = g->count == 1 ? theta_s : lo;
     g->dtheta = g->count == 1 ? 0.0 : (hi - lo) / (g->count - 1);
     int blocks = (paths + BLOCK - 1) / BLOCK;

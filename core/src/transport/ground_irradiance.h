@@ -3,7 +3,8 @@
  * Light reflected by a Lambertian ground toward the observer is albedo / pi times the ground's
  * total irradiance, direct plus diffuse.  By spherical symmetry the diffuse part at a ground point
  * depends only on the local sun zenith angle, so it is computed once per render on a few angles
- * spanning the ground the observer can see (one angle for an observer on the ground):
+ * spanning the ground the observer can see (one for an observer on the ground, two at eye height,
+ * up to five from high up, at most 0.5 degrees apart):
  *  - order 1 (sunlight scattered once on its way down) by deterministic quadrature of the
  *    single-scattering radiance over the ground point's sky (single_scatter.h), on a grid crowded
  *    at the horizon and about the sun, where an aerosol's forward peak is;
