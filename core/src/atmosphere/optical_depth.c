@@ -134,6 +134,17 @@ static int insert_sorted(double *s, int n, double v)
     return n + 1;
 }
 
+/* Where the ray's line, at squared distance p2 from the centre at its closest, meets the sphere of
+ * radius rb: the parameters -*sc (bit 1 of the result) and +*sc (bit 2) that lie in (s0, s1). */
+static int sphere_crossings(double rb, double p2, double s0, double s1, double *sc)
+{
+    double d = rb * rb - p2;
+    if (d <= 0.0)
+        return 0;
+    *sc = sqrt(d);
+    return (-*sc > s0 && -*sc < s1 ? 1 : 0) | (*sc > s0 && *sc < s1 ? 2 : 0);
+}
+
 int ray_pieces(const atmosphere *atm, double r, double mu, double t_max, double *s, int max_count)
 {
     double p2 = fmax(0.0, r * r * (1.0 - mu * mu));
@@ -148,13 +159,11 @@ int ray_pieces(const atmosphere *atm, double r, double mu, double t_max, double 
         double rb = atm->bottom_radius_m + breakpoint_altitude_km[i] * FM_KM;
         if (rb >= atm->top_radius_m)
             break; /* the list is ascending; the top is the ray's end anyway */
-        double d = rb * rb - p2;
-        if (d <= 0.0)
-            continue;
-        double sc = sqrt(d);
-        if (-sc > s0 && -sc < s1)
+        double sc;
+        int in = sphere_crossings(rb, p2, s0, s1, &sc);
+        if (in & 1)
             below[nb++] = -sc;
-        if (sc > s0 && sc < s1)
+        if (in & 2)
             above[na++] = sc;
     }
     int n = 0;
@@ -168,13 +177,11 @@ int ray_pieces(const atmosphere *atm, double r, double mu, double t_max, double 
     /* where a species' profile starts or ends (aerosol layers), its density jumps */
     for (int i = 0; i < atm->edge_count && n + 3 < max_count; i++) {
         double rb = atm->bottom_radius_m + atm->edge_altitude_m[i];
-        double d = rb * rb - p2;
-        if (d <= 0.0)
-            continue;
-        double sc = sqrt(d);
-        if (-sc > s0 && -sc < s1)
+        double sc;
+        int in = sphere_crossings(rb, p2, s0, s1, &sc);
+        if (in & 1)
             n = insert_sorted(s, n, -sc);
-        if (sc > s0 && sc < s1)
+        if (in & 2)
             n = insert_sorted(s, n, sc);
     }
     s[n++] = s1;

@@ -5,6 +5,7 @@
 #include "base/threads.h"
 #include "base/units.h"
 #include "transport/single_scatter.h"
+#include "transport/sun_frame.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -22,10 +23,13 @@ typedef struct build_job {
     atomic_int no_memory;
 } build_job;
 
-/* The zenith of node's ground point: the angle theta_node with the sun, the sun direction rotated. */
+/* The local sun zenith angle of node's ground point. */
+static double node_theta(const ground_irradiance *g, int node) { return g->theta0 + node * g->dtheta; }
+
+/* The zenith of node's ground point: the sun direction rotated by that angle. */
 static vec3 ground_up(const build_job *job, int node)
 {
-    double theta = job->g->theta0 + node * job->g->dtheta;
+    double theta = node_theta(job->g, node);
     frame f = frame_from_normal(job->pc->sun_dir);
     return v3_normalize(frame_to_world(&f, v3(sin(theta), 0.0, cos(theta))));
 }
@@ -97,18 +101,14 @@ static void single_rows(void *ctx, int64_t begin, int64_t end, int thread)
     for (int64_t item = begin; item < end; item++) {
         const int rows = job->quadrature.rows;
         int node = (int)(item / rows), row = (int)(item % rows);
-        double theta = g->theta0 + node * g->dtheta;
-        vec3 s = job->pc->sun_dir, up = ground_up(job, node);
-        vec3 origin = v3_scale(up, atm->bottom_radius_m);
-        /* the ground point's frame: the sun's horizontal direction and the one 90 degrees from it */
-        vec3 h = v3_madd(s, up, -v3_dot(s, up));
-        h = v3_length(h) > 1e-9 ? v3_normalize(h) : frame_from_normal(up).t;
-        vec3 side = v3_cross(up, h);
+        double theta = node_theta(g, node);
+        vec3 origin = v3_scale(ground_up(job, node), atm->bottom_radius_m);
+        sun_frame f = sun_frame_at(origin, job->pc->sun_dir);
         double e, de;
         single_row(row, rows, 0.5 * FM_PI - theta, &e, &de);
-        vec3 first = v3_add(v3_scale(h, cos(e)), v3_scale(up, sin(e)));
         single_scatter_ray ray;
-        if (single_scatter_ray_init(&ray, job->pc, origin, first, job->quadrature.points)) {
+        if (single_scatter_ray_init(&ray, job->pc, origin, sun_frame_direction(&f, sin(e), 0.0),
+                                    job->quadrature.points)) {
             atomic_store(&job->no_memory, 1);
             return;
         }
@@ -120,10 +120,8 @@ static void single_rows(void *ctx, int64_t begin, int64_t end, int thread)
         for (int c = 0; c < cols; c++) {
             double w = 0.5 * (gc->x[c] + 1.0);
             double phi = FM_PI * w * w, dphi = 2.0 * FM_PI * w * 0.5 * gc->w[c];
-            vec3 d = v3_normalize(v3_madd(v3_scale(v3_add(v3_scale(h, cos(phi)), v3_scale(side, sin(phi))), cos(e)),
-                                          up, sin(e)));
             double L[FM_MAX_WAVELENGTHS] = {0};
-            single_scatter_ray_radiance(&ray, job->pc, d, L);
+            single_scatter_ray_radiance(&ray, job->pc, sun_frame_direction(&f, sin(e), phi), L);
             double weight = 2.0 * sin(e) * cos(e) * de * dphi;
             for (int k = 0; k < K; k++)
                 out[k] += weight * L[k];

@@ -5,36 +5,13 @@
 #include "spectrum/spectral_grid.h"
 #include "transport/path.h"
 #include "transport/single_scatter.h"
+#include "transport/sun_frame.h"
 
 #include <math.h>
 #include <stdatomic.h>
 
 /* altitudes of the levels above the observer's (km) */
 static const double level_km[SKY_GUIDE_LEVELS] = {0.0, 4.0, 9.0, 15.0, 22.0, 32.0, 45.0};
-
-/* The vertex's frame: up, the sun's horizontal direction and the horizontal 90 degrees from it. */
-typedef struct local_frame {
-    vec3 up, sun_h, side;
-} local_frame;
-
-static local_frame frame_at(vec3 x, vec3 sun_dir)
-{
-    local_frame f;
-    f.up = v3_normalize(x);
-    vec3 h = v3_madd(sun_dir, f.up, -v3_dot(sun_dir, f.up));
-    if (v3_length(h) < 1e-9)
-        h = frame_from_normal(f.up).t; /* the sun at the vertex's zenith or nadir */
-    f.sun_h = v3_normalize(h);
-    f.side = v3_cross(f.up, f.sun_h);
-    return f;
-}
-
-static vec3 frame_direction(const local_frame *f, double sin_e, double phi)
-{
-    double cos_e = safe_sqrt(1.0 - sin_e * sin_e);
-    vec3 h = v3_add(v3_scale(f->sun_h, cos(phi)), v3_scale(f->side, sin(phi)));
-    return v3_normalize(v3_madd(v3_scale(h, cos_e), f->up, sin_e));
-}
 
 /* Elevation of row edge j for a level whose horizon is at elevation eh (<= 0): crowded at eh. */
 static double row_elevation(int j, double eh)
@@ -80,13 +57,13 @@ static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
         sky_guide_level *g = &job->g->level[item / SKY_GUIDE_ROWS];
         int i = (int)(item % SKY_GUIDE_ROWS);
         vec3 position = v3_scale(job->up, g->radius);
-        local_frame f = frame_at(position, job->single->sun_dir);
+        sun_frame f = sun_frame_at(position, job->single->sun_dir);
         double eh = -acos(fmin(1.0, atm->bottom_radius_m / g->radius));
         double e = 0.5 * (row_elevation(i, eh) + row_elevation(i + 1, eh));
         double omega = (sin(row_elevation(i + 1, eh)) - sin(row_elevation(i, eh))) * 2.0 * FM_PI / SKY_GUIDE_COLS;
         /* one view ray profile per row (single_scatter.h) */
         single_scatter_ray ray;
-        if (single_scatter_ray_init(&ray, job->single, position, frame_direction(&f, sin(e), 0.0),
+        if (single_scatter_ray_init(&ray, job->single, position, sun_frame_direction(&f, sin(e), 0.0),
                                     GUIDE_QUADRATURE_POINTS)) {
             atomic_store(&job->no_memory, 1);
             return;
@@ -95,7 +72,7 @@ static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
         for (int c = 0; c < SKY_GUIDE_COLS / 2; c++) {
             double phi = 2.0 * FM_PI * (c + 0.5) / SKY_GUIDE_COLS;
             double L[FM_MAX_WAVELENGTHS] = {0}, y = 0.0;
-            single_scatter_ray_radiance(&ray, job->single, frame_direction(&f, sin(e), phi), L);
+            single_scatter_ray_radiance(&ray, job->single, sun_frame_direction(&f, sin(e), phi), L);
             if (atm->grid.colour) {
                 double xyz[3];
                 spectral_grid_to_xyz(&atm->grid, L, xyz);
@@ -180,14 +157,14 @@ vec3 sky_guide_sample(const sky_guide *g, vec3 x, vec3 sun_dir, double u1, doubl
     double v = (u2 - l->cdf_col[i][c]) / (l->cdf_col[i][c + 1] - l->cdf_col[i][c]);
     double sin_e = l->edge_sin[i] + (l->edge_sin[i + 1] - l->edge_sin[i]) * u3;
     double phi = 2.0 * FM_PI * (c + fmin(fmax(v, 0.0), 1.0)) / SKY_GUIDE_COLS;
-    local_frame f = frame_at(x, sun_dir);
-    return frame_direction(&f, sin_e, phi);
+    sun_frame f = sun_frame_at(x, sun_dir);
+    return sun_frame_direction(&f, sin_e, phi);
 }
 
 double sky_guide_pdf(const sky_guide *g, vec3 x, vec3 sun_dir, vec3 d)
 {
     const sky_guide_level *l = level_for(g, v3_length(x));
-    local_frame f = frame_at(x, sun_dir);
+    sun_frame f = sun_frame_at(x, sun_dir);
     double sin_e = clamp_cosine(v3_dot(d, f.up));
     double phi = atan2(v3_dot(d, f.side), v3_dot(d, f.sun_h));
     if (phi < 0.0)

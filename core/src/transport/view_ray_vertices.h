@@ -6,7 +6,8 @@
  * J_k the in-scattered radiance of orders >= 1 at x_t.  Each of a node's N paths places its first
  * vertex at t from a piecewise-constant density over 64 cells along the ray (crowded at the
  * observer), proportional to sigma_s T at three wavelengths (a share of it spread by length so
- * that it is positive everywhere: 1/25 by day, 1/6 at twilight), with its uniform number stratified over the N paths: (p + u) / N.
+ * that it is positive everywhere: 1/25 by day, 1/6 at twilight), with its uniform number
+ * stratified over the N paths: (p + u) / N.
  * The vertex's spectral weight is sigma_s,k(t) T_k(0, t) / pdf(t), T from the column table; the
  * density is the same for every wavelength.  Delta tracking would place the vertices by the same
  * law, but at random: at twilight, where the little light there is reaches the vertices high on
