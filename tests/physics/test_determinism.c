@@ -37,6 +37,8 @@ static void same_bits_for_any_thread_count(double sun_elevation)
 static void thread_count_does_not_change_the_bits(void **state) { same_bits_for_any_thread_count(25.0); }
 /* twilight: the sky guide is built on the render's threads, the paths use it (transport/twilight.h) */
 static void thread_count_does_not_change_the_bits_at_twilight(void **state) { same_bits_for_any_thread_count(-6.0); }
+/* deep twilight: the guided flights' table too (transport/shadow_flight.h) */
+static void thread_count_does_not_change_the_bits_in_deep_twilight(void **state) { same_bits_for_any_thread_count(-12.0); }
 
 /* Noise of a monochromatic reference render: the difference of two seeds. */
 static void noise(double lambda, fm_image **a, fm_image **b)
@@ -76,6 +78,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(thread_count_does_not_change_the_bits),
         cmocka_unit_test(thread_count_does_not_change_the_bits_at_twilight),
+        cmocka_unit_test(thread_count_does_not_change_the_bits_in_deep_twilight),
         cmocka_unit_test(wavelengths_draw_independent_numbers),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

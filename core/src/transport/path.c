@@ -3,6 +3,7 @@
 #include "base/units.h"
 #include "phase/phase.h"
 #include "transport/free_flight.h"
+#include "transport/shadow_flight.h"
 #include "transport/sky_guide.h"
 #include "transport/sunlit_segment.h"
 
@@ -194,6 +195,14 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
          * direction of small weight has brought its light in before it plays */
         if (vertices_done && !roulette(&W, q, w, K, order, r))
             return;
+        if (ctx->shadow_flights) {
+            scattered = shadow_flight(ctx, ctx->shadow_flights, &seg, r, w, &t);
+            if (scattered) {
+                atmosphere_densities(atm, ray_segment_radius(&seg, t), n);
+                atmosphere_coefficients_from_densities(atm, n, sig_s, sig_t);
+            }
+            goto vertex;
+        }
         if (ctx->force_escapes && !seg.hits_ground) {
             /* Forced collision: the first tentative collision is drawn inside the segment.  Each
              * wavelength's technique would do the same with its own probability F_k of colliding:

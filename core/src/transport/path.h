@@ -17,7 +17,8 @@
  * the Earth's umbra (every segment, at twilight) gets its next interaction's sunlight as the
  * expected value along it (sunlit_segment.h) and no point estimate at that interaction; Russian
  * roulette plays after that.  At twilight a third direction technique, the sky guide
- * (sky_guide.h), joins the MIS. 
+ * (sky_guide.h), joins the MIS; in deep twilight the next interaction along a segment is placed
+ * toward the light instead of by delta tracking (shadow_flight.h).
  *
  * Orders: the order of a contribution is the number of interactions (air scattering or ground
  * reflection) on the path, including the vertex where the sun is connected.  Contributions outside
@@ -58,6 +59,9 @@ typedef struct path_context {
      * (sky_guide.h), toward the sunlit air; NULL when the sun is up. */
     const struct sky_guide *sky_guide;
     double sky_guide_fraction;
+    /* Deep twilight: segments place their next interaction by shadow_flight (shadow_flight.h)
+     * instead of delta tracking; NULL otherwise. */
+    const struct shadow_flight_table *shadow_flights;
 } path_context;
 
 /* Adds one path's radiance estimate (W m^-2 sr^-1 nm^-1, per grid wavelength) to L. */

@@ -66,7 +66,7 @@ typedef struct render_job {
     uint64_t seed;
     int channels;
     camera cam;
-    const sky_guide *guide; /* twilight only (twilight.h) */
+    const twilight_sampling *guide; /* twilight only (twilight.h) */
     sky_grid ss, ms;
     ground_irradiance ground;
     fm_image *img;
@@ -547,10 +547,10 @@ static uint64_t render_seed(const atmosphere *atm, uint64_t seed)
 
 /* The twilight guide when the sun is below the observer's horizon plane (NULL otherwise, and for a
  * black sky). */
-static fm_status make_guide(const fm_sky *sky, int threads, sky_guide **guide, fm_error *err)
+static fm_status make_guide(const fm_sky *sky, int threads, twilight_sampling **guide, fm_error *err)
 {
     int no_memory;
-    *guide = twilight_guide_create(sky, threads, &no_memory);
+    *guide = twilight_sampling_create(sky, threads, &no_memory);
     return no_memory ? fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the twilight guide") : FM_OK;
 }
 
@@ -585,7 +585,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     job.img->sun_direction[2] = sky->sun_dir.z;
 
     double horizon = asin(horizon_mu(atm, v3_length(sky->observer))); /* elevation, <= 0 */
-    sky_guide *guide = NULL;
+    twilight_sampling *guide = NULL;
     if (v3_dot(sky->sun_dir, sky->observer) < 0.0)
         report(params, 0.0, "twilight guide");
     if ((s = make_guide(sky, params->threads, &guide, err)))
@@ -702,7 +702,7 @@ fm_status fm_render_pixels(const fm_sky *sky, const fm_render_params *params, in
         job->q.reference_paths = params->reference_samples;
     job->channels = atm->grid.colour ? 3 : 1;
     job->seed = render_seed(atm, params->seed);
-    sky_guide *guide = NULL;
+    twilight_sampling *guide = NULL;
     if ((s = make_guide(sky, params->threads, &guide, err)))
         return s;
     job->guide = guide;

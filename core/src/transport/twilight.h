@@ -3,7 +3,9 @@
  * Below the horizon (the sun's centre under the observer's horizontal plane) the light of the sky
  * comes from sunlit air far off and high up, seen across the Earth's shadow.  Then every render
  * builds the sky guide (sky_guide.h), draws half the scattering directions from it and counts every
- * segment's sunlight along the segment (sunlit_segment.h).  Both are unbiased changes of sampling;
+ * segment's sunlight along the segment (sunlit_segment.h); in deep twilight, with the sun more
+ * than 7 degrees down, segments also place their next interaction toward the light
+ * (shadow_flight.h).  All are unbiased changes of sampling;
  * by day neither is used (except the along-segment sunlight on the rare segments that enter the
  * Earth's umbra).  Day and night, the fast path places the first vertex of its table nodes' paths
  * by stratified sampling along the view ray (view_ray_vertices.h). */
@@ -11,14 +13,21 @@
 #define FM_TRANSPORT_TWILIGHT_H
 
 #include "sky.h"
+#include "transport/shadow_flight.h"
 #include "transport/sky_guide.h"
 
-/* The guide for a sky whose sun is below the horizon (malloc'ed, free() it); NULL by day, for a
- * black sky, or out of memory (*no_memory set). */
-sky_guide *twilight_guide_create(const fm_sky *sky, int threads, int *no_memory);
+typedef struct twilight_sampling {
+    sky_guide guide;
+    int deep; /* the flights below are in use */
+    shadow_flight_table flights;
+} twilight_sampling;
 
-/* sky_path_context with, when guide is not NULL, the twilight sampling. */
-path_context twilight_path_context(const fm_sky *sky, const sky_guide *guide, int min_order, int max_order);
+/* The sampling for a sky whose sun is below the horizon (malloc'ed, free() it); NULL by day, for a
+ * black sky, or out of memory (*no_memory set). */
+twilight_sampling *twilight_sampling_create(const fm_sky *sky, int threads, int *no_memory);
+
+/* sky_path_context with, when tw is not NULL, the twilight sampling. */
+path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *tw, int min_order, int max_order);
 
 /* The fast path's estimate of orders >= 2 toward d at one table node: adds the sum of `paths` path
  * estimates (K values) to L, their first vertices stratified along the view ray

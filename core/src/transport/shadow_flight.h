@@ -1,0 +1,52 @@
+/* Guided free flights across the Earth's shadow, for deep twilight.
+ *
+ * With the sun well below the horizon (twilight.h says from when), the air near the observer is in
+ * the shadow and the light it scatters comes from sunlit air hundreds of kilometres off, high up,
+ * toward the sun.  How much light a point receives climbs by orders of magnitude with altitude and
+ * toward the sun (sun -18: the single-scattering radiance averaged over a point's sky is 1e-12 of
+ * its daytime value at the ground under the observer, 2e-7 at 30 km and 5e-6 at 30 km 300 km
+ * toward the sun).  Delta tracking puts a path's vertices where the air is dense, low down, and
+ * the rare path that reaches a bright point brings most of a table node's value: at sun -18 one
+ * path in 32 768 carried 30-94% of a node's second moment.
+ *
+ * This places a segment's next vertex by a density proportional to
+ *     sigma_s(t) T(0, t) I(x_t),
+ * I the single-scattering luminance averaged over all directions at x_t (the light the vertex will
+ * pass on), tabulated here by altitude and local sun elevation (the atmosphere is horizontally
+ * homogeneous).  The density is piecewise constant on cells of the segment, from the integrand at
+ * their ends at one wavelength (the same for every hero wavelength, so the path's spectral MIS
+ * weights are unchanged), mixed with the same cells' sigma_s T alone (the physical density, so that
+ * a dark vertex still gets a bounded weight) and a uniform floor (positive wherever the integrand
+ * can be).  A segment that ends on the ground reaches it with the probability T at that
+ * wavelength, kept within [0.05, 0.7]; one that leaves through the top always scatters (a forced
+ * collision).  Every
+ * wavelength's weight is then its own sigma_s T / pdf, exactly: the estimator stays unbiased
+ * whatever I is; I only decides where the samples go. */
+#ifndef FM_TRANSPORT_SHADOW_FLIGHT_H
+#define FM_TRANSPORT_SHADOW_FLIGHT_H
+
+#include "base/rng.h"
+#include "base/vec.h"
+#include "transport/free_flight.h"
+
+struct path_context;
+
+#define SHADOW_FLIGHT_LEVELS 20 /* altitudes, 0 to 100 km */
+#define SHADOW_FLIGHT_SUNS 26   /* local sun elevations, from the observer's up, 1 degree apart */
+
+typedef struct shadow_flight_table {
+    double bottom_radius;                                        /* m */
+    double sun0, sun_step;                                       /* rad: column 0 is the observer's */
+    double value[SHADOW_FLIGHT_LEVELS][SHADOW_FLIGHT_SUNS];      /* I, CIE Y-weighted (or the one value) */
+} shadow_flight_table;
+
+/* Builds I from single_scatter_radiance with `single` (orders 1..1) at points above and toward the
+ * sun from `observer`, on `threads` threads.  Returns -1 when memory ran out, else 0. */
+int shadow_flight_build(shadow_flight_table *t, const struct path_context *single, vec3 observer, int threads);
+
+/* The next interaction on seg: returns 1 for a scattering at *t_out, 0 for the ground (at seg's end),
+ * after multiplying w[k] by that event's f/p for every grid wavelength. */
+int shadow_flight(const struct path_context *ctx, const shadow_flight_table *table, const ray_segment *seg, rng *r,
+                  double *w, double *t_out);
+
+#endif
