@@ -11,7 +11,9 @@
 #include <stdatomic.h>
 
 /* altitudes of the levels above the observer's (km) */
-static const double level_km[SKY_GUIDE_LEVELS] = {0.0, 4.0, 9.0, 15.0, 22.0, 32.0, 45.0};
+static const double level_km[SKY_GUIDE_ALTITUDES] = {0.0, 4.0, 9.0, 15.0, 22.0, 32.0, 45.0};
+/* and their distances toward the sun (degrees of arc) */
+static const double offset_deg[SKY_GUIDE_MAX_OFFSETS] = {0.0, 2.0, 4.0, 6.0, 9.0, 12.0};
 
 /* Elevation of row edge j for a level whose horizon is at elevation eh (<= 0): crowded at eh. */
 static double row_elevation(int j, double eh)
@@ -44,7 +46,7 @@ static int find_bin(const double *a, int n, double u)
 typedef struct build_job {
     sky_guide *g;
     const path_context *single;
-    vec3 up;
+    vec3 up, toward_sun; /* at the observer */
     atomic_int no_memory;
 } build_job;
 
@@ -56,7 +58,8 @@ static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
     for (int64_t item = begin; item < end; item++) {
         sky_guide_level *g = &job->g->level[item / SKY_GUIDE_ROWS];
         int i = (int)(item % SKY_GUIDE_ROWS);
-        vec3 position = v3_scale(job->up, g->radius);
+        double beta = offset_deg[g->offset] * FM_DEG;
+        vec3 position = v3_scale(v3_add(v3_scale(job->up, cos(beta)), v3_scale(job->toward_sun, sin(beta))), g->radius);
         sun_frame f = sun_frame_at(position, job->single->sun_dir);
         double eh = -acos(fmin(1.0, atm->bottom_radius_m / g->radius));
         double e = 0.5 * (row_elevation(i, eh) + row_elevation(i + 1, eh));
@@ -112,19 +115,23 @@ static int normalise_level(sky_guide_level *g)
     return 1;
 }
 
-int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int threads)
+int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int offsets, int threads)
 {
     const atmosphere *atm = single->atm;
     double r0 = v3_length(observer);
     g->levels = 0;
-    for (int i = 0; i < SKY_GUIDE_LEVELS && r0 + level_km[i] * FM_KM < atm->top_radius_m; i++) {
-        sky_guide_level *l = &g->level[g->levels++];
-        l->radius = r0 + level_km[i] * FM_KM;
-        double eh = -acos(fmin(1.0, atm->bottom_radius_m / l->radius));
-        for (int j = 0; j <= SKY_GUIDE_ROWS; j++)
-            l->edge_sin[j] = sin(row_elevation(j, eh));
-    }
-    build_job job = {g, single, v3_scale(observer, 1.0 / r0), 0};
+    g->offsets = offsets < 1 ? 1 : (offsets > SKY_GUIDE_MAX_OFFSETS ? SKY_GUIDE_MAX_OFFSETS : offsets);
+    g->sun0 = asin(clamp_cosine(v3_dot(observer, single->sun_dir) / r0));
+    for (int o = 0; o < g->offsets; o++)
+        for (int i = 0; i < SKY_GUIDE_ALTITUDES && r0 + level_km[i] * FM_KM < atm->top_radius_m; i++) {
+            sky_guide_level *l = &g->level[g->levels++];
+            l->radius = r0 + level_km[i] * FM_KM;
+            l->offset = o;
+            double eh = -acos(fmin(1.0, atm->bottom_radius_m / l->radius));
+            for (int j = 0; j <= SKY_GUIDE_ROWS; j++)
+                l->edge_sin[j] = sin(row_elevation(j, eh));
+        }
+    build_job job = {g, single, v3_scale(observer, 1.0 / r0), sun_frame_at(observer, single->sun_dir).sun_h, 0};
     if (parallel_for(threads, (int64_t)g->levels * SKY_GUIDE_ROWS, 1, build_rows, &job, NULL, NULL))
         return 0;
     if (atomic_load(&job.no_memory))
@@ -135,19 +142,31 @@ int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int
     return usable > 0;
 }
 
-/* The usable level nearest the vertex's radius r (sky_guide_build guarantees one). */
-static const sky_guide_level *level_for(const sky_guide *g, double r)
+/* The level for the vertex x: the offset whose local sun is nearest x's among those with a usable
+ * level, then the usable level of that offset nearest x's radius (sky_guide_build guarantees one). */
+static const sky_guide_level *level_for(const sky_guide *g, vec3 x, vec3 sun_dir)
 {
+    double r = v3_length(x);
+    int offset = 0;
+    if (g->offsets > 1) {
+        double beta = (asin(clamp_cosine(v3_dot(x, sun_dir) / r)) - g->sun0) / FM_DEG, gap = INFINITY;
+        for (int i = 0; i < g->levels; i++)
+            if (g->level[i].usable && fabs(offset_deg[g->level[i].offset] - beta) < gap) {
+                gap = fabs(offset_deg[g->level[i].offset] - beta);
+                offset = g->level[i].offset;
+            }
+    }
     int best = -1;
     for (int i = 0; i < g->levels; i++)
-        if (g->level[i].usable && (best < 0 || fabs(g->level[i].radius - r) < fabs(g->level[best].radius - r)))
+        if (g->level[i].usable && g->level[i].offset == offset &&
+            (best < 0 || fabs(g->level[i].radius - r) < fabs(g->level[best].radius - r)))
             best = i;
     return &g->level[best];
 }
 
 vec3 sky_guide_sample(const sky_guide *g, vec3 x, vec3 sun_dir, double u1, double u2, double u3)
 {
-    const sky_guide_level *l = level_for(g, v3_length(x));
+    const sky_guide_level *l = level_for(g, x, sun_dir);
     int i = find_bin(l->cdf_row, SKY_GUIDE_ROWS, u1);
     while (i > 0 && !(l->cdf_row[i + 1] > l->cdf_row[i]))
         i--; /* never an empty row */
@@ -163,7 +182,7 @@ vec3 sky_guide_sample(const sky_guide *g, vec3 x, vec3 sun_dir, double u1, doubl
 
 double sky_guide_pdf(const sky_guide *g, vec3 x, vec3 sun_dir, vec3 d)
 {
-    const sky_guide_level *l = level_for(g, v3_length(x));
+    const sky_guide_level *l = level_for(g, x, sun_dir);
     sun_frame f = sun_frame_at(x, sun_dir);
     double sin_e = clamp_cosine(v3_dot(d, f.up));
     double phi = atan2(v3_dot(d, f.side), v3_dot(d, f.sun_h));

@@ -8,7 +8,8 @@
  * (deterministic quadrature, single_scatter.h) seen from a few altitudes above the observer, on a
  * grid of elevation (crowded at that altitude's horizon) x azimuth from the sun.  The atmosphere is
  * horizontally homogeneous, so a vertex near the observer sees nearly the sky of the level nearest
- * its altitude, laid out in its own frame (local horizontal, the sun's azimuth there).  The density
+ * its altitude, laid out in its own frame (local horizontal, the sun's azimuth there); in deep
+ * twilight there are levels farther toward the sun as well.  The density
  * is the same for every wavelength; it enters the path's spectral MIS as a third technique beside
  * the phase function and the sun guide (one-sample MIS, balance heuristic).  Any density keeps
  * the estimator unbiased; this one puts the directions where the next order's sunlight is. */
@@ -20,7 +21,9 @@
 
 struct path_context;
 
-#define SKY_GUIDE_LEVELS 7
+#define SKY_GUIDE_ALTITUDES 7
+#define SKY_GUIDE_MAX_OFFSETS 6
+#define SKY_GUIDE_LEVELS (SKY_GUIDE_ALTITUDES * SKY_GUIDE_MAX_OFFSETS)
 #define SKY_GUIDE_ROWS_UP 40   /* elevation bins from the level's horizon to the zenith */
 #define SKY_GUIDE_ROWS_DOWN 20 /* and from the nadir to the horizon */
 #define SKY_GUIDE_ROWS (SKY_GUIDE_ROWS_UP + SKY_GUIDE_ROWS_DOWN)
@@ -28,6 +31,7 @@ struct path_context;
 
 typedef struct sky_guide_level {
     double radius;                                      /* m from the Earth's centre */
+    int offset;                                         /* index of its distance toward the sun */
     int usable;                                         /* 0: this level's sky is black */
     double edge_sin[SKY_GUIDE_ROWS + 1];                /* sin(elevation) of the row edges, ascending */
     double cdf_row[SKY_GUIDE_ROWS + 1];                 /* marginal over rows */
@@ -36,15 +40,19 @@ typedef struct sky_guide_level {
 } sky_guide_level;
 
 typedef struct sky_guide {
-    int levels;
+    int levels, offsets;
+    double sun0; /* rad: the sun's elevation at the observer */
     sky_guide_level level[SKY_GUIDE_LEVELS];
 } sky_guide;
 
 /* Builds the guide from single_scatter_radiance with `single` at altitudes above `observer` (its
- * own altitude first) on `threads` threads.  A level whose sky is black (deep twilight, low down) is
- * left out: vertices use the nearest level that sees light.  Returns 0 when every level is black
- * (the guide is then unusable), -1 when memory ran out, else 1. */
-int sky_guide_build(sky_guide *g, const struct path_context *single, vec3 observer, int threads);
+ * own altitude first) on `threads` threads; with offsets > 1 (at most SKY_GUIDE_MAX_OFFSETS), also
+ * at those altitudes 2, 4, 6, 9 and 12 degrees of arc toward the sun, whose local sun stands that
+ * much higher (deep twilight: the vertices that matter are there).  A vertex uses the offset whose
+ * local sun is nearest its own, then the altitude nearest its own among that offset's levels that
+ * see light (a black level is left out).  Returns 0 when every level is black (the guide is then
+ * unusable), -1 when memory ran out, else 1. */
+int sky_guide_build(sky_guide *g, const struct path_context *single, vec3 observer, int offsets, int threads);
 
 /* A direction at the vertex x (Earth-centred) from three uniform numbers, and the density of a
  * direction d there (per steradian). */

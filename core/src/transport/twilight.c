@@ -27,14 +27,14 @@ twilight_sampling *twilight_sampling_create(const fm_sky *sky, int threads, int 
         return NULL;
     }
     path_context single = sky_path_context(sky, 1, 1);
-    int built = sky_guide_build(&tw->guide, &single, sky->observer, threads);
+    double sun_elevation = asin(clamp_cosine(v3_dot(v3_normalize(sky->observer), sky->sun_dir)));
+    tw->deep = sun_elevation < DEEP_TWILIGHT_DEG * FM_DEG;
+    int built = sky_guide_build(&tw->guide, &single, sky->observer, tw->deep ? SKY_GUIDE_MAX_OFFSETS : 1, threads);
     if (built <= 0) {
         free(tw); /* a black sky (deep night): nothing to guide toward */
         *no_memory = built < 0;
         return NULL;
     }
-    double sun_elevation = asin(clamp_cosine(v3_dot(v3_normalize(sky->observer), sky->sun_dir)));
-    tw->deep = sun_elevation < DEEP_TWILIGHT_DEG * FM_DEG;
     if (tw->deep && shadow_flight_build(&tw->flights, &single, sky->observer, threads)) {
         free(tw);
         *no_memory = 1;
