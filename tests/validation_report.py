@@ -131,7 +131,7 @@ def illuminance():
         e = [number(r["sun_elevation_deg"]) for r in sel]
         for key, name in (("global_horizontal_lux", "global"), ("direct_horizontal_lux", "direct"),
                           ("diffuse_horizontal_lux", "diffuse")):
-            ax.semilogy(e, [max(number(r[key]), 1e-3) for r in sel], style, label="%s %s" % (b, name))
+            ax.semilogy(e, [max(number(r[key]), 1e-6) for r in sel], style, label="%s %s" % (b, name))
     # the published check point: ASTM G173-03's direct normal spectrum integrated with V(lambda), on
     # the horizontal (tests/physics/test_astm_g173.c writes ours and the standard's)
     lux_rows = {r["quantity"]: r for r in rows("astm_g173_lux.csv")}
@@ -139,9 +139,15 @@ def illuminance():
     e_astm = number(point["sun_elevation_deg"])
     ax.semilogy([e_astm], [number(point["astm_lux"])], "k*", ms=11, label="ASTM G173-03 direct (AM1.5)")
     ax.semilogy([e_astm], [number(point["firmament_lux"])], "rx", ms=9, label="firmament, same state")
+    # clear evenings, AMS Glossary of Meteorology ("civil twilight", "astronomical twilight"): 3.5-2 lux
+    # at -6, about 0.008 lux at -12, and at -18 about 6e-4 lux of which scattered sunlight is the
+    # smaller part (the rest starlight and airglow, not modelled)
+    ax.semilogy([-6, -6], [2.0, 3.5], "k-", lw=3, label="AMS glossary, clear evening")
+    ax.semilogy([-12], [0.008], "ks", ms=6)
+    ax.semilogy([-18], [6e-4], "kv", ms=7, label="AMS: all night light (sun part below)")
     ax.set_xlabel("sun elevation (deg)")
     ax.set_ylabel("horizontal illuminance (lux)")
-    ax.set_ylim(1, 2e5)
+    ax.set_ylim(1e-5, 2e5)
     ax.set_title("horizontal illuminance against sun elevation")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8, ncol=2)
@@ -238,6 +244,13 @@ lines += ["", "## Horizontal illuminance against sun elevation", "",
           % tuple(v for key in ("direct_normal", "global_tilt_37")
                   for v in (number(astm_lux[key]["firmament_lux"]), number(astm_lux[key]["astm_lux"]),
                             100 * (number(astm_lux[key]["firmament_lux"]) / number(astm_lux[key]["astm_lux"]) - 1))), "",
+          "Twilight against the AMS Glossary of Meteorology's clear evening (entries \"civil twilight\" and "
+          "\"astronomical twilight\"; the squares and bar): rural %.3g lux at sun %g (glossary 3.5-2), %.3g lux "
+          "at %g (about 0.008) and %.2g lux at %g, where the glossary gives about 6e-4 lux in all, scattered "
+          "sunlight being less than starlight and airglow (not modelled). The model also leaves out the "
+          "refraction of the grazing sunlight. `tests/physics/test_twilight.c` checks -6, -12 and -18 within "
+          "a factor 2 of those values." % (lux("rural", -6)[1], lux("rural", -6)[2], lux("rural", -12)[1],
+                                            lux("rural", -12)[2], lux("rural", -18)[1], lux("rural", -18)[2]), "",
           "## Aerosol optical depth per biome", "",
           "![aod](aod.png)", "",
           "| biome | AOD 550 | Ångström 440-700 |", "|---|---:|---:|"]

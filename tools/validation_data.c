@@ -189,8 +189,8 @@ static void illuminance(const char *dir, int quick)
                        "biome,sun_elevation_deg,direct_horizontal_lux,diffuse_horizontal_lux,global_horizontal_lux");
     const char *names[2] = {"rural", "urban"};
     for (int b = 0; b < 2; b++)
-        for (int i = 0; i < 16; i += quick ? 3 : 1) {
-            const double elevations[16] = {-6, -4, -2, 0, 2, 4, 6, 8, 10, 15, 20, 30, 45, 60, 75, 90};
+        for (int i = 0; i < 20; i += quick ? 3 : 1) {
+            const double elevations[20] = {-18, -15, -12, -9, -6, -4, -2, 0, 2, 4, 6, 8, 10, 15, 20, 30, 45, 60, 75, 90};
             double e = elevations[i];
             fm_sky *sky = make_sky(e, 0.0, names[b]);
             fm_sun_light sun;

@@ -12,7 +12,8 @@
  *  - deep twilight's guided flights (shadow_flight.h) against delta tracking, which they replace:
  *    the same orders >= 2 in three directions within the noise, and less noise per path;
  *  - zenith luminance falls monotonically as the sun goes from +10 to -10 degrees, every one-degree
- *    step by more than four standard errors of the difference. */
+ *    step by more than four standard errors of the difference;
+ *  - the horizontal illuminance of a clear evening against the AMS Glossary of Meteorology. */
 #include "check.h"
 
 #include "atmosphere/optical_depth.h"
@@ -228,6 +229,33 @@ static void shadow_flights_match_delta_tracking(void **state)
     fm_sky_destroy(sky);
 }
 
+/* Horizontal illuminance (all of it scattered sunlight once the sun is down) of the default rural
+ * sky against the American Meteorological Society's Glossary of Meteorology (entries "civil
+ * twilight" and "astronomical twilight"): during a clear evening it falls to about 3.5-2 lux at sun
+ * -6 degrees and to about 0.008 lux at -12; at -18 scattered sunlight gives less than starlight and
+ * airglow, which with it make about 6e-4 lux.  Measured skies vary (aerosols, ozone, refraction,
+ * which the model leaves out, and the glossary's values are rounded), so the bounds are a factor 2
+ * about those values: what they check is the fall over four decades through the shadow's geometry
+ * (measured: 5.16, 0.0115 and 2.1e-5 lux). */
+static void illuminance_against_the_ams_glossary(void **state)
+{
+    const double cases[][3] = {{-6.0, 2.0 / 2.0, 3.5 * 2.0}, {-12.0, 0.008 / 2.0, 0.008 * 2.0}, {-18.0, 0.0, 6e-4}};
+    for (int i = 0; i < 3; i++) {
+        fm_sky_params p = fm_sky_params_default();
+        p.sun_elevation_deg = cases[i][0];
+        fm_sky *sky = test_sky(&p);
+        fm_image *img = test_render(sky, 64, FM_QUALITY_PREVIEW, 2, 1, 0, 1.0, 0);
+        double xyz[3];
+        assert_int_equal(fm_image_diffuse_horizontal(img, xyz), 1);
+        double lux = FM_LUMINOUS_EFFICACY * xyz[1];
+        print_message("sun %+.0f: horizontal illuminance %.4g lux (bounds %.3g to %.3g)\n", cases[i][0], lux,
+                      cases[i][1], cases[i][2]);
+        assert_true(lux > cases[i][1] && lux < cases[i][2]);
+        fm_image_destroy(img);
+        fm_sky_destroy(sky);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -235,6 +263,7 @@ int main(void)
         cmocka_unit_test(along_segment_matches_point_estimate),
         cmocka_unit_test(shadow_flights_match_delta_tracking),
         cmocka_unit_test(zenith_falls_monotonically),
+        cmocka_unit_test(illuminance_against_the_ams_glossary),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
