@@ -87,3 +87,12 @@ void spectral_grid_to_xyz(const spectral_grid *grid, const double *values, doubl
         for (int j = 0; j < 3; j++)
             xyz[j] += values[k] * grid->xyz_weight[k][j];
 }
+
+double spectral_grid_luminance(const spectral_grid *grid, const double *values)
+{
+    if (!grid->colour)
+        return values[0];
+    double xyz[3];
+    spectral_grid_to_xyz(grid, values, xyz);
+    return xyz[1];
+}

@@ -36,4 +36,8 @@ void spectral_grid_set_solar(spectral_grid *grid, spectrum_fn irradiance, const 
 /* XYZ of values given at the grid's nodes (colour grids only). */
 void spectral_grid_to_xyz(const spectral_grid *grid, const double *values, double xyz[3]);
 
+/* The luminance-like value of node values: CIE Y for a colour grid, else the first node's value
+ * (the one value of a monochromatic grid). */
+double spectral_grid_luminance(const spectral_grid *grid, const double *values);
+
 #endif

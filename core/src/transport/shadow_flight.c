@@ -24,15 +24,7 @@ static const double level_km[SHADOW_FLIGHT_LEVELS] = {0,  1,  2,  3,  5,  7,  10
 #define HALF_COLS 8
 #define QUADRATURE_POINTS 2
 
-static double row_elevation(int j, double eh)
-{
-    if (j <= ROWS_DOWN) {
-        double v = (double)(ROWS_DOWN - j) / ROWS_DOWN;
-        return eh - (0.5 * FM_PI + eh) * v * v;
-    }
-    double v = (double)(j - ROWS_DOWN) / ROWS_UP;
-    return eh + (0.5 * FM_PI - eh) * v * v;
-}
+static double row_elevation(int j, double eh) { return sun_frame_row_elevation(j, eh, ROWS_DOWN, ROWS_UP); }
 
 typedef struct build_job {
     shadow_flight_table *t;
@@ -65,17 +57,10 @@ static void build_points(void *ctx, int64_t begin, int64_t end, int thread)
                 return;
             }
             for (int c = 0; c < HALF_COLS; c++) {
-                double L[FM_MAX_WAVELENGTHS] = {0}, y;
+                double L[FM_MAX_WAVELENGTHS] = {0};
                 vec3 d = sun_frame_direction(&f, sin(e), FM_PI * (c + 0.5) / HALF_COLS);
                 single_scatter_ray_radiance(&ray, job->single, d, L);
-                if (atm->grid.colour) {
-                    double xyz[3];
-                    spectral_grid_to_xyz(&atm->grid, L, xyz);
-                    y = xyz[1];
-                } else {
-                    y = L[0];
-                }
-                sum += 2.0 * fmax(y, 0.0) * omega;
+                sum += 2.0 * fmax(spectral_grid_luminance(&atm->grid, L), 0.0) * omega;
             }
             single_scatter_ray_free(&ray);
         }

@@ -18,12 +18,7 @@ static const double offset_deg[SKY_GUIDE_MAX_OFFSETS] = {0.0, 2.0, 4.0, 6.0, 9.0
 /* Elevation of row edge j for a level whose horizon is at elevation eh (<= 0): crowded at eh. */
 static double row_elevation(int j, double eh)
 {
-    if (j <= SKY_GUIDE_ROWS_DOWN) {
-        double v = (double)(SKY_GUIDE_ROWS_DOWN - j) / SKY_GUIDE_ROWS_DOWN;
-        return eh - (0.5 * FM_PI + eh) * v * v;
-    }
-    double v = (double)(j - SKY_GUIDE_ROWS_DOWN) / SKY_GUIDE_ROWS_UP;
-    return eh + (0.5 * FM_PI - eh) * v * v;
+    return sun_frame_row_elevation(j, eh, SKY_GUIDE_ROWS_DOWN, SKY_GUIDE_ROWS_UP);
 }
 
 /* Index i with a[i] <= u < a[i + 1] among n bins (a ascending). */
@@ -74,15 +69,9 @@ static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
         /* symmetric about the sun's vertical plane: columns c and COLS - 1 - c look alike */
         for (int c = 0; c < SKY_GUIDE_COLS / 2; c++) {
             double phi = 2.0 * FM_PI * (c + 0.5) / SKY_GUIDE_COLS;
-            double L[FM_MAX_WAVELENGTHS] = {0}, y = 0.0;
+            double L[FM_MAX_WAVELENGTHS] = {0};
             single_scatter_ray_radiance(&ray, job->single, sun_frame_direction(&f, sin(e), phi), L);
-            if (atm->grid.colour) {
-                double xyz[3];
-                spectral_grid_to_xyz(&atm->grid, L, xyz);
-                y = xyz[1];
-            } else {
-                y = L[0];
-            }
+            double y = spectral_grid_luminance(&atm->grid, L);
             g->pdf[i][c] = g->pdf[i][SKY_GUIDE_COLS - 1 - c] = fmax(y, 0.0) * omega;
         }
         single_scatter_ray_free(&ray);

@@ -4,6 +4,7 @@
 #ifndef FM_TRANSPORT_SUN_FRAME_H
 #define FM_TRANSPORT_SUN_FRAME_H
 
+#include "base/units.h"
 #include "base/vec.h"
 
 #include <math.h>
@@ -31,6 +32,19 @@ static inline vec3 sun_frame_direction(const sun_frame *f, double sin_e, double 
     double cos_e = safe_sqrt(1.0 - sin_e * sin_e);
     vec3 h = v3_add(v3_scale(f->sun_h, cos(phi)), v3_scale(f->side, sin(phi)));
     return v3_normalize(v3_madd(v3_scale(h, cos_e), f->up, sin_e));
+}
+
+/* Elevation (rad) of row edge j of a grid over a point's sky whose horizon is at elevation eh (<= 0):
+ * `down` rows from the nadir to eh and `up` rows from eh to the zenith, crowded (quadratically) at
+ * the horizon, where the sunlit air is seen at twilight. */
+static inline double sun_frame_row_elevation(int j, double eh, int down, int up)
+{
+    if (j <= down) {
+        double v = (double)(down - j) / down;
+        return eh - (0.5 * FM_PI + eh) * v * v;
+    }
+    double v = (double)(j - down) / up;
+    return eh + (0.5 * FM_PI - eh) * v * v;
 }
 
 #endif

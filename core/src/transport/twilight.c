@@ -76,12 +76,7 @@ void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int 
         if (sum_y2) {
             for (int k = 0; k < K; k++)
                 L[k] += own[k];
-            double y = own[0];
-            if (sky->atm.grid.colour) {
-                double xyz[3];
-                spectral_grid_to_xyz(&sky->atm.grid, own, xyz);
-                y = xyz[1];
-            }
+            double y = spectral_grid_luminance(&sky->atm.grid, own);
             *sum_y2 += y * y;
         }
     }
