@@ -13,7 +13,9 @@
 
 /* Guided flights (shadow_flight.h) from this sun elevation down.  Efficiency (1 / (variance x
  * time)) against delta tracking, six table nodes at 2048 paths, rural: sun -4 0.75x, -6 1.2x,
- * -8 1.8x, -10 2.4x, -14 5.7x, -18 3.2x; their table and cells cost 40% more time per path. */
+ * -8 1.8x, -10 2.4x, -14 5.7x, -18 3.2x (their cells cost about 40% more time per path, their
+ * table 0.5 s per render).  The sky guide then has its levels toward the sun as well (sky_guide.h:
+ * at -10, -14 and -18 1.2-2.2x the efficiency; at -4 and -6 nothing). */
 #define DEEP_TWILIGHT_DEG -7.0
 
 twilight_sampling *twilight_sampling_create(const fm_sky *sky, int threads, int *no_memory)
