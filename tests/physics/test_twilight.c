@@ -125,7 +125,7 @@ static void zenith_falls_monotonically(void **state)
         p.sun_elevation_deg = e;
         fm_sky *sky = test_sky(&p);
         int no_memory;
-        twilight_sampling *guide = twilight_sampling_create(sky, 2, &no_memory);
+        twilight_sampling *guide = twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, &no_memory);
         assert_false(no_memory);
         assert_true((guide != NULL) == (e < 0));
         path_context one = sky_path_context(sky, 1, 1), many = twilight_path_context(sky, guide, 2, 0);
@@ -161,7 +161,7 @@ static void along_segment_matches_point_estimate(void **state)
     p.sun_elevation_deg = -3.0;
     fm_sky *sky = test_sky(&p);
     int no_memory;
-    twilight_sampling *guide = twilight_sampling_create(sky, 2, &no_memory);
+    twilight_sampling *guide = twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, &no_memory);
     assert_non_null(guide);
     const vec3 zenith = v3(0.0, 0.0, 1.0);
     path_context point = sky_path_context(sky, 2, 0), along = point, twilight = twilight_path_context(sky, guide, 2, 0);
@@ -199,7 +199,7 @@ static void shadow_flights_match_delta_tracking(void **state)
     p.sun_azimuth_deg = 0.0;
     fm_sky *sky = test_sky(&p);
     int no_memory;
-    twilight_sampling *tw = twilight_sampling_create(sky, 2, &no_memory);
+    twilight_sampling *tw = twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, &no_memory);
     assert_non_null(tw);
     assert_true(tw->deep);
     path_context guided = twilight_path_context(sky, tw, 2, 0), tracked = guided;

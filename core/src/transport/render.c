@@ -25,12 +25,12 @@ quality_settings render_quality_settings(fm_quality quality, double scale)
     quality_settings q;
     switch (quality) {
     case FM_QUALITY_PREVIEW:
-        q = (quality_settings){64, 32, 48, 12, 8, 12, 512, 4096, 2, 64, 4, 24, 32};
+        q = (quality_settings){64, 32, 48, 12, 8, 12, 512, 4096, 2, 64, 4, 24, 32, 1};
         break;
     case FM_QUALITY_REFERENCE:
     case FM_QUALITY_FINAL:
     default:
-        q = (quality_settings){128, 64, 96, 20, 12, 16, 2048, 16384, 3, 256, 6, 32, 32};
+        q = (quality_settings){128, 64, 96, 20, 12, 16, 2048, 16384, 3, 256, 6, 32, 32, SKY_GUIDE_MAX_OFFSETS};
         break;
     }
     q.ms_paths = (int)fmax(1.0, round(q.ms_paths * scale));
@@ -547,10 +547,11 @@ static uint64_t render_seed(const atmosphere *atm, uint64_t seed)
 
 /* The twilight guide when the sun is below the observer's horizon plane (NULL otherwise, and for a
  * black sky). */
-static fm_status make_guide(const fm_sky *sky, int threads, twilight_sampling **guide, fm_error *err)
+static fm_status make_guide(const fm_sky *sky, const quality_settings *q, int threads, twilight_sampling **guide,
+                            fm_error *err)
 {
     int no_memory;
-    *guide = twilight_sampling_create(sky, threads, &no_memory);
+    *guide = twilight_sampling_create(sky, q->guide_offsets, threads, &no_memory);
     return no_memory ? fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the twilight guide") : FM_OK;
 }
 
@@ -588,7 +589,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     twilight_sampling *guide = NULL;
     if (v3_dot(sky->sun_dir, sky->observer) < 0.0)
         report(params, 0.0, "twilight guide");
-    if ((s = make_guide(sky, params->threads, &guide, err)))
+    if ((s = make_guide(sky, &job.q, params->threads, &guide, err)))
         goto done;
     job.guide = guide;
     if (reference) {
@@ -703,7 +704,7 @@ fm_status fm_render_pixels(const fm_sky *sky, const fm_render_params *params, in
     job->channels = atm->grid.colour ? 3 : 1;
     job->seed = render_seed(atm, params->seed);
     twilight_sampling *guide = NULL;
-    if ((s = make_guide(sky, params->threads, &guide, err)))
+    if ((s = make_guide(sky, &job->q, params->threads, &guide, err)))
         return s;
     job->guide = guide;
     parallel_progress pr = {params->progress, params->progress_user, "path tracing", 0.0, 1.0};

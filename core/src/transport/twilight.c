@@ -18,7 +18,7 @@
  * at -10, -14 and -18 1.2-2.2x the efficiency; at -4 and -6 nothing). */
 #define DEEP_TWILIGHT_DEG -7.0
 
-twilight_sampling *twilight_sampling_create(const fm_sky *sky, int threads, int *no_memory)
+twilight_sampling *twilight_sampling_create(const fm_sky *sky, int guide_offsets, int threads, int *no_memory)
 {
     *no_memory = 0;
     if (!(v3_dot(sky->sun_dir, sky->observer) < 0.0))
@@ -31,7 +31,7 @@ twilight_sampling *twilight_sampling_create(const fm_sky *sky, int threads, int 
     path_context single = sky_path_context(sky, 1, 1);
     double sun_elevation = asin(clamp_cosine(v3_dot(v3_normalize(sky->observer), sky->sun_dir)));
     tw->deep = sun_elevation < DEEP_TWILIGHT_DEG * FM_DEG;
-    int built = sky_guide_build(&tw->guide, &single, sky->observer, tw->deep ? SKY_GUIDE_MAX_OFFSETS : 1, threads);
+    int built = sky_guide_build(&tw->guide, &single, sky->observer, tw->deep ? guide_offsets : 1, threads);
     if (built <= 0) {
         free(tw); /* a black sky (deep night): nothing to guide toward */
         *no_memory = built < 0;
