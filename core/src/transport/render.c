@@ -66,7 +66,7 @@ typedef struct render_job {
     uint64_t seed;
     int channels;
     camera cam;
-    const twilight_sampling *guide; /* twilight only (twilight.h) */
+    const twilight_sampling *twilight; /* below the horizon only (twilight.h) */
     sky_grid ss, ms;
     ground_irradiance ground;
     fm_image *img;
@@ -130,7 +130,7 @@ static void ms_nodes(void *ctx, int64_t begin, int64_t end, int thread)
     render_job *job = ctx;
     const fm_sky *sky = job->sky;
     const int K = sky->atm.grid.count;
-    path_context pc = twilight_path_context(job->sky, job->guide, 2, 0);
+    path_context pc = twilight_path_context(job->sky, job->twilight, 2, 0);
     pc.skip_ground_first = 1;
     for (int64_t i = begin; i < end; i++) {
         double e, phi, L[FM_MAX_WAVELENGTHS] = {0};
@@ -289,7 +289,7 @@ static void reference_rows(void *ctx, int64_t begin, int64_t end, int thread)
     render_job *job = ctx;
     fm_image *img = job->img;
     const int W = img->width, C = job->channels;
-    path_context pc = twilight_path_context(job->sky, job->guide, 1, 0);
+    path_context pc = twilight_path_context(job->sky, job->twilight, 1, 0);
     for (int64_t y = begin; y < end; y++)
         for (int x = 0; x < W; x++) {
             size_t i = ((size_t)y * W + x) * C;
@@ -308,7 +308,7 @@ static void reference_rows_camera(void *ctx, int64_t begin, int64_t end, int thr
     fm_image *img = job->img;
     const int W = img->width, C = job->channels, K = sky->atm.grid.count;
     const int N = job->q.reference_paths;
-    path_context pc = twilight_path_context(job->sky, job->guide, 1, 0);
+    path_context pc = twilight_path_context(job->sky, job->twilight, 1, 0);
     for (int64_t y = begin; y < end; y++) {
         for (int x = 0; x < W; x++) {
             uint64_t item = ITEM_PIXEL + (uint64_t)y * W + x;
@@ -545,13 +545,13 @@ static uint64_t render_seed(const atmosphere *atm, uint64_t seed)
     return seed;
 }
 
-/* The twilight guide when the sun is below the observer's horizon plane (NULL otherwise, and for a
- * black sky). */
-static fm_status make_guide(const fm_sky *sky, const quality_settings *q, int threads, twilight_sampling **guide,
-                            fm_error *err)
+/* The twilight sampling when the sun is below the observer's horizon plane (NULL otherwise, and for
+ * a black sky). */
+static fm_status make_twilight(const fm_sky *sky, const quality_settings *q, int threads, twilight_sampling **tw,
+                               fm_error *err)
 {
     int no_memory;
-    *guide = twilight_sampling_create(sky, q->guide_offsets, threads, &no_memory);
+    *tw = twilight_sampling_create(sky, q->guide_offsets, threads, &no_memory);
     return no_memory ? fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the twilight guide") : FM_OK;
 }
 
@@ -586,12 +586,12 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     job.img->sun_direction[2] = sky->sun_dir.z;
 
     double horizon = asin(horizon_mu(atm, v3_length(sky->observer))); /* elevation, <= 0 */
-    twilight_sampling *guide = NULL;
+    twilight_sampling *twilight = NULL;
     if (v3_dot(sky->sun_dir, sky->observer) < 0.0)
         report(params, 0.0, "twilight guide");
-    if ((s = make_guide(sky, &job.q, params->threads, &guide, err)))
+    if ((s = make_twilight(sky, &job.q, params->threads, &twilight, err)))
         goto done;
-    job.guide = guide;
+    job.twilight = twilight;
     if (reference) {
         parallel_progress pr = {params->progress, params->progress_user, "path tracing", 0.0, 0.98};
         s = parallel_for(params->threads, H, 1, equirect ? reference_rows : reference_rows_camera, &job, params->cancel,
@@ -607,7 +607,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
             goto done;
         }
         report(params, 0.0, "ground irradiance");
-        path_context all = twilight_path_context(sky, job.guide, 1, 0);
+        path_context all = twilight_path_context(sky, job.twilight, 1, 0);
         /* The ground's diffuse light: every segment's sunlight along its length (sunlit_segment.h),
          * not at one point.  With a low sun behind thick haze the light comes from the few
          * vertices above the haze: urban sunset (sun 2, turbidity 2), the ground's bias against the
@@ -652,7 +652,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     }
     report(params, 1.0, "done");
 done:
-    free(guide);
+    free(twilight);
     sky_grid_free(&job.ss);
     sky_grid_free(&job.ms);
     ground_irradiance_free(&job.ground);
@@ -674,7 +674,7 @@ static void reference_pixels(void *ctx, int64_t begin, int64_t end, int thread)
 {
     pixels_job *pj = ctx;
     const int C = pj->job.channels;
-    path_context pc = twilight_path_context(pj->job.sky, pj->job.guide, 1, 0);
+    path_context pc = twilight_path_context(pj->job.sky, pj->job.twilight, 1, 0);
     float se[FM_MAX_WAVELENGTHS];
     for (int64_t i = begin; i < end; i++)
         reference_pixel(&pj->job, &pc, pj->x[i], pj->y[i], pj->job.q.reference_paths, &pj->out[i * C],
@@ -703,13 +703,13 @@ fm_status fm_render_pixels(const fm_sky *sky, const fm_render_params *params, in
         job->q.reference_paths = params->reference_samples;
     job->channels = atm->grid.colour ? 3 : 1;
     job->seed = render_seed(atm, params->seed);
-    twilight_sampling *guide = NULL;
-    if ((s = make_guide(sky, &job->q, params->threads, &guide, err)))
+    twilight_sampling *twilight = NULL;
+    if ((s = make_twilight(sky, &job->q, params->threads, &twilight, err)))
         return s;
-    job->guide = guide;
+    job->twilight = twilight;
     parallel_progress pr = {params->progress, params->progress_user, "path tracing", 0.0, 1.0};
     s = parallel_for(params->threads, count, 1, reference_pixels, &pj, params->cancel, &pr);
-    free(guide);
+    free(twilight);
     if (s == FM_ERR_CANCELLED)
         return fm_fail(err, FM_ERR_CANCELLED, "render cancelled");
     return s ? fm_fail(err, s, "render failed: %s", fm_status_name(s)) : FM_OK;

@@ -29,7 +29,7 @@ static double row_elevation(int j, double eh) { return sun_frame_row_elevation(j
 typedef struct build_job {
     shadow_flight_table *t;
     const path_context *single;
-    vec3 up, toward_sun; /* the observer's up and the horizontal toward the sun there */
+    sun_frame observer;
     double top;
     atomic_int no_memory;
 } build_job;
@@ -44,7 +44,7 @@ static void build_points(void *ctx, int64_t begin, int64_t end, int thread)
         int i = (int)(item / SHADOW_FLIGHT_SUNS), j = (int)(item % SHADOW_FLIGHT_SUNS);
         double beta = j * t->sun_step; /* the angle travelled toward the sun from the observer */
         double radius = fmin(t->bottom_radius + level_km[i] * FM_KM, job->top);
-        vec3 position = v3_scale(v3_add(v3_scale(job->up, cos(beta)), v3_scale(job->toward_sun, sin(beta))), radius);
+        vec3 position = sun_frame_toward_sun(&job->observer, beta, radius);
         sun_frame f = sun_frame_at(position, job->single->sun_dir);
         double eh = -acos(fmin(1.0, t->bottom_radius / radius)), sum = 0.0;
         for (int row = 0; row < ROWS_DOWN + ROWS_UP; row++) {
@@ -72,11 +72,9 @@ int shadow_flight_build(shadow_flight_table *t, const path_context *single, vec3
 {
     const atmosphere *atm = single->atm;
     build_job job = {.t = t, .single = single, .top = atm->top_radius_m - 1.0};
-    job.up = v3_normalize(observer);
-    sun_frame f = sun_frame_at(observer, single->sun_dir);
-    job.toward_sun = f.sun_h;
+    job.observer = sun_frame_at(observer, single->sun_dir);
     t->bottom_radius = atm->bottom_radius_m;
-    t->sun0 = asin(clamp_cosine(v3_dot(job.up, single->sun_dir)));
+    t->sun0 = asin(clamp_cosine(v3_dot(job.observer.up, single->sun_dir)));
     t->sun_step = 1.0 * FM_DEG;
     atomic_init(&job.no_memory, 0);
     if (parallel_for(threads, (int64_t)SHADOW_FLIGHT_LEVELS * SHADOW_FLIGHT_SUNS, 1, build_points, &job, NULL, NULL))

@@ -41,7 +41,7 @@ static int find_bin(const double *a, int n, double u)
 typedef struct build_job {
     sky_guide *g;
     const path_context *single;
-    vec3 up, toward_sun; /* at the observer */
+    sun_frame observer;
     atomic_int no_memory;
 } build_job;
 
@@ -54,7 +54,7 @@ static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
         sky_guide_level *g = &job->g->level[item / SKY_GUIDE_ROWS];
         int i = (int)(item % SKY_GUIDE_ROWS);
         double beta = offset_deg[g->offset] * FM_DEG;
-        vec3 position = v3_scale(v3_add(v3_scale(job->up, cos(beta)), v3_scale(job->toward_sun, sin(beta))), g->radius);
+        vec3 position = sun_frame_toward_sun(&job->observer, beta, g->radius);
         sun_frame f = sun_frame_at(position, job->single->sun_dir);
         double eh = -acos(fmin(1.0, atm->bottom_radius_m / g->radius));
         double e = 0.5 * (row_elevation(i, eh) + row_elevation(i + 1, eh));
@@ -120,7 +120,7 @@ int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int
             for (int j = 0; j <= SKY_GUIDE_ROWS; j++)
                 l->edge_sin[j] = sin(row_elevation(j, eh));
         }
-    build_job job = {g, single, v3_scale(observer, 1.0 / r0), sun_frame_at(observer, single->sun_dir).sun_h, 0};
+    build_job job = {g, single, sun_frame_at(observer, single->sun_dir), 0};
     if (parallel_for(threads, (int64_t)g->levels * SKY_GUIDE_ROWS, 1, build_rows, &job, NULL, NULL))
         return 0;
     if (atomic_load(&job.no_memory))

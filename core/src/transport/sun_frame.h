@@ -34,6 +34,13 @@ static inline vec3 sun_frame_direction(const sun_frame *f, double sin_e, double 
     return v3_normalize(v3_madd(v3_scale(h, cos_e), f->up, sin_e));
 }
 
+/* The point at radius r reached from the frame's point by travelling the angle beta (rad of arc)
+ * toward the sun: its local sun stands beta higher. */
+static inline vec3 sun_frame_toward_sun(const sun_frame *f, double beta, double r)
+{
+    return v3_scale(v3_add(v3_scale(f->up, cos(beta)), v3_scale(f->sun_h, sin(beta))), r);
+}
+
 /* Elevation (rad) of row edge j of a grid over a point's sky whose horizon is at elevation eh (<= 0):
  * `down` rows from the nadir to eh and `up` rows from eh to the zenith, crowded (quadratically) at
  * the horizon, where the sunlit air is seen at twilight. */
