@@ -3,6 +3,7 @@
 #include "atmosphere/ozone.h"
 #include "atmosphere/rayleigh.h"
 #include "atmosphere/standard_atmosphere.h"
+#include "base/exp_array.h"
 #include "base/status.h"
 #include "base/units.h"
 
@@ -167,4 +168,12 @@ void atmosphere_coefficients_from_densities(const atmosphere *atm, const double 
             sigma_t[k] += (sp->sigma_s[k] + sp->sigma_a[k]) * n[c];
         }
     }
+}
+
+void atmosphere_transmittances(const atmosphere *atm, const double *columns, double *T)
+{
+    const int K = atm->grid.count;
+    for (int k = 0; k < K; k++)
+        T[k] = -atmosphere_optical_depth(atm, columns, k);
+    exp_array(T, T, K);
 }

@@ -82,4 +82,7 @@ static inline double atmosphere_optical_depth(const atmosphere *atm, const doubl
     return tau;
 }
 
+/* exp(-optical depth) of every grid wavelength for a set of species columns: T[k]. */
+void atmosphere_transmittances(const atmosphere *atm, const double *columns, double *T);
+
 #endif

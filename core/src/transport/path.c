@@ -1,5 +1,6 @@
 #include "transport/path.h"
 
+#include "base/exp_array.h"
 #include "base/units.h"
 #include "phase/phase.h"
 #include "transport/free_flight.h"
@@ -211,7 +212,10 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
             if (!(depth[h] > 1e-12))
                 return;
             for (int k = 0; k < K; k++)
-                force[k] = -expm1(-depth[k]);
+                force[k] = -depth[k];
+            expm1_array(force, force, K);
+            for (int k = 0; k < K; k++)
+                force[k] = -force[k];
             for (int k = 0; k < K; k++) {
                 w[k] *= force[k];
                 /* a wavelength the medium does not touch cannot produce this path at all */
@@ -256,8 +260,9 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
             }
             tau = -log1p(-rng_uniform(r));
         }
+        exp_array(pending, pending, K);
         for (int k = 0; k < K; k++)
-            q[k] *= exp(pending[k]);
+            q[k] *= pending[k];
         renormalise(q, K);
 
     vertex:

@@ -168,8 +168,10 @@ int shadow_flight(const path_context *ctx, const shadow_flight_table *table, con
         segment_columns_at(&sc, seg->t_end, col);
         p_ground = fmin(fmax(exp(-atmosphere_optical_depth(atm, col, kp)), GROUND_MIN), GROUND_MAX);
         if (rng_uniform(r) < p_ground) {
+            double tr[FM_MAX_WAVELENGTHS];
+            atmosphere_transmittances(atm, col, tr);
             for (int k = 0; k < K; k++)
-                w[k] *= exp(-atmosphere_optical_depth(atm, col, k)) / p_ground;
+                w[k] *= tr[k] / p_ground;
             *t_out = seg->t_end;
             return 0;
         }
@@ -185,8 +187,10 @@ int shadow_flight(const path_context *ctx, const shadow_flight_table *table, con
     segment_columns_at(&sc, ts, col);
     atmosphere_densities(atm, rad, n);
     atmosphere_coefficients_from_densities(atm, n, sig_s, sig_t);
+    double tr[FM_MAX_WAVELENGTHS];
+    atmosphere_transmittances(atm, col, tr);
     for (int k = 0; k < K; k++)
-        w[k] *= sig_s[k] * exp(-atmosphere_optical_depth(atm, col, k)) / pdf;
+        w[k] *= sig_s[k] * tr[k] / pdf;
     *t_out = ts;
     return 1;
 }

@@ -1,6 +1,7 @@
 #include "transport/single_scatter.h"
 
 #include "atmosphere/optical_depth.h"
+#include "base/exp_array.h"
 #include "base/quadrature.h"
 #include "base/units.h"
 #include "phase/phase.h"
@@ -141,8 +142,12 @@ void single_scatter_ray_radiance(const single_scatter_ray *ray, const path_conte
                     coef[k] += n[c] * scatter[c][k];
         /* sunlight in, transmittance out: one exp of the two optical depths */
         sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, (origin_sun + t * cos_sun) / rad, sun_depth);
+        double tr[FM_MAX_WAVELENGTHS];
         for (int k = 0; k < K; k++)
-            L[k] += wgt * exp(-(view_depth[k] + sun_depth[k])) * coef[k] * E0[k];
+            tr[k] = -(view_depth[k] + sun_depth[k]);
+        exp_array(tr, tr, K);
+        for (int k = 0; k < K; k++)
+            L[k] += wgt * tr[k] * coef[k] * E0[k];
     }
 
     if (ray->hits_ground) {

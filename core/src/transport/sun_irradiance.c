@@ -1,5 +1,6 @@
 #include "transport/sun_irradiance.h"
 
+#include "base/exp_array.h"
 #include "base/status.h"
 #include "base/threads.h"
 #include "base/units.h"
@@ -189,6 +190,16 @@ static double interpolate(const float *v, const double w[4], const size_t idx[4]
     return from_depth(interpolate_depth(v, w, idx, k));
 }
 
+/* from_depth of every wavelength's interpolated depth, the exps two at a time */
+static void exp_of_depths(const float *v, const double w[4], const size_t idx[4], int K, double *out)
+{
+    for (int k = 0; k < K; k++) {
+        double d = interpolate_depth(v, w, idx, k);
+        out[k] = d >= MAX_DEPTH ? -INFINITY : -d;
+    }
+    exp_array(out, out, K);
+}
+
 void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
                            double mu_s, double *normal, double *horizontal)
 {
@@ -196,11 +207,17 @@ void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, c
     double w[4];
     size_t idx[4];
     int dark = locate(table, atm, sun, r, mu_s, w, idx);
-    for (int k = 0; k < K; k++) {
-        normal[k] = dark ? 0.0 : interpolate(table->normal, w, idx, k);
-        if (horizontal)
-            horizontal[k] = dark ? 0.0 : interpolate(table->horizontal, w, idx, k);
+    if (dark) {
+        for (int k = 0; k < K; k++) {
+            normal[k] = 0.0;
+            if (horizontal)
+                horizontal[k] = 0.0;
+        }
+        return;
     }
+    exp_of_depths(table->normal, w, idx, K, normal);
+    if (horizontal)
+        exp_of_depths(table->horizontal, w, idx, K, horizontal);
 }
 
 void sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,

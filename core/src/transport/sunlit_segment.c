@@ -149,8 +149,10 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
             segment_columns_at(&sc, t, col);
             atmosphere_densities(atm, rad, n);
             medium_phase(atm, n, cos_sun, phase, sig_s);
+            double tr[FM_MAX_WAVELENGTHS];
+            atmosphere_transmittances(atm, col, tr);
             for (int k = 0; k < K; k++)
-                S[k] += inv_pdf * exp(-atmosphere_optical_depth(atm, col, k)) * sig_s[k] * phase[k] * E0[k] * tbar[k];
+                S[k] += inv_pdf * tr[k] * sig_s[k] * phase[k] * E0[k] * tbar[k];
         }
     }
 
@@ -164,8 +166,10 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
             any += thor[k];
         if (any > 0.0) {
             segment_columns_at(&sc, seg->t_end, col);
+            double tr[FM_MAX_WAVELENGTHS];
+            atmosphere_transmittances(atm, col, tr);
             for (int k = 0; k < K; k++)
-                S[k] += exp(-atmosphere_optical_depth(atm, col, k)) * atm->ground_albedo[k] / FM_PI * E0[k] * thor[k];
+                S[k] += tr[k] * atm->ground_albedo[k] / FM_PI * E0[k] * thor[k];
         }
     }
 }

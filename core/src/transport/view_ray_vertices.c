@@ -19,8 +19,9 @@ static void scattered_fraction(const view_ray_vertices *v, const path_context *c
     atmosphere_densities(atm, ray_segment_radius(&v->seg, t), n);
     atmosphere_coefficients_from_densities(atm, n, sig_s, sig_t);
     segment_columns_at(&v->columns, t, col);
+    atmosphere_transmittances(atm, col, f);
     for (int k = 0; k < atm->grid.count; k++)
-        f[k] = sig_s[k] * exp(-atmosphere_optical_depth(atm, col, k));
+        f[k] *= sig_s[k];
 }
 
 int view_ray_vertices_init(view_ray_vertices *v, const path_context *ctx, vec3 origin, vec3 dir)
