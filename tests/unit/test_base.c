@@ -1,7 +1,8 @@
 /* Base utilities: Gauss-Legendre exactness, random-number streams, the Sobol points and their
- * scramble, the parallel loop. */
+ * scramble, the parallel loop, the spectral arrays' exp and expm1. */
 #include "check.h"
 
+#include "base/exp_array.h"
 #include "base/quadrature.h"
 #include "base/rng.h"
 #include "base/sobol.h"
@@ -150,6 +151,45 @@ static void parallel_for_visits_every_item_once(void **state)
     assert_int_equal(parallel_for(2, 1000, 1, count_items, &sum, &cancel, NULL), FM_ERR_CANCELLED);
 }
 
+/* Ulps between two finite doubles of the same sign (or both zero). */
+static double ulps(double a, double b)
+{
+    if (a == b)
+        return 0.0;
+    return fabs(a - b) / (nextafter(fmax(fabs(a), fabs(b)), INFINITY) - fmax(fabs(a), fabs(b)));
+}
+
+/* exp_array and expm1_array against libm's scalar functions: within the 4 ulp glibc states for its
+ * vector functions, for every length (odd ones end on the scalar path) and over the range the
+ * transmittances use (optical depths 0 to 745, where exp underflows), plus the edge values. */
+static void exp_arrays_match_libm(void **state)
+{
+    double x[41] = {0}, e[41], m[41], worst_exp = 0.0, worst_expm1 = 0.0;
+    for (int n = 0; n <= 41; n++) {
+        for (int i = 0; i < n; i++)
+            x[i] = -745.0 * pow((i + 0.37 * n) / 56.0, 3.0) + (i % 3 == 0 ? 1e-9 * i : 0.0);
+        exp_array(x, e, n);
+        expm1_array(x, m, n);
+        for (int i = 0; i < n; i++) {
+            worst_exp = fmax(worst_exp, ulps(e[i], exp(x[i])));
+            worst_expm1 = fmax(worst_expm1, ulps(m[i], expm1(x[i])));
+        }
+    }
+    print_message("exp_array %.2f ulp, expm1_array %.2f ulp\n", worst_exp, worst_expm1);
+    if (worst_exp > 4.0 || worst_expm1 > 4.0)
+        fail_msg("exp_array %.1f ulp, expm1_array %.1f ulp from libm", worst_exp, worst_expm1);
+    /* edges: 0, tiny depths (expm1's reason to exist), darkness, in place */
+    double edge[6] = {0.0, -1e-300, -1e-12, -INFINITY, -800.0, 2.0};
+    exp_array(edge, e, 6);
+    expm1_array(edge, m, 6);
+    assert_true(e[0] == 1.0 && m[0] == 0.0);
+    assert_true(m[1] == -1e-300 && fabs(m[2] / -1e-12 - 1.0) < 1e-12);
+    assert_true(e[3] == 0.0 && m[3] == -1.0 && e[4] == 0.0);
+    assert_true(ulps(e[5], exp(2.0)) <= 4.0);
+    exp_array(edge, edge, 6);
+    assert_true(edge[0] == 1.0 && edge[3] == 0.0 && ulps(edge[5], exp(2.0)) <= 4.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -159,6 +199,7 @@ int main(void)
         cmocka_unit_test(sobol_owen_points_are_stratified),
         cmocka_unit_test(sobol_shuffle_is_a_permutation),
         cmocka_unit_test(parallel_for_visits_every_item_once),
+        cmocka_unit_test(exp_arrays_match_libm),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
