@@ -3,30 +3,45 @@
 #include <math.h>
 
 #if defined(__x86_64__) && defined(__GLIBC__) && defined(__SSE2__)
-#include <emmintrin.h>
+#include <immintrin.h>
 
-/* glibc's two-lane functions (x86-64 vector function ABI, SSE variant; IFUNCs choosing the best code
- * for the CPU).  Declared here because math.h declares them only under -ffast-math. */
+/* glibc's vector functions (x86-64 vector function ABI; each an IFUNC choosing the best code for
+ * the CPU), declared here because math.h declares them only under -ffast-math: two lanes (SSE) on
+ * every x86-64, four (AVX2) where the CPU has it. */
 __m128d _ZGVbN2v_exp(__m128d x);
 __m128d _ZGVbN2v_expm1(__m128d x);
 
-void exp_array(const double *x, double *out, int n)
+#pragma GCC push_options
+#pragma GCC target("avx2")
+__m256d _ZGVdN4v_exp(__m256d x);
+__m256d _ZGVdN4v_expm1(__m256d x);
+
+static int four_lanes(const double *x, double *out, int n, int m1)
 {
     int i = 0;
-    for (; i + 1 < n; i += 2)
-        _mm_storeu_pd(out + i, _ZGVbN2v_exp(_mm_loadu_pd(x + i)));
+    for (; i + 3 < n; i += 4) {
+        __m256d v = _mm256_loadu_pd(x + i);
+        _mm256_storeu_pd(out + i, m1 ? _ZGVdN4v_expm1(v) : _ZGVdN4v_exp(v));
+    }
+    return i;
+}
+#pragma GCC pop_options
+
+static void array(const double *x, double *out, int n, int m1)
+{
+    /* a load and a bit test of libgcc's CPU model, filled in before main */
+    int i = __builtin_cpu_supports("avx2") ? four_lanes(x, out, n, m1) : 0;
+    for (; i + 1 < n; i += 2) {
+        __m128d v = _mm_loadu_pd(x + i);
+        _mm_storeu_pd(out + i, m1 ? _ZGVbN2v_expm1(v) : _ZGVbN2v_exp(v));
+    }
     if (i < n)
-        out[i] = exp(x[i]);
+        out[i] = m1 ? expm1(x[i]) : exp(x[i]);
 }
 
-void expm1_array(const double *x, double *out, int n)
-{
-    int i = 0;
-    for (; i + 1 < n; i += 2)
-        _mm_storeu_pd(out + i, _ZGVbN2v_expm1(_mm_loadu_pd(x + i)));
-    if (i < n)
-        out[i] = expm1(x[i]);
-}
+void exp_array(const double *x, double *out, int n) { array(x, out, n, 0); }
+
+void expm1_array(const double *x, double *out, int n) { array(x, out, n, 1); }
 #else
 void exp_array(const double *x, double *out, int n)
 {
