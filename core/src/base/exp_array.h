@@ -1,8 +1,8 @@
-/* exp and expm1 over a spectral array: the per-wavelength transmittances exp(-depth_k) of the path tracer's
- * loops (41 values at a time) were a quarter of its time as one libm call each.  On x86-64 with
- * glibc, fours (AVX2 CPUs) or pairs go through glibc's vector functions (libmvec, within 4 ulp;
- * the scalar ones are within 1); elsewhere they are the scalar functions.  The same inputs
- * give the same bits on a given machine, whatever the thread. */
+/* exp and expm1 over a spectral array.  The per-wavelength transmittances exp(-depth_k) of the
+ * path tracer's loops (41 values at a time) were a quarter of its time as one libm call each.  On
+ * x86-64 with glibc, fours (AVX2 CPUs) or pairs go through glibc's vector functions (libmvec,
+ * within 4 ulp; the scalar ones within 1); elsewhere these are the scalar functions.  The same
+ * inputs give the same bits on a given machine, whatever the thread. */
 #ifndef FM_BASE_EXP_ARRAY_H
 #define FM_BASE_EXP_ARRAY_H
 
