@@ -190,7 +190,7 @@ static double interpolate(const float *v, const double w[4], const size_t idx[4]
     return from_depth(interpolate_depth(v, w, idx, k));
 }
 
-/* from_depth of every wavelength's interpolated depth, the exps two at a time */
+/* from_depth of every wavelength's interpolated depth, the exps in vector lanes (exp_array.h) */
 static void exp_of_depths(const float *v, const double w[4], const size_t idx[4], int K, double *out)
 {
     for (int k = 0; k < K; k++) {
