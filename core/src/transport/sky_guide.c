@@ -121,9 +121,8 @@ int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int
                 l->edge_sin[j] = sin(row_elevation(j, eh));
         }
     build_job job = {g, single, sun_frame_at(observer, single->sun_dir), 0};
-    if (parallel_for(threads, (int64_t)g->levels * SKY_GUIDE_ROWS, 1, build_rows, &job, NULL, NULL))
-        return 0;
-    if (atomic_load(&job.no_memory))
+    if (parallel_for(threads, (int64_t)g->levels * SKY_GUIDE_ROWS, 1, build_rows, &job, NULL, NULL) ||
+        atomic_load(&job.no_memory))
         return -1;
     int usable = 0;
     for (int i = 0; i < g->levels; i++)
