@@ -14,6 +14,7 @@
 #include "transport/single_scatter.h"
 #include "transport/twilight.h"
 #include "transport/sky_grid.h"
+#include "transport/sky_grid_fit.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -71,6 +72,7 @@ typedef struct render_job {
     ground_irradiance ground;
     fm_image *img;
     atomic_int no_memory; /* a worker could not allocate */
+    double *ms_y, *ms_var; /* per node of ms: the luminance estimate and its variance (sky_grid_fit) */
 } render_job;
 
 /* Spectral radiance (K values) -> C image channels: XYZ (colour, C = 3), else the K values
@@ -137,9 +139,13 @@ static void ms_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         sky_grid_node_angles(&job->ms, (int)i, &e, &phi);
         vec3 d = view_direction(sky, e, phi);
         int offset = (int)(mix64(job->seed ^ (uint64_t)i) % (uint64_t)K);
-        twilight_node_paths(sky, &pc, d, job->q.ms_paths, job->seed, ITEM_MS_NODE + (uint64_t)i, offset, L, NULL);
+        double sum_y2 = 0.0, n = job->q.ms_paths;
+        twilight_node_paths(sky, &pc, d, job->q.ms_paths, job->seed, ITEM_MS_NODE + (uint64_t)i, offset, L, &sum_y2);
         for (int k = 0; k < K; k++)
-            L[k] /= job->q.ms_paths;
+            L[k] /= n;
+        double y = spectral_grid_luminance(&sky->atm.grid, L);
+        job->ms_y[i] = y;
+        job->ms_var[i] = n > 1.0 ? fmax(0.0, sum_y2 / n - y * y) / (n - 1.0) : 0.0;
         to_channels(&sky->atm, job->channels, L, &job->ms.values[i * job->channels]);
     }
 }
@@ -602,7 +608,9 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
         /* deterministic single scattering interpolates in log space; the noisy higher orders do not
          * (the logarithm of a noisy mean is biased) */
         if (sky_grid_init(&job.ss, horizon, q->ss_rows_sky, q->ss_rows_ground, q->ss_cols, job.channels, 1) ||
-            sky_grid_init(&job.ms, horizon, q->ms_rows_sky, q->ms_rows_ground, q->ms_cols, job.channels, 0)) {
+            sky_grid_init(&job.ms, horizon, q->ms_rows_sky, q->ms_rows_ground, q->ms_cols, job.channels, 0) ||
+            !(job.ms_y = malloc((size_t)sky_grid_nodes(&job.ms) * sizeof(double))) ||
+            !(job.ms_var = malloc((size_t)sky_grid_nodes(&job.ms) * sizeof(double)))) {
             s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the radiance tables");
             goto done;
         }
@@ -630,7 +638,10 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
                                      params->cancel, &pss)) &&
             atomic_load(&job.no_memory))
             s = FM_ERR_OUT_OF_MEMORY;
-        if (!s && !(s = parallel_for(params->threads, sky_grid_nodes(&job.ms), 1, ms_nodes, &job, params->cancel, &pms))) {
+        /* the table's noise averaged over many nodes where a smooth fit is expected to be closer to
+         * the truth than the nodes themselves (sky_grid_fit.h) */
+        if (!s && !(s = parallel_for(params->threads, sky_grid_nodes(&job.ms), 1, ms_nodes, &job, params->cancel, &pms)) &&
+            !(s = sky_grid_fit(&job.ms, job.ms_y, job.ms_var, NULL))) {
             sky_grid_average_poles(&job.ms);
             s = parallel_for(params->threads, H, 4, equirect ? fast_rows : fast_rows_camera, &job, params->cancel, &ppx);
         }
@@ -655,6 +666,8 @@ done:
     free(twilight);
     sky_grid_free(&job.ss);
     sky_grid_free(&job.ms);
+    free(job.ms_y);
+    free(job.ms_var);
     ground_irradiance_free(&job.ground);
     if (s) {
         fm_image_destroy(job.img);

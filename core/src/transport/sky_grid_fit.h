@@ -1,0 +1,38 @@
+/* Smoothing the multiple-scattering table: a least-squares fit that averages the noise of many nodes.
+ *
+ * The table's nodes (sky_grid.h) are independent Monte Carlo estimates of a radiance that is smooth
+ * over each domain (sky, ground): at the urban sunset 20 x 16 sky nodes at 2048 paths each carry 8%
+ * relative noise, while the function itself has only three or four significant cosines of the
+ * relative azimuth and varies slowly with the row coordinate u.  Per domain, the fit is
+ *     L(u, phi) = sum_{m <= M} cos(m phi) sum_{d <= D} c_md T_d(2u - 1) g_m(u),
+ * T_d Chebyshev polynomials, g_0 = 1 and g_m = 1 - u for m >= 1 (at the pole, u = 1, every column
+ * is the same direction, so the azimuthal terms vanish there).  The columns are weighted by the
+ * trapezoid rule, which makes the cosines orthogonal on the uniform columns (the fit is then a
+ * DCT-I per row, then a weighted least-squares fit over the rows per cosine), and the rows by
+ * 1 / (their mean luminance)^2, so that the error minimised is relative.
+ *
+ * M and D are chosen per domain by Stein's unbiased risk estimate (SURE): from the nodes' own
+ * variances it estimates each candidate's expected squared error against the unknown truth, bias
+ * included, and the raw nodes (risk: their variance) stay when no fit is expected to do better.
+ * The fit is linear in the nodes, so it adds no bias beyond what the chosen basis cannot represent,
+ * which SURE counts. */
+#ifndef FM_TRANSPORT_SKY_GRID_FIT_H
+#define FM_TRANSPORT_SKY_GRID_FIT_H
+
+#include "transport/sky_grid.h"
+
+/* The choice for one domain: the highest cosine M and the polynomial degree D, or -1, -1 when the
+ * raw nodes were kept; risk_raw and risk_fit: the estimated relative squared errors summed over
+ * the domain's nodes. */
+typedef struct sky_grid_fit_choice {
+    int azimuth_modes, degree;
+    double risk_raw, risk_fit;
+} sky_grid_fit_choice;
+
+/* Replaces each domain's values (every channel) by the fit chosen from y and var_y: per node
+ * (row-major, sky rows first) the luminance estimate and its variance.  Values are kept >= 0.
+ * choice, if not NULL, receives the sky's [0] and the ground's [1] choice.  A grid beyond 64 rows
+ * per domain or 64 columns keeps its nodes.  Returns FM_OK or FM_ERR_OUT_OF_MEMORY. */
+fm_status sky_grid_fit(sky_grid *g, const double *y, const double *var_y, sky_grid_fit_choice choice[2]);
+
+#endif
