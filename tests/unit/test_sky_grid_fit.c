@@ -149,6 +149,33 @@ static void unrepresentable_peak_kept(void **state)
     sky_grid_free(&g);
 }
 
+/* Deep twilight's rows: toward the sun's side of the horizon 30 times brighter than away from it,
+ * 30% noise per node.  A fit weighted by each row's mean would give the dim nodes the row's absolute
+ * error, so the raw nodes stay. */
+static void rows_of_wide_range_kept(void **state)
+{
+    (void)state;
+    sky_grid g;
+    assert_int_equal(sky_grid_init(&g, -1e-4, ROWS_SKY, ROWS_GROUND, COLS, 1, 0), FM_OK);
+    static double y[NODES], var[NODES];
+    static float before[NODES];
+    for (int i = 0; i < NODES; i++) {
+        double e, phi;
+        sky_grid_node_angles(&g, i, &e, &phi);
+        rng r = rng_for(5, (uint64_t)i, 0);
+        double f = 1.0 + 30.0 * exp(-phi * phi / 0.3) * cos(e), sigma = 0.3 * f;
+        y[i] = f + sigma * gauss(&r);
+        var[i] = sigma * sigma;
+        before[i] = g.values[i] = (float)y[i];
+    }
+    sky_grid_fit_choice choice[2];
+    assert_int_equal(sky_grid_fit(&g, y, var, choice), FM_OK);
+    assert_int_equal(choice[0].azimuth_modes, -1);
+    for (int i = 0; i < NODES; i++)
+        assert_true(g.values[i] == before[i]);
+    sky_grid_free(&g);
+}
+
 /* The zenith row's columns are one direction: the fit gives them one value, within three standard
  * deviations (2% each: 8% over 16 columns) of the truth. */
 static void pole_is_one_value(void **state)
@@ -172,6 +199,7 @@ int main(void)
         cmocka_unit_test(noise_averaged_without_bias),
         cmocka_unit_test(exact_nodes_kept),
         cmocka_unit_test(unrepresentable_peak_kept),
+        cmocka_unit_test(rows_of_wide_range_kept),
         cmocka_unit_test(pole_is_one_value),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -136,6 +136,35 @@ static void row_cosines(const fit_work *w, const float *v, int stride, double *o
     }
 }
 
+/* The rows are weighted by their mean level, so a node far below its row's mean gets the row's
+ * absolute error, a large relative one.  Deep twilight has such rows (sun -14 and -18: the fitted
+ * luminance away from the sun 0.1 of the row's mean or less, down to negative values, against 0.75
+ * by day, 0.38 at -4 and 0.23 at -10); there the raw nodes stay.  True if every fitted node of the
+ * luminance is at least ROW_RANGE of its row's fitted mean. */
+#define ROW_RANGE 0.15
+
+static int within_row_range(const fit_work *w, int M)
+{
+    for (int r = 0; r < w->rows; r++) {
+        double fit[FIT_MAX], v[FIT_MAX], mean = 0.0, lowest = INFINITY;
+        for (int m = 0; m <= M; m++) {
+            fit[m] = 0.0;
+            for (int q = 0; q < w->rows; q++)
+                fit[m] += w->hat[m > 0][r][q] * w->a[q][m];
+        }
+        for (int j = 0; j < w->cols; j++) {
+            v[j] = 0.0;
+            for (int m = 0; m <= M; m++)
+                v[j] += fit[m] * w->cs[m][j];
+            mean += w->t[j] * v[j] / w->norm[0];
+            lowest = fmin(lowest, v[j]);
+        }
+        if (!(lowest >= ROW_RANGE * mean))
+            return 0;
+    }
+    return 1;
+}
+
 static void fit_domain(fit_work *w, sky_grid *g, int first_row, const double *y, const double *var,
                        sky_grid_fit_choice *ch)
 {
@@ -165,8 +194,9 @@ static void fit_domain(fit_work *w, sky_grid *g, int first_row, const double *y,
         w->omega[r] = 1.0 / (level * level);
     }
     choose(w, ch);
-    if (ch->azimuth_modes < 0 || !build_hat(w, ch->degree, 0) || !build_hat(w, ch->degree, 1)) {
-        ch->azimuth_modes = ch->degree = -1;
+    if (ch->azimuth_modes < 0 || !build_hat(w, ch->degree, 0) || !build_hat(w, ch->degree, 1) ||
+        !within_row_range(w, ch->azimuth_modes)) {
+        *ch = (sky_grid_fit_choice){-1, -1, ch->risk_raw, ch->risk_raw};
         return;
     }
     const int M = ch->azimuth_modes;

@@ -15,7 +15,9 @@
  * variances it estimates each candidate's expected squared error against the unknown truth, bias
  * included, and the raw nodes (risk: their variance) stay when no fit is expected to do better.
  * The fit is linear in the nodes, so it adds no bias beyond what the chosen basis cannot represent,
- * which SURE counts. */
+ * which SURE counts.  Rows whose fitted luminance falls below 0.15 of their own mean somewhere (deep
+ * twilight, sun below about -12) keep their raw nodes: the row weights would leave those dim nodes
+ * a large relative error. */
 #ifndef FM_TRANSPORT_SKY_GRID_FIT_H
 #define FM_TRANSPORT_SKY_GRID_FIT_H
 
