@@ -15,6 +15,7 @@
 #define COLS 16
 #define NODES ((ROWS_SKY + ROWS_GROUND) * COLS)
 #define CHANNELS 3
+#define SUN (60.0 * FM_DEG) /* the sun's elevation, away from the test's features */
 
 /* A smooth field like the urban sunset's multiple scattering: brighter toward the sun (phi = 0) and
  * toward the horizon, three significant cosines; the ground's half dimmer and flatter.  Columns
@@ -69,7 +70,7 @@ static void noise_averaged_without_bias(void **state)
             raw2 += e * e;
         }
         sky_grid_fit_choice choice[2];
-        assert_int_equal(sky_grid_fit(&g, y, var, choice), FM_OK);
+        assert_int_equal(sky_grid_fit(&g, SUN, y, var, choice), FM_OK);
         assert_true(choice[0].azimuth_modes >= 1 && choice[0].azimuth_modes <= 6);
         assert_true(choice[0].risk_fit < 0.5 * choice[0].risk_raw);
         assert_true(choice[1].azimuth_modes >= 0);
@@ -115,7 +116,7 @@ static void exact_nodes_kept(void **state)
     for (int i = 0; i < NODES * CHANNELS; i++)
         before[i] = g.values[i];
     sky_grid_fit_choice choice[2];
-    assert_int_equal(sky_grid_fit(&g, y, var, choice), FM_OK);
+    assert_int_equal(sky_grid_fit(&g, SUN, y, var, choice), FM_OK);
     assert_int_equal(choice[0].azimuth_modes, -1);
     assert_int_equal(choice[1].azimuth_modes, -1);
     for (int i = 0; i < NODES * CHANNELS; i++)
@@ -141,11 +142,59 @@ static void unrepresentable_peak_kept(void **state)
     for (int i = 0; i < NODES * CHANNELS; i++)
         before[i] = g.values[i];
     sky_grid_fit_choice choice[2];
-    assert_int_equal(sky_grid_fit(&g, y, var, choice), FM_OK);
+    assert_int_equal(sky_grid_fit(&g, SUN, y, var, choice), FM_OK);
     assert_int_equal(choice[0].azimuth_modes, -1);
     for (int i = 0; i < ROWS_SKY * COLS * CHANNELS; i++)
         assert_true(g.values[i] == before[i]);
     assert_true(choice[1].azimuth_modes >= 0);
+    sky_grid_free(&g);
+}
+
+/* Desert dust's multiple-scattering aureole: 4 times the smooth sky at the sun (30 degrees up),
+ * falling as exp(-gamma / 6 degrees), 3% noise.  No cosine-polynomial basis holds it; with the
+ * aureole terms (whose widths differ from the field's) the fit brings the RMS error over 20
+ * tables below half the raw nodes', and its mean error below 1% RMS. */
+static void aureole_fitted(void **state)
+{
+    (void)state;
+    sky_grid g;
+    assert_int_equal(sky_grid_init(&g, -1e-4, ROWS_SKY, ROWS_GROUND, COLS, 1, 0), FM_OK);
+    static double y[NODES], var[NODES], truth[NODES], mean_error[NODES];
+    const double sun = 30.0 * FM_DEG;
+    for (int i = 0; i < NODES; i++) {
+        double e, phi;
+        sky_grid_node_angles(&g, i, &e, &phi);
+        double gamma = acos(fmin(1.0, sin(e) * sin(sun) + cos(e) * cos(sun) * cos(phi)));
+        truth[i] = field(&g, i) * (1.0 + 3.0 * exp(-gamma / (6.0 * FM_DEG)));
+    }
+    double raw2 = 0.0, fit2 = 0.0;
+    const int tables = 20, sky_nodes = ROWS_SKY * COLS;
+    for (int t = 0; t < tables; t++) {
+        for (int i = 0; i < NODES; i++) {
+            rng r = rng_for(900 + t, (uint64_t)i, 0);
+            double sigma = 0.03 * truth[i];
+            y[i] = truth[i] + sigma * gauss(&r);
+            var[i] = sigma * sigma;
+            g.values[i] = (float)y[i];
+            if (i < sky_nodes)
+                raw2 += (y[i] / truth[i] - 1.0) * (y[i] / truth[i] - 1.0);
+        }
+        sky_grid_fit_choice choice[2];
+        assert_int_equal(sky_grid_fit(&g, sun, y, var, choice), FM_OK);
+        assert_int_equal(choice[0].aureole_terms, 3);
+        for (int i = 0; i < sky_nodes; i++) {
+            double e = g.values[i] / truth[i] - 1.0;
+            fit2 += e * e;
+            mean_error[i] += e / tables;
+        }
+    }
+    double raw = sqrt(raw2 / (tables * sky_nodes)), fit = sqrt(fit2 / (tables * sky_nodes)), bias2 = 0.0;
+    for (int i = 0; i < sky_nodes; i++)
+        bias2 += mean_error[i] * mean_error[i] / sky_nodes;
+    print_message("aureole, 3%% noise: RMS relative error %.2f%% raw, %.2f%% fitted, mean error %.2f%% RMS\n",
+                  100 * raw, 100 * fit, 100 * sqrt(bias2));
+    assert_true(fit < raw / 2.0);
+    assert_true(sqrt(bias2) < 0.01);
     sky_grid_free(&g);
 }
 
@@ -169,7 +218,7 @@ static void rows_of_wide_range_kept(void **state)
         before[i] = g.values[i] = (float)y[i];
     }
     sky_grid_fit_choice choice[2];
-    assert_int_equal(sky_grid_fit(&g, y, var, choice), FM_OK);
+    assert_int_equal(sky_grid_fit(&g, SUN, y, var, choice), FM_OK);
     assert_int_equal(choice[0].azimuth_modes, -1);
     for (int i = 0; i < NODES; i++)
         assert_true(g.values[i] == before[i]);
@@ -185,7 +234,7 @@ static void pole_is_one_value(void **state)
     assert_int_equal(sky_grid_init(&g, -1e-4, ROWS_SKY, ROWS_GROUND, COLS, CHANNELS, 0), FM_OK);
     static double y[NODES], var[NODES];
     noisy_table(&g, 0.08, 3, y, var);
-    assert_int_equal(sky_grid_fit(&g, y, var, NULL), FM_OK);
+    assert_int_equal(sky_grid_fit(&g, SUN, y, var, NULL), FM_OK);
     const float *zenith = &g.values[(ROWS_SKY - 1) * COLS * CHANNELS];
     for (int j = 1; j < COLS; j++)
         assert_float_equal(zenith[j * CHANNELS], zenith[0], 1e-6 * zenith[0]);
@@ -199,6 +248,7 @@ int main(void)
         cmocka_unit_test(noise_averaged_without_bias),
         cmocka_unit_test(exact_nodes_kept),
         cmocka_unit_test(unrepresentable_peak_kept),
+        cmocka_unit_test(aureole_fitted),
         cmocka_unit_test(rows_of_wide_range_kept),
         cmocka_unit_test(pole_is_one_value),
     };

@@ -641,7 +641,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
         /* the table's noise averaged over many nodes where a smooth fit is expected to be closer to
          * the truth than the nodes themselves (sky_grid_fit.h) */
         if (!s && !(s = parallel_for(params->threads, sky_grid_nodes(&job.ms), 1, ms_nodes, &job, params->cancel, &pms)) &&
-            !(s = sky_grid_fit(&job.ms, job.ms_y, job.ms_var, NULL))) {
+            !(s = sky_grid_fit(&job.ms, asin(clamp_cosine(sky->sun_dir.z)), job.ms_y, job.ms_var, NULL))) {
             sky_grid_average_poles(&job.ms);
             s = parallel_for(params->threads, H, 4, equirect ? fast_rows : fast_rows_camera, &job, params->cancel, &ppx);
         }

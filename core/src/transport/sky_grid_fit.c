@@ -7,6 +7,17 @@
 
 #define FIT_MAX 64        /* rows per domain, columns */
 #define FIT_MAX_DEGREE 14 /* highest Chebyshev degree tried (and at most rows - 2) */
+#define AUREOLE_TERMS 3
+#define SMALL (FIT_MAX_DEGREE + 1) /* the largest normal equations solved */
+
+/* exp(-gamma / width), gamma the angle from the sun: the multiple-scattering aureole of coarse
+ * aerosols (desert dust at sun 30: 5 times its row's mean at the sun, half that one column away) */
+static const double aureole_width_deg[AUREOLE_TERMS] = {3.0, 8.0, 20.0};
+
+/* Rows whose fitted luminance falls below this share of their mean somewhere keep their nodes. */
+#define ROW_RANGE 0.15
+
+typedef double node_array[FIT_MAX][FIT_MAX]; /* [row][column] of one domain */
 
 /* One domain's data and scratch space. */
 typedef struct fit_work {
@@ -14,10 +25,11 @@ typedef struct fit_work {
     double cs[FIT_MAX][FIT_MAX]; /* cos(m phi_j) */
     double t[FIT_MAX];           /* trapezoid weights of the columns */
     double norm[FIT_MAX];        /* sum_j t_j cos^2(m phi_j) */
-    double a[FIT_MAX][FIT_MAX];  /* [row][m]: the luminance's cosine coefficients */
-    double s[FIT_MAX][FIT_MAX];  /* [row][m]: their variances */
     double omega[FIT_MAX];       /* row weights */
-    double hat[2][FIT_MAX][FIT_MAX]; /* [pole factor][row][row] of the current degree */
+    node_array y, var, weight;   /* luminance, its variance, omega_r t_j */
+    node_array aureole[AUREOLE_TERMS];
+    double hat[2][FIT_MAX][FIT_MAX]; /* [azimuthal][row][row] of the current degree */
+    node_array smooth, residual[AUREOLE_TERMS], fit, in; /* scratch */
 } fit_work;
 
 /* T_d(2u - 1), times 1 - u for the azimuthal terms (they vanish at the pole, u = 1). */
@@ -32,132 +44,200 @@ static double row_basis(int d, int azimuthal, double u)
     return azimuthal ? t * (1.0 - u) : t;
 }
 
+/* In-place Cholesky factor (lower triangle) of the n x n matrix a; 0 if not positive definite. */
+static int cholesky(int n, double a[SMALL][SMALL])
+{
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j <= i; j++) {
+            double sum = a[i][j];
+            for (int k = 0; k < j; k++)
+                sum -= a[i][k] * a[j][k];
+            if (i == j) {
+                if (!(sum > 0.0))
+                    return 0;
+                a[i][i] = sqrt(sum);
+            } else {
+                a[i][j] = sum / a[j][j];
+            }
+        }
+    return 1;
+}
+
+/* z = L^-1 b for the factor L of cholesky. */
+static void forward_solve(int n, double L[SMALL][SMALL], const double *b, double *z)
+{
+    for (int i = 0; i < n; i++) {
+        double sum = b[i];
+        for (int k = 0; k < i; k++)
+            sum -= L[i][k] * z[k];
+        z[i] = sum / L[i][i];
+    }
+}
+
 /* The weighted least-squares hat matrix H = U (U^T W U)^-1 U^T W over the rows for degree D into
  * w->hat[azimuthal]; 0 if U^T W U is not positive definite. */
 static int build_hat(fit_work *w, int D, int azimuthal)
 {
     const int R = w->rows, P = D + 1;
-    double U[FIT_MAX][FIT_MAX_DEGREE + 1], L[FIT_MAX_DEGREE + 1][FIT_MAX_DEGREE + 1] = {{0}};
+    double U[FIT_MAX][SMALL], L[SMALL][SMALL], Z[FIT_MAX][SMALL]; /* Z row r: L^-1 u_r */
     for (int r = 0; r < R; r++)
         for (int p = 0; p < P; p++)
             U[r][p] = row_basis(p, azimuthal, (double)r / (R - 1));
-    for (int i = 0; i < P; i++) /* Cholesky of U^T W U */
+    for (int i = 0; i < P; i++)
         for (int j = 0; j <= i; j++) {
-            double sum = 0.0;
+            L[i][j] = 0.0;
             for (int r = 0; r < R; r++)
-                sum += w->omega[r] * U[r][i] * U[r][j];
-            for (int k = 0; k < j; k++)
-                sum -= L[i][k] * L[j][k];
-            if (i == j) {
-                if (!(sum > 0.0))
-                    return 0;
-                L[i][i] = sqrt(sum);
-            } else {
-                L[i][j] = sum / L[j][j];
-            }
+                L[i][j] += w->omega[r] * U[r][i] * U[r][j];
         }
-    double Z[FIT_MAX_DEGREE + 1][FIT_MAX]; /* L^-1 U^T */
+    if (!cholesky(P, L))
+        return 0;
     for (int r = 0; r < R; r++)
-        for (int i = 0; i < P; i++) {
-            double sum = U[r][i];
-            for (int k = 0; k < i; k++)
-                sum -= L[i][k] * Z[k][r];
-            Z[i][r] = sum / L[i][i];
-        }
+        forward_solve(P, L, U[r], Z[r]);
     for (int r = 0; r < R; r++)
         for (int q = 0; q < R; q++) {
             double sum = 0.0;
             for (int i = 0; i < P; i++)
-                sum += Z[i][r] * Z[i][q];
+                sum += Z[r][i] * Z[q][i];
             w->hat[azimuthal][r][q] = sum * w->omega[q];
         }
     return 1;
 }
 
-/* SURE of cosine m smoothed by the current hat: norm_m sum_r omega_r ((fit - a)^2 - s + 2 H_rr s),
- * the expected weighted squared error against the truth, bias and noise together. */
-static double risk_smoothed(const fit_work *w, int m)
-{
-    const double(*H)[FIT_MAX] = w->hat[m > 0];
-    double risk = 0.0;
-    for (int r = 0; r < w->rows; r++) {
-        double fit = 0.0;
-        for (int q = 0; q < w->rows; q++)
-            fit += H[r][q] * w->a[q][m];
-        double e = fit - w->a[r][m];
-        risk += w->omega[r] * (e * e - w->s[r][m] + 2.0 * H[r][r] * w->s[r][m]);
-    }
-    return w->norm[m] * risk;
-}
-
-/* Chooses M and D for the domain of w (a and s filled) by the least SURE; M = -1 keeps the raw
- * nodes (their risk: their variance). */
-static void choose(fit_work *w, sky_grid_fit_choice *ch)
+/* out = S in: the separable fit (cosines 0..M, the current degree) of node values in, which is the
+ * weighted projection on that basis, row by row a DCT-I, then per cosine the hat over the rows. */
+static void project(const fit_work *w, int M, node_array in, node_array out)
 {
     const int R = w->rows, C = w->cols;
-    double drop[FIT_MAX]; /* SURE of leaving cosine m out: norm_m sum_r omega_r (a^2 - s) */
-    ch->azimuth_modes = ch->degree = -1;
-    ch->risk_raw = 0.0;
-    for (int m = 0; m < C; m++) {
-        drop[m] = 0.0;
-        for (int r = 0; r < R; r++) {
-            drop[m] += w->omega[r] * (w->a[r][m] * w->a[r][m] - w->s[r][m]);
-            ch->risk_raw += w->norm[m] * w->omega[r] * w->s[r][m];
+    double coef[FIT_MAX][FIT_MAX]; /* [row][m] */
+    for (int r = 0; r < R; r++)
+        for (int m = 0; m <= M; m++) {
+            double sum = 0.0;
+            for (int j = 0; j < C; j++)
+                sum += w->t[j] * w->cs[m][j] * in[r][j];
+            coef[r][m] = sum / w->norm[m];
         }
-        drop[m] *= w->norm[m];
+    for (int r = 0; r < R; r++) {
+        double fit[FIT_MAX];
+        for (int m = 0; m <= M; m++) {
+            fit[m] = 0.0;
+            for (int q = 0; q < R; q++)
+                fit[m] += w->hat[m > 0][r][q] * coef[q][m];
+        }
+        for (int j = 0; j < C; j++) {
+            double v = 0.0;
+            for (int m = 0; m <= M; m++)
+                v += fit[m] * w->cs[m][j];
+            out[r][j] = v;
+        }
     }
-    ch->risk_fit = ch->risk_raw;
+}
+
+/* w->fit = the weighted least-squares fit of node values `in` on the separable basis (cosines
+ * 0..M, the current degree) and `terms` aureole terms: S in + X~ beta, with X~ = X - S X the terms'
+ * part the separable basis misses and beta from X~^T W X~ beta = X~^T W in.  With risk, also the
+ * fit's SURE for in = w->y: sum_i W_i ((fit_i - y_i)^2 - var_i + 2 h_i var_i), h_i the fit's
+ * derivative by y_i.  0 when the terms are not independent of the basis. */
+static int fit_nodes(fit_work *w, int M, int terms, node_array in, double *risk)
+{
+    const int R = w->rows, C = w->cols;
+    project(w, M, in, w->smooth);
+    double G[SMALL][SMALL], beta[AUREOLE_TERMS] = {0}, z[AUREOLE_TERMS];
+    if (terms) {
+        for (int k = 0; k < terms; k++) {
+            project(w, M, w->aureole[k], w->residual[k]);
+            for (int r = 0; r < R; r++)
+                for (int j = 0; j < C; j++)
+                    w->residual[k][r][j] = w->aureole[k][r][j] - w->residual[k][r][j];
+        }
+        double b[AUREOLE_TERMS];
+        for (int k = 0; k < terms; k++) {
+            b[k] = 0.0;
+            for (int l = 0; l <= k; l++)
+                G[k][l] = 0.0;
+            for (int r = 0; r < R; r++)
+                for (int j = 0; j < C; j++) {
+                    double wx = w->weight[r][j] * w->residual[k][r][j];
+                    b[k] += wx * in[r][j];
+                    for (int l = 0; l <= k; l++)
+                        G[k][l] += wx * w->residual[l][r][j];
+                }
+        }
+        if (!cholesky(terms, G))
+            return 0;
+        forward_solve(terms, G, b, z);
+        for (int k = terms - 1; k >= 0; k--) { /* back substitution: L^T beta = z */
+            double sum = z[k];
+            for (int l = k + 1; l < terms; l++)
+                sum -= G[l][k] * beta[l];
+            beta[k] = sum / G[k][k];
+        }
+    }
+    double sure = 0.0;
+    for (int r = 0; r < R; r++)
+        for (int j = 0; j < C; j++) {
+            double v = w->smooth[r][j];
+            for (int k = 0; k < terms; k++)
+                v += beta[k] * w->residual[k][r][j];
+            w->fit[r][j] = v;
+            if (!risk)
+                continue;
+            double h = 0.0, x[AUREOLE_TERMS], g[AUREOLE_TERMS];
+            for (int m = 0; m <= M; m++)
+                h += w->hat[m > 0][r][r] * w->t[j] * w->cs[m][j] * w->cs[m][j] / w->norm[m];
+            if (terms) {
+                for (int k = 0; k < terms; k++)
+                    x[k] = w->residual[k][r][j];
+                forward_solve(terms, G, x, g);
+                for (int k = 0; k < terms; k++)
+                    h += w->weight[r][j] * g[k] * g[k];
+            }
+            double e = v - in[r][j];
+            sure += w->weight[r][j] * (e * e - w->var[r][j] + 2.0 * h * w->var[r][j]);
+        }
+    if (risk)
+        *risk = sure;
+    return 1;
+}
+
+typedef struct model {
+    int modes, degree, terms; /* modes -1: the raw nodes */
+    double risk;
+} model;
+
+/* The model of least SURE among the raw nodes and every separable basis, with and without the
+ * aureole terms. */
+static model choose(fit_work *w)
+{
+    const int R = w->rows, C = w->cols;
+    model best = {-1, -1, 0, 0.0};
+    for (int r = 0; r < R; r++)
+        for (int j = 0; j < C; j++)
+            best.risk += w->weight[r][j] * w->var[r][j];
     const int max_degree = R - 2 < FIT_MAX_DEGREE ? R - 2 : FIT_MAX_DEGREE;
     for (int D = 0; D <= max_degree; D++) {
         if (!build_hat(w, D, 0) || !build_hat(w, D, 1))
             continue;
-        double risk = 0.0;
-        for (int m = 0; m < C; m++)
-            risk += drop[m];
-        for (int M = 0; M < C; M++) { /* cosines 0..M smoothed, the rest left out */
-            risk += risk_smoothed(w, M) - drop[M];
-            if (risk < ch->risk_fit) {
-                ch->risk_fit = risk;
-                ch->azimuth_modes = M;
-                ch->degree = D;
+        for (int M = 0; M < C; M++)
+            for (int terms = 0; terms <= AUREOLE_TERMS; terms += AUREOLE_TERMS) {
+                double risk;
+                if (fit_nodes(w, M, terms, w->y, &risk) && risk < best.risk)
+                    best = (model){M, D, terms, risk};
             }
-        }
     }
+    return best;
 }
 
-/* Cosine coefficients of one row of values (stride apart) into out[m], m < C. */
-static void row_cosines(const fit_work *w, const float *v, int stride, double *out)
-{
-    for (int m = 0; m < w->cols; m++) {
-        double sum = 0.0;
-        for (int j = 0; j < w->cols; j++)
-            sum += w->t[j] * w->cs[m][j] * v[j * stride];
-        out[m] = sum / w->norm[m];
-    }
-}
-
-/* The rows are weighted by their mean level, so a node far below its row's mean gets the row's
- * absolute error, a large relative one.  Deep twilight has such rows (sun -14 and -18: the fitted
- * luminance away from the sun 0.1 of the row's mean or less, down to negative values, against 0.75
- * by day, 0.38 at -4 and 0.23 at -10); there the raw nodes stay.  True if every fitted node of the
- * luminance is at least ROW_RANGE of its row's fitted mean. */
-#define ROW_RANGE 0.15
-
-static int within_row_range(const fit_work *w, int M)
+/* True if every node of w->fit is at least ROW_RANGE of its row's mean: the rows are weighted by
+ * their mean level, so a node far below it would carry the row's absolute error, a large relative
+ * one (deep twilight: sun -14 and -18 away from the sun 0.1 of the mean or less, down to negative
+ * values, against 0.75 by day, 0.38 at -4 and 0.23 at -10). */
+static int within_row_range(const fit_work *w)
 {
     for (int r = 0; r < w->rows; r++) {
-        double fit[FIT_MAX], v[FIT_MAX], mean = 0.0, lowest = INFINITY;
-        for (int m = 0; m <= M; m++) {
-            fit[m] = 0.0;
-            for (int q = 0; q < w->rows; q++)
-                fit[m] += w->hat[m > 0][r][q] * w->a[q][m];
-        }
+        double mean = 0.0, lowest = INFINITY;
         for (int j = 0; j < w->cols; j++) {
-            v[j] = 0.0;
-            for (int m = 0; m <= M; m++)
-                v[j] += fit[m] * w->cs[m][j];
-            mean += w->t[j] * v[j] / w->norm[0];
-            lowest = fmin(lowest, v[j]);
+            mean += w->t[j] * w->fit[r][j] / w->norm[0];
+            lowest = fmin(lowest, w->fit[r][j]);
         }
         if (!(lowest >= ROW_RANGE * mean))
             return 0;
@@ -165,65 +245,66 @@ static int within_row_range(const fit_work *w, int M)
     return 1;
 }
 
-static void fit_domain(fit_work *w, sky_grid *g, int first_row, const double *y, const double *var,
-                       sky_grid_fit_choice *ch)
+static void fit_domain(fit_work *w, sky_grid *g, int first_row, double sun_elevation, const double *y,
+                       const double *var, sky_grid_fit_choice *ch)
 {
     const int R = w->rows, C = w->cols, K = g->channels;
-    double a0_max = 0.0;
-    int finite = 1;
-    for (int r = 0; r < R; r++)
-        for (int m = 0; m < C; m++) {
-            double sum = 0.0, sum_s = 0.0;
-            for (int j = 0; j < C; j++) {
-                int i = (first_row + r) * C + j;
-                double c = w->t[j] * w->cs[m][j] / w->norm[m];
-                sum += c * y[i];
-                sum_s += c * c * var[i];
-                finite &= isfinite(y[i]) && isfinite(var[i]);
-            }
-            w->a[r][m] = sum;
-            w->s[r][m] = sum_s;
-            if (m == 0)
-                a0_max = fmax(a0_max, fabs(sum));
-        }
-    *ch = (sky_grid_fit_choice){-1, -1, 0.0, 0.0};
-    if (!finite || !(a0_max > 0.0))
-        return; /* no light (the ground seen from the ground) or no usable estimate */
+    *ch = (sky_grid_fit_choice){-1, -1, 0, 0.0, 0.0};
+    double a0_max = 0.0, a0[FIT_MAX];
     for (int r = 0; r < R; r++) {
-        double level = fmax(fabs(w->a[r][0]), 1e-3 * a0_max); /* relative error, bounded weights */
+        a0[r] = 0.0;
+        for (int j = 0; j < C; j++) {
+            int i = (first_row + r) * C + j;
+            if (!isfinite(y[i]) || !isfinite(var[i]))
+                return; /* no usable estimate */
+            w->y[r][j] = y[i];
+            w->var[r][j] = var[i];
+            a0[r] += w->t[j] * y[i] / w->norm[0];
+            double e, phi;
+            sky_grid_node_angles(g, i, &e, &phi);
+            double cos_gamma = sin(e) * sin(sun_elevation) + cos(e) * cos(sun_elevation) * cos(phi);
+            double gamma = acos(fmax(-1.0, fmin(1.0, cos_gamma)));
+            for (int k = 0; k < AUREOLE_TERMS; k++)
+                w->aureole[k][r][j] = exp(-gamma / (aureole_width_deg[k] * FM_DEG));
+        }
+        a0_max = fmax(a0_max, fabs(a0[r]));
+    }
+    if (!(a0_max > 0.0))
+        return; /* no light (the ground seen from the ground) */
+    for (int r = 0; r < R; r++) {
+        double level = fmax(fabs(a0[r]), 1e-3 * a0_max); /* relative error, bounded weights */
         w->omega[r] = 1.0 / (level * level);
+        for (int j = 0; j < C; j++)
+            w->weight[r][j] = w->omega[r] * w->t[j];
     }
-    choose(w, ch);
-    if (ch->azimuth_modes < 0 || !build_hat(w, ch->degree, 0) || !build_hat(w, ch->degree, 1) ||
-        !within_row_range(w, ch->azimuth_modes)) {
-        *ch = (sky_grid_fit_choice){-1, -1, ch->risk_raw, ch->risk_raw};
+    model best = choose(w);
+    ch->risk_raw = ch->risk_fit = 0.0;
+    for (int r = 0; r < R; r++)
+        for (int j = 0; j < C; j++)
+            ch->risk_raw += w->weight[r][j] * w->var[r][j];
+    ch->risk_fit = ch->risk_raw;
+    if (best.modes < 0 || !build_hat(w, best.degree, 0) || !build_hat(w, best.degree, 1) ||
+        !fit_nodes(w, best.modes, best.terms, w->y, NULL) || !within_row_range(w))
         return;
-    }
-    const int M = ch->azimuth_modes;
+    *ch = (sky_grid_fit_choice){best.modes, best.degree, best.terms, ch->risk_raw, best.risk};
     for (int k = 0; k < K; k++) {
-        double coef[FIT_MAX][FIT_MAX];
         for (int r = 0; r < R; r++)
-            row_cosines(w, &g->values[(size_t)(first_row + r) * C * K + k], K, coef[r]);
+            for (int j = 0; j < C; j++)
+                w->in[r][j] = g->values[((size_t)(first_row + r) * C + j) * K + k];
+        fit_nodes(w, best.modes, best.terms, w->in, NULL);
         for (int r = 0; r < R; r++)
-            for (int j = 0; j < C; j++) {
-                double v = 0.0;
-                for (int m = 0; m <= M; m++) {
-                    double fit = 0.0;
-                    for (int q = 0; q < R; q++)
-                        fit += w->hat[m > 0][r][q] * coef[q][m];
-                    v += fit * w->cs[m][j];
-                }
-                g->values[((size_t)(first_row + r) * C + j) * K + k] = (float)fmax(0.0, v);
-            }
+            for (int j = 0; j < C; j++)
+                g->values[((size_t)(first_row + r) * C + j) * K + k] = (float)fmax(0.0, w->fit[r][j]);
     }
 }
 
-fm_status sky_grid_fit(sky_grid *g, const double *y, const double *var_y, sky_grid_fit_choice choice[2])
+fm_status sky_grid_fit(sky_grid *g, double sun_elevation, const double *y, const double *var_y,
+                       sky_grid_fit_choice choice[2])
 {
     const int C = g->cols;
     sky_grid_fit_choice own[2];
     sky_grid_fit_choice *ch = choice ? choice : own;
-    ch[0] = ch[1] = (sky_grid_fit_choice){-1, -1, 0.0, 0.0};
+    ch[0] = ch[1] = (sky_grid_fit_choice){-1, -1, 0, 0.0, 0.0};
     if (C < 2 || C > FIT_MAX || g->rows_sky < 3 || g->rows_sky > FIT_MAX || g->rows_ground < 3 ||
         g->rows_ground > FIT_MAX)
         return FM_OK; /* beyond the fit's arrays: the raw nodes */
@@ -241,9 +322,9 @@ fm_status sky_grid_fit(sky_grid *g, const double *y, const double *var_y, sky_gr
         }
     }
     w->rows = g->rows_sky;
-    fit_domain(w, g, 0, y, var_y, &ch[0]);
+    fit_domain(w, g, 0, sun_elevation, y, var_y, &ch[0]);
     w->rows = g->rows_ground;
-    fit_domain(w, g, g->rows_sky, y, var_y, &ch[1]);
+    fit_domain(w, g, g->rows_sky, sun_elevation, y, var_y, &ch[1]);
     free(w);
     return FM_OK;
 }

@@ -11,30 +11,37 @@
  * DCT-I per row, then a weighted least-squares fit over the rows per cosine), and the rows by
  * 1 / (their mean luminance)^2, so that the error minimised is relative.
  *
- * M and D are chosen per domain by Stein's unbiased risk estimate (SURE): from the nodes' own
- * variances it estimates each candidate's expected squared error against the unknown truth, bias
- * included, and the raw nodes (risk: their variance) stay when no fit is expected to do better.
- * The fit is linear in the nodes, so it adds no bias beyond what the chosen basis cannot represent,
- * which SURE counts.  Rows whose fitted luminance falls below 0.15 of their own mean somewhere (deep
- * twilight, sun below about -12) keep their raw nodes: the row weights would leave those dim nodes
- * a large relative error. */
+ * Coarse aerosols (desert dust) give multiple scattering an aureole no such basis holds (at sun 30,
+ * 5 times its row's mean at the sun, half that one column away), so three more terms may join it:
+ * exp(-gamma / w) of the angle gamma from the sun, w = 3, 8 and 20 degrees (their part outside the
+ * separable basis, by the Frisch-Waugh-Lovell theorem, so the fit stays one weighted projection).
+ *
+ * M, D and the aureole terms are chosen per domain by Stein's unbiased risk estimate (SURE): from
+ * the nodes' own variances it estimates each candidate's expected squared error against the
+ * unknown truth, bias included, and the raw nodes (risk: their variance) stay when no fit is
+ * expected to do better.  The fit is linear in the nodes, so it adds no bias beyond what the chosen
+ * basis cannot represent, which SURE counts.  Rows whose fitted luminance falls below 0.15 of
+ * their own mean somewhere (deep twilight, sun below about -12) keep their raw nodes: the row
+ * weights would leave those dim nodes a large relative error. */
 #ifndef FM_TRANSPORT_SKY_GRID_FIT_H
 #define FM_TRANSPORT_SKY_GRID_FIT_H
 
 #include "transport/sky_grid.h"
 
-/* The choice for one domain: the highest cosine M and the polynomial degree D, or -1, -1 when the
- * raw nodes were kept; risk_raw and risk_fit: the estimated relative squared errors summed over
- * the domain's nodes. */
+/* The choice for one domain: the highest cosine M, the polynomial degree D and the number of
+ * aureole terms (0 or 3), or M = D = -1 when the raw nodes were kept; risk_raw and risk_fit: the
+ * estimated relative squared errors summed over the domain's nodes. */
 typedef struct sky_grid_fit_choice {
-    int azimuth_modes, degree;
+    int azimuth_modes, degree, aureole_terms;
     double risk_raw, risk_fit;
 } sky_grid_fit_choice;
 
 /* Replaces each domain's values (every channel) by the fit chosen from y and var_y: per node
- * (row-major, sky rows first) the luminance estimate and its variance.  Values are kept >= 0.
- * choice, if not NULL, receives the sky's [0] and the ground's [1] choice.  A grid beyond 64 rows
- * per domain or 64 columns keeps its nodes.  Returns FM_OK or FM_ERR_OUT_OF_MEMORY. */
-fm_status sky_grid_fit(sky_grid *g, const double *y, const double *var_y, sky_grid_fit_choice choice[2]);
+ * (row-major, sky rows first) the luminance estimate and its variance; sun_elevation (rad) places
+ * the aureole terms (the relative azimuth 0 is the sun's).  Values are kept >= 0.  choice, if not
+ * NULL, receives the sky's [0] and the ground's [1] choice.  A grid beyond 64 rows per domain or
+ * 64 columns keeps its nodes.  Returns FM_OK or FM_ERR_OUT_OF_MEMORY. */
+fm_status sky_grid_fit(sky_grid *g, double sun_elevation, const double *y, const double *var_y,
+                       sky_grid_fit_choice choice[2]);
 
 #endif
