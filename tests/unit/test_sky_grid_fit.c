@@ -36,6 +36,19 @@ static double gauss(rng *r)
     return sqrt(-2.0 * log(1.0 - u1)) * cos(2.0 * FM_PI * u2);
 }
 
+/* A copy of the first `count` values of g, and the check that they are still the same bit for bit. */
+static void copy_values(const sky_grid *g, float *copy, int count)
+{
+    for (int i = 0; i < count; i++)
+        copy[i] = g->values[i];
+}
+
+static void check_unchanged(const sky_grid *g, const float *copy, int count)
+{
+    for (int i = 0; i < count; i++)
+        assert_true(g->values[i] == copy[i]);
+}
+
 /* Fills g with field + noise (relative sigma rel_sigma, channel c scaled by 1 + c / 2 with the same
  * noise draw, as the XYZ channels of one path estimate move together) and y, var with channel Y. */
 static void noisy_table(sky_grid *g, double rel_sigma, uint64_t seed, double *y, double *var)
@@ -113,14 +126,12 @@ static void exact_nodes_kept(void **state)
         for (int c = 0; c < CHANNELS; c++)
             g.values[i * CHANNELS + c] = 0.0f;
     }
-    for (int i = 0; i < NODES * CHANNELS; i++)
-        before[i] = g.values[i];
+    copy_values(&g, before, NODES * CHANNELS);
     sky_grid_fit_choice choice[2];
     assert_int_equal(sky_grid_fit(&g, SUN, y, var, choice), FM_OK);
     assert_int_equal(choice[0].azimuth_modes, -1);
     assert_int_equal(choice[1].azimuth_modes, -1);
-    for (int i = 0; i < NODES * CHANNELS; i++)
-        assert_true(g.values[i] == before[i]);
+    check_unchanged(&g, before, NODES * CHANNELS);
     sky_grid_free(&g);
 }
 
@@ -139,13 +150,11 @@ static void unrepresentable_peak_kept(void **state)
     y[peak] *= 5.0;
     for (int c = 0; c < CHANNELS; c++)
         g.values[peak * CHANNELS + c] *= 5.0f;
-    for (int i = 0; i < NODES * CHANNELS; i++)
-        before[i] = g.values[i];
+    copy_values(&g, before, NODES * CHANNELS);
     sky_grid_fit_choice choice[2];
     assert_int_equal(sky_grid_fit(&g, SUN, y, var, choice), FM_OK);
     assert_int_equal(choice[0].azimuth_modes, -1);
-    for (int i = 0; i < ROWS_SKY * COLS * CHANNELS; i++)
-        assert_true(g.values[i] == before[i]);
+    check_unchanged(&g, before, ROWS_SKY * COLS * CHANNELS);
     assert_true(choice[1].azimuth_modes >= 0);
     sky_grid_free(&g);
 }
@@ -215,13 +224,13 @@ static void rows_of_wide_range_kept(void **state)
         double f = 1.0 + 30.0 * exp(-phi * phi / 0.3) * cos(e), sigma = 0.3 * f;
         y[i] = f + sigma * gauss(&r);
         var[i] = sigma * sigma;
-        before[i] = g.values[i] = (float)y[i];
+        g.values[i] = (float)y[i];
     }
+    copy_values(&g, before, NODES);
     sky_grid_fit_choice choice[2];
     assert_int_equal(sky_grid_fit(&g, SUN, y, var, choice), FM_OK);
     assert_int_equal(choice[0].azimuth_modes, -1);
-    for (int i = 0; i < NODES; i++)
-        assert_true(g.values[i] == before[i]);
+    check_unchanged(&g, before, NODES);
     sky_grid_free(&g);
 }
 
