@@ -2,7 +2,8 @@
  *
  * Fast path (preview, final): the radiance table of transport/sky_grid.h is filled twice, once with
  * single scattering by deterministic quadrature (fine grid) and once with all higher orders by path
- * tracing (coarse grid: that part of the sky is smooth), and every pixel averages table lookups over
+ * tracing (coarse grid: that part of the sky is smooth; its noise then averaged by a fit,
+ * sky_grid_fit.h), and every pixel averages table lookups over
  * its footprint.  The ground's reflection of skylight goes with the deterministic part, through the
  * diffuse ground irradiance (transport/ground_irradiance.h).  Reference: every pixel path-traces all orders itself, no table of radiance.
  * Both then add the sun disk, integrated over each pixel's footprint. */

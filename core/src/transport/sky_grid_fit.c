@@ -204,15 +204,12 @@ typedef struct model {
     double risk;
 } model;
 
-/* The model of least SURE among the raw nodes and every separable basis, with and without the
- * aureole terms. */
-static model choose(fit_work *w)
+/* The model of least SURE among the raw nodes (whose risk is risk_raw) and every separable basis,
+ * with and without the aureole terms. */
+static model choose(fit_work *w, double risk_raw)
 {
     const int R = w->rows, C = w->cols;
-    model best = {-1, -1, 0, 0.0};
-    for (int r = 0; r < R; r++)
-        for (int j = 0; j < C; j++)
-            best.risk += w->weight[r][j] * w->var[r][j];
+    model best = {-1, -1, 0, risk_raw};
     const int max_degree = R - 2 < FIT_MAX_DEGREE ? R - 2 : FIT_MAX_DEGREE;
     for (int D = 0; D <= max_degree; D++) {
         if (!build_hat(w, D, 0) || !build_hat(w, D, 1))
@@ -277,12 +274,11 @@ static void fit_domain(fit_work *w, sky_grid *g, int first_row, double sun_eleva
         for (int j = 0; j < C; j++)
             w->weight[r][j] = w->omega[r] * w->t[j];
     }
-    model best = choose(w);
-    ch->risk_raw = ch->risk_fit = 0.0;
     for (int r = 0; r < R; r++)
         for (int j = 0; j < C; j++)
             ch->risk_raw += w->weight[r][j] * w->var[r][j];
     ch->risk_fit = ch->risk_raw;
+    model best = choose(w, ch->risk_raw);
     if (best.modes < 0 || !build_hat(w, best.degree, 0) || !build_hat(w, best.degree, 1) ||
         !fit_nodes(w, best.modes, best.terms, w->y, NULL) || !within_row_range(w))
         return;
