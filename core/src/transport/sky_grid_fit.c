@@ -224,22 +224,23 @@ static model choose(fit_work *w, double risk_raw)
     return best;
 }
 
-/* True if every node of w->fit is at least ROW_RANGE of its row's mean: the rows are weighted by
- * their mean level, so a node far below it would carry the row's absolute error, a large relative
- * one (deep twilight: sun -14 and -18 away from the sun 0.1 of the mean or less, down to negative
- * values, against 0.75 by day, 0.38 at -4 and 0.23 at -10). */
-static int within_row_range(const fit_work *w)
+/* Whether each row's fitted nodes (w->fit) are all at least ROW_RANGE of the row's mean: the rows
+ * are weighted by their mean level, so a node far below it would carry the row's absolute error, a
+ * large relative one (deep twilight: near the horizon away from the sun 0.1 of the mean or less,
+ * down to negative values, against 0.75 by day, 0.38 at -4 and 0.23 at -10).  Returns how many
+ * rows pass. */
+static int rows_within_range(const fit_work *w, int *pass)
 {
+    int passing = 0;
     for (int r = 0; r < w->rows; r++) {
         double mean = 0.0, lowest = INFINITY;
         for (int j = 0; j < w->cols; j++) {
             mean += w->t[j] * w->fit[r][j] / w->norm[0];
             lowest = fmin(lowest, w->fit[r][j]);
         }
-        if (!(lowest >= ROW_RANGE * mean))
-            return 0;
+        passing += pass[r] = lowest >= ROW_RANGE * mean;
     }
-    return 1;
+    return passing;
 }
 
 static void fit_domain(fit_work *w, sky_grid *g, int first_row, double sun_elevation, const double *y,
@@ -280,7 +281,10 @@ static void fit_domain(fit_work *w, sky_grid *g, int first_row, double sun_eleva
     ch->risk_fit = ch->risk_raw;
     model best = choose(w, ch->risk_raw);
     if (best.modes < 0 || !build_hat(w, best.degree, 0) || !build_hat(w, best.degree, 1) ||
-        !fit_nodes(w, best.modes, best.terms, w->y, NULL) || !within_row_range(w))
+        !fit_nodes(w, best.modes, best.terms, w->y, NULL))
+        return;
+    int pass[FIT_MAX];
+    if (!rows_within_range(w, pass))
         return;
     *ch = (sky_grid_fit_choice){best.modes, best.degree, best.terms, ch->risk_raw, best.risk};
     for (int k = 0; k < K; k++) {
@@ -289,7 +293,7 @@ static void fit_domain(fit_work *w, sky_grid *g, int first_row, double sun_eleva
                 w->in[r][j] = g->values[((size_t)(first_row + r) * C + j) * K + k];
         fit_nodes(w, best.modes, best.terms, w->in, NULL);
         for (int r = 0; r < R; r++)
-            for (int j = 0; j < C; j++)
+            for (int j = 0; j < C && pass[r]; j++)
                 g->values[((size_t)(first_row + r) * C + j) * K + k] = (float)fmax(0.0, w->fit[r][j]);
     }
 }
