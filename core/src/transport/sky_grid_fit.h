@@ -21,16 +21,17 @@
  * unknown truth, bias included, and the raw nodes (risk: their variance) stay when no fit is
  * expected to do better.  The fit is linear in the nodes, so it adds no bias beyond what the chosen
  * basis cannot represent, which SURE counts.  Rows whose fitted luminance falls below 0.15 of
- * their own mean somewhere (deep twilight, sun below about -12) keep their raw nodes: the row
- * weights would leave those dim nodes a large relative error. */
+ * their own mean somewhere (deep twilight's horizon, sun below about -12) keep their raw nodes: the
+ * row weights would leave those dim nodes a large relative error. */
 #ifndef FM_TRANSPORT_SKY_GRID_FIT_H
 #define FM_TRANSPORT_SKY_GRID_FIT_H
 
 #include "transport/sky_grid.h"
 
 /* The choice for one domain: the highest cosine M, the polynomial degree D and the number of
- * aureole terms (0 or 3), or M = D = -1 when the raw nodes were kept; risk_raw and risk_fit: the
- * estimated relative squared errors summed over the domain's nodes. */
+ * aureole terms (0 or 3), or M = D = -1 when the raw nodes were kept (rows failing the range check
+ * keep theirs even when a fit was chosen); risk_raw and risk_fit: the estimated relative squared
+ * errors summed over the domain's nodes. */
 typedef struct sky_grid_fit_choice {
     int azimuth_modes, degree, aureole_terms;
     double risk_raw, risk_fit;
