@@ -1,6 +1,7 @@
 #include "transport/sky_grid_fit.h"
 
 #include "base/units.h"
+#include "base/vec.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -72,6 +73,26 @@ static void forward_solve(int n, double L[SMALL][SMALL], const double *b, double
             sum -= L[i][k] * z[k];
         z[i] = sum / L[i][i];
     }
+}
+
+/* x = L^-T z for the factor L of cholesky. */
+static void back_solve(int n, double L[SMALL][SMALL], const double *z, double *x)
+{
+    for (int i = n - 1; i >= 0; i--) {
+        double sum = z[i];
+        for (int k = i + 1; k < n; k++)
+            sum -= L[k][i] * x[k];
+        x[i] = sum / L[i][i];
+    }
+}
+
+/* The trapezoid-rule mean of one row of node values over the relative azimuth. */
+static double row_mean(const fit_work *w, const double *row)
+{
+    double sum = 0.0;
+    for (int j = 0; j < w->cols; j++)
+        sum += w->t[j] * row[j];
+    return sum / w->norm[0];
 }
 
 /* The weighted least-squares hat matrix H = U (U^T W U)^-1 U^T W over the rows for degree D into
@@ -165,12 +186,7 @@ static int fit_nodes(fit_work *w, int M, int terms, node_array in, double *risk)
         if (!cholesky(terms, G))
             return 0;
         forward_solve(terms, G, b, z);
-        for (int k = terms - 1; k >= 0; k--) { /* back substitution: L^T beta = z */
-            double sum = z[k];
-            for (int l = k + 1; l < terms; l++)
-                sum -= G[l][k] * beta[l];
-            beta[k] = sum / G[k][k];
-        }
+        back_solve(terms, G, z, beta);
     }
     double sure = 0.0;
     for (int r = 0; r < R; r++)
@@ -233,12 +249,10 @@ static int rows_within_range(const fit_work *w, int *pass)
 {
     int passing = 0;
     for (int r = 0; r < w->rows; r++) {
-        double mean = 0.0, lowest = INFINITY;
-        for (int j = 0; j < w->cols; j++) {
-            mean += w->t[j] * w->fit[r][j] / w->norm[0];
+        double lowest = INFINITY;
+        for (int j = 0; j < w->cols; j++)
             lowest = fmin(lowest, w->fit[r][j]);
-        }
-        passing += pass[r] = lowest >= ROW_RANGE * mean;
+        passing += pass[r] = lowest >= ROW_RANGE * row_mean(w, w->fit[r]);
     }
     return passing;
 }
@@ -248,23 +262,22 @@ static void fit_domain(fit_work *w, sky_grid *g, int first_row, double sun_eleva
 {
     const int R = w->rows, C = w->cols, K = g->channels;
     *ch = (sky_grid_fit_choice){-1, -1, 0, 0.0, 0.0};
+    const vec3 sun = direction_from_elevation_azimuth(sun_elevation, 0.0); /* relative azimuth 0 */
     double a0_max = 0.0, a0[FIT_MAX];
     for (int r = 0; r < R; r++) {
-        a0[r] = 0.0;
         for (int j = 0; j < C; j++) {
             int i = (first_row + r) * C + j;
             if (!isfinite(y[i]) || !isfinite(var[i]))
                 return; /* no usable estimate */
             w->y[r][j] = y[i];
             w->var[r][j] = var[i];
-            a0[r] += w->t[j] * y[i] / w->norm[0];
             double e, phi;
             sky_grid_node_angles(g, i, &e, &phi);
-            double cos_gamma = sin(e) * sin(sun_elevation) + cos(e) * cos(sun_elevation) * cos(phi);
-            double gamma = acos(fmax(-1.0, fmin(1.0, cos_gamma)));
+            double gamma = acos(clamp_cosine(v3_dot(direction_from_elevation_azimuth(e, phi), sun)));
             for (int k = 0; k < AUREOLE_TERMS; k++)
                 w->aureole[k][r][j] = exp(-gamma / (aureole_width_deg[k] * FM_DEG));
         }
+        a0[r] = row_mean(w, w->y[r]);
         a0_max = fmax(a0_max, fabs(a0[r]));
     }
     if (!(a0_max > 0.0))
