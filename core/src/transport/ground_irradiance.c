@@ -137,15 +137,12 @@ fm_status ground_irradiance_build(ground_irradiance *g, const path_context *all_
     const int K = all_orders->atm->grid.count;
     double lo = fmax(0.0, theta_s - max_offset), hi = fmin(FM_PI, theta_s + max_offset);
     g->K = K;
-    /* angles no farther apart than NODE_SPACING, between 2 and 5: an observer at eye height (2 m)
-     * sees the ground over +-0.05 degrees of sun angle, where two suffice for the linear
-     * interpolation (and five had cost 1 s more than at 0 m) */
-    g->count = hi - lo < 1e-4 ? 1 : (int)fmin(5.0, fmax(2.0, ceil((hi - lo) / NODE_SPACING) + 1.0));
+    g->count = ground_irradiance_angle_count(theta_s, max_offset);
     g->theta0 = g->count == 1 ? theta_s : lo;
     g->dtheta = g->count == 1 ? 0.0 : (hi - lo) / (g->count - 1);
     int blocks = (paths + BLOCK - 1) / BLOCK;
     /* per-block sums first (any thread may run any block), then a fixed-order reduction */
-    double *partial = calloc((size_t)g->count * blocks * K, sizeof(double));
+    double *partial = calloc((size_t)g->count * blocks * K + 1, sizeof(double)); /* + 1: paths may be 0 */
     g->E = calloc((size_t)g->count * K, sizeof(double));
     if (!partial || !g->E) {
         free(partial);
@@ -173,7 +170,7 @@ fm_status ground_irradiance_build(ground_irradiance *g, const path_context *all_
     job.pc = &higher;
     if (!s && atomic_load(&job.no_memory))
         s = FM_ERR_OUT_OF_MEMORY;
-    if (!s)
+    if (!s && blocks > 0)
         s = parallel_for(threads, (int64_t)g->count * blocks, 1, build_blocks, &job, cancel, NULL);
     for (int n = 0; n < g->count; n++) {
         for (int b = 0; b < blocks; b++)
@@ -186,6 +183,22 @@ fm_status ground_irradiance_build(ground_irradiance *g, const path_context *all_
     free(partial);
     free(single);
     return s;
+}
+
+int ground_irradiance_angle_count(double theta_s, double max_offset)
+{
+    double lo = fmax(0.0, theta_s - max_offset), hi = fmin(FM_PI, theta_s + max_offset);
+    /* angles no farther apart than NODE_SPACING, between 2 and 5: an observer at eye height (2 m)
+     * sees the ground over +-0.05 degrees of sun angle, where two suffice for the linear
+     * interpolation (and five had cost 1 s more than at 0 m) */
+    return hi - lo < 1e-4 ? 1 : (int)fmin(5.0, fmax(2.0, ceil((hi - lo) / NODE_SPACING) + 1.0));
+}
+
+void ground_irradiance_add(ground_irradiance *g, const double *E)
+{
+    for (int n = 0; n < g->count; n++)
+        for (int k = 0; k < g->K; k++)
+            g->E[(size_t)n * g->K + k] += E[k];
 }
 
 void ground_irradiance_free(ground_irradiance *g)

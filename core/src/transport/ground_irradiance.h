@@ -9,7 +9,8 @@
  *    single-scattering radiance over the ground point's sky (single_scatter.h), on a grid crowded
  *    at the horizon and about the sun, where an aerosol's forward peak is;
  *  - orders >= 2 (ground-sky interreflections included) by many paths: pi * mean(L) over
- *    cosine-distributed directions.
+ *    cosine-distributed directions; or, for an observer on the ground, by the caller from the
+ *    multiple-scattering table, whose sky half is that very radiance (render.c, ground_from_table).
  * Order 1 is most of the diffuse light by day and, through the forward peak, most of the paths'
  * noise: at sun 30 deg their standard deviation per path is 3.4 (desert dust) / 2.3 (urban) / 1.8
  * (rural) of E_d for all orders and 0.8 / 1.2 / 0.5 for orders >= 2.  The fast path then adds the ground's reflection
@@ -36,11 +37,18 @@ typedef struct ground_quadrature {
 
 /* Builds the table for local sun zenith angles within max_offset (rad) of theta_s: order 1 from
  * all_orders' sun and atmosphere on the given grid, orders >= 2 from `paths` paths of all_orders
- * (its min_order raised to 2). */
+ * (its min_order raised to 2); paths = 0 leaves orders >= 2 to the caller (ground_irradiance_add). */
 fm_status ground_irradiance_build(ground_irradiance *g, const path_context *all_orders, double theta_s,
                                   double max_offset, ground_quadrature quadrature, int paths, uint64_t seed,
                                   int threads, const atomic_int *cancel);
 void ground_irradiance_free(ground_irradiance *g);
+
+/* How many sun angles the table for (theta_s, max_offset) has: 1 when the observer is on the
+ * ground and sees only the ground at its feet. */
+int ground_irradiance_angle_count(double theta_s, double max_offset);
+
+/* Adds E[k] (W m^-2 nm^-1, every grid wavelength) to every angle's irradiance. */
+void ground_irradiance_add(ground_irradiance *g, const double *E);
 
 /* Diffuse irradiance for every grid wavelength at a ground point whose local sun zenith cosine is mu_s. */
 void ground_irradiance_lookup(const ground_irradiance *g, double mu_s, double *E);

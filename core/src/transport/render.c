@@ -73,6 +73,7 @@ typedef struct render_job {
     fm_image *img;
     atomic_int no_memory; /* a worker could not allocate */
     double *ms_y, *ms_var; /* per node of ms: the luminance estimate and its variance (sky_grid_fit) */
+    double *ms_spectral;   /* per node of ms: the estimate at every grid wavelength, [node][K] */
 } render_job;
 
 /* Spectral radiance (K values) -> C image channels: XYZ (colour, C = 3), else the K values
@@ -146,8 +147,31 @@ static void ms_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         double y = spectral_grid_luminance(&sky->atm.grid, L);
         job->ms_y[i] = y;
         job->ms_var[i] = n > 1.0 ? fmax(0.0, sum_y2 / n - y * y) / (n - 1.0) : 0.0;
+        for (int k = 0; k < K; k++)
+            job->ms_spectral[i * K + k] = L[k];
         to_channels(&sky->atm, job->channels, L, &job->ms.values[i * job->channels]);
     }
+}
+
+/* Observer on the ground: the diffuse irradiance of orders >= 2 there is the integral of the
+ * multiple-scattering table's sky half times cos(zenith), since its upward nodes estimate exactly
+ * that radiance (no ground between the observer and the air).  The table's paths are 40 times the
+ * ground's own and spread over the whole sky: urban sunset, six seeds, the ground's luminance noise
+ * 1.2 -> 0.5% at final quality, 3.4 -> 1.3% at preview; 16 times the samples agree within 0.1%.
+ * The raw nodes, not the fit: the sum is linear in them and no fit is needed to make it smooth. */
+static fm_status ground_from_table(render_job *job)
+{
+    const int K = job->sky->atm.grid.count, n = job->ms.rows_sky * job->ms.cols;
+    double *w = malloc(sizeof(double) * (size_t)n), E[FM_MAX_WAVELENGTHS] = {0};
+    if (!w)
+        return FM_ERR_OUT_OF_MEMORY;
+    sky_grid_irradiance_weights(&job->ms, w);
+    for (int i = 0; i < n; i++)
+        for (int k = 0; k < K; k++)
+            E[k] += w[i] * job->ms_spectral[(size_t)i * K + k];
+    free(w);
+    ground_irradiance_add(&job->ground, E);
+    return FM_OK;
 }
 
 static double relative_azimuth(const fm_sky *sky, double azimuth)
@@ -610,7 +634,8 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
         if (sky_grid_init(&job.ss, horizon, q->ss_rows_sky, q->ss_rows_ground, q->ss_cols, job.channels, 1) ||
             sky_grid_init(&job.ms, horizon, q->ms_rows_sky, q->ms_rows_ground, q->ms_cols, job.channels, 0) ||
             !(job.ms_y = malloc((size_t)sky_grid_nodes(&job.ms) * sizeof(double))) ||
-            !(job.ms_var = malloc((size_t)sky_grid_nodes(&job.ms) * sizeof(double)))) {
+            !(job.ms_var = malloc((size_t)sky_grid_nodes(&job.ms) * sizeof(double))) ||
+            !(job.ms_spectral = malloc((size_t)sky_grid_nodes(&job.ms) * atm->grid.count * sizeof(double)))) {
             s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the radiance tables");
             goto done;
         }
@@ -625,23 +650,30 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
         double r_obs = v3_length(sky->observer);
         double visible = acos(fmin(1.0, atm->bottom_radius_m / r_obs)); /* ground seen up to the horizon */
         ground_quadrature gq = {q->ground_rows, q->ground_cols, q->ss_points};
-        s = ground_irradiance_build(&job.ground, &all, acos(clamp_cosine(sky->sun_dir.z)), visible, gq, q->ground_paths,
-                                    job.seed, params->threads, params->cancel);
+        double theta_s = acos(clamp_cosine(sky->sun_dir.z));
+        const int on_ground = ground_irradiance_angle_count(theta_s, visible) == 1;
+        s = ground_irradiance_build(&job.ground, &all, theta_s, visible, gq, on_ground ? 0 : q->ground_paths, job.seed,
+                                    params->threads, params->cancel);
         if (s == FM_ERR_OUT_OF_MEMORY) {
             s = fm_fail(err, s, "out of memory for the ground irradiance");
             goto done;
         }
-        parallel_progress pss = {params->progress, params->progress_user, "single scattering", 0.05, 0.10};
-        parallel_progress pms = {params->progress, params->progress_user, "multiple scattering", 0.15, 0.75};
+        parallel_progress pms = {params->progress, params->progress_user, "multiple scattering", 0.05, 0.75};
+        parallel_progress pss = {params->progress, params->progress_user, "single scattering", 0.80, 0.10};
         parallel_progress ppx = {params->progress, params->progress_user, "pixels", 0.9, 0.08};
+        /* the multiple-scattering table first: on the ground it completes the ground's irradiance,
+         * which the single-scattering table's downward rows reflect */
+        if (!s)
+            s = parallel_for(params->threads, sky_grid_nodes(&job.ms), 1, ms_nodes, &job, params->cancel, &pms);
+        if (!s && on_ground)
+            s = ground_from_table(&job);
         if (!s && !(s = parallel_for(params->threads, job.ss.rows_sky + job.ss.rows_ground, 1, ss_rows, &job,
                                      params->cancel, &pss)) &&
             atomic_load(&job.no_memory))
             s = FM_ERR_OUT_OF_MEMORY;
         /* the table's noise averaged over many nodes where a smooth fit is expected to be closer to
          * the truth than the nodes themselves (sky_grid_fit.h) */
-        if (!s && !(s = parallel_for(params->threads, sky_grid_nodes(&job.ms), 1, ms_nodes, &job, params->cancel, &pms)) &&
-            !(s = sky_grid_fit(&job.ms, asin(clamp_cosine(sky->sun_dir.z)), job.ms_y, job.ms_var, NULL))) {
+        if (!s && !(s = sky_grid_fit(&job.ms, asin(clamp_cosine(sky->sun_dir.z)), job.ms_y, job.ms_var, NULL))) {
             sky_grid_average_poles(&job.ms);
             s = parallel_for(params->threads, H, 4, equirect ? fast_rows : fast_rows_camera, &job, params->cancel, &ppx);
         }
@@ -668,6 +700,7 @@ done:
     sky_grid_free(&job.ms);
     free(job.ms_y);
     free(job.ms_var);
+    free(job.ms_spectral);
     ground_irradiance_free(&job.ground);
     if (s) {
         fm_image_destroy(job.img);

@@ -1,5 +1,6 @@
 #include "transport/sky_grid.h"
 
+#include "base/quadrature.h"
 #include "base/units.h"
 
 #include <math.h>
@@ -46,6 +47,33 @@ void sky_grid_node_angles(const sky_grid *g, int index, double *elevation, doubl
     } else {
         double u = (double)(row - g->rows_sky) / (g->rows_ground - 1);
         *elevation = g->horizon_elevation - HORIZON_GAP - ground_span(g) * u * u;
+    }
+}
+
+/* Over each interval between two rows the interpolant is linear in u (weights 1 - t and t of its
+ * rows) and the elevation e = e_h + span u^2, so the integrand  sin e cos e de = sin e cos e 2 span
+ * u du  is smooth: 8 Gauss-Legendre points per interval.  Over the azimuth the interpolant's hats
+ * integrate to one column spacing (half at the ends, phi = 0 and pi), doubled for the mirrored half. */
+void sky_grid_irradiance_weights(const sky_grid *g, double *w)
+{
+    const gauss_rule *gl = gauss_legendre_cached(8);
+    const int R = g->rows_sky, C = g->cols;
+    const double span = sky_span(g), du = 1.0 / (R - 1), dphi = FM_PI / (C - 1);
+    for (int i = 0; i < R * C; i++)
+        w[i] = 0.0;
+    /* each row's share first, in its first column */
+    for (int r = 0; r + 1 < R; r++)
+        for (int j = 0; j < gl->n; j++) {
+            double t = 0.5 * (gl->x[j] + 1.0), u = (r + t) * du;
+            double e = g->horizon_elevation + HORIZON_GAP + span * u * u;
+            double f = sin(e) * cos(e) * 2.0 * span * u * 0.5 * gl->w[j] * du;
+            w[r * C] += (1.0 - t) * f;
+            w[(r + 1) * C] += t * f;
+        }
+    for (int r = 0; r < R; r++) {
+        double share = w[r * C];
+        for (int c = 0; c < C; c++)
+            w[r * C + c] = share * 2.0 * dphi * (c == 0 || c == C - 1 ? 0.5 : 1.0);
     }
 }
 

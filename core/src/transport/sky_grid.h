@@ -41,6 +41,13 @@ static inline int sky_grid_nodes(const sky_grid *g) { return (g->rows_sky + g->r
 /* View elevation and relative azimuth (rad) of node `index` (row-major over all rows). */
 void sky_grid_node_angles(const sky_grid *g, int index, double *elevation, double *rel_azimuth);
 
+/* Weights w[i] of the sky's nodes (the first rows_sky x cols, row-major) such that, for the table's
+ * interpolant L, sum_i w[i] v_i = integral over the sky domain of L(omega) sin(elevation) d omega,
+ * both azimuthal halves: the irradiance the sky's radiance puts on a horizontal surface at the
+ * observer.  Meant for a horizon at elevation 0 (an observer on the ground), where the weights
+ * sum to pi.  (A linear table: not for logarithmic grids.) */
+void sky_grid_irradiance_weights(const sky_grid *g, double *w);
+
 /* Interpolated value at (elevation, relative azimuth in [0, pi]). */
 void sky_grid_lookup(const sky_grid *g, double elevation, double rel_azimuth, float *out);
 
