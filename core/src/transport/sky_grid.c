@@ -54,24 +54,31 @@ void sky_grid_node_angles(const sky_grid *g, int index, double *elevation, doubl
  * rows) and the elevation e = e_h + span u^2, so the integrand  sin e cos e de = sin e cos e 2 span
  * u du  is smooth: 8 Gauss-Legendre points per interval.  Over the azimuth the interpolant's hats
  * integrate to one column spacing (half at the ends, phi = 0 and pi), doubled for the mirrored half. */
-void sky_grid_irradiance_weights(const sky_grid *g, double *w)
+/* Row r's share of the integral: its hat over the intervals on either side. */
+static double row_irradiance_share(const sky_grid *g, int r)
 {
     const gauss_rule *gl = gauss_legendre_cached(8);
-    const int R = g->rows_sky, C = g->cols;
-    const double span = sky_span(g), du = 1.0 / (R - 1), dphi = FM_PI / (C - 1);
-    for (int i = 0; i < R * C; i++)
-        w[i] = 0.0;
-    /* each row's share first, in its first column */
-    for (int r = 0; r + 1 < R; r++)
+    const double span = sky_span(g), du = 1.0 / (g->rows_sky - 1);
+    double share = 0.0;
+    for (int i = r - 1; i <= r; i++) { /* interval i lies between rows i and i + 1 */
+        if (i < 0 || i + 1 >= g->rows_sky)
+            continue;
         for (int j = 0; j < gl->n; j++) {
-            double t = 0.5 * (gl->x[j] + 1.0), u = (r + t) * du;
+            double t = 0.5 * (gl->x[j] + 1.0), u = (i + t) * du;
             double e = g->horizon_elevation + HORIZON_GAP + span * u * u;
-            double f = sin(e) * cos(e) * 2.0 * span * u * 0.5 * gl->w[j] * du;
-            w[r * C] += (1.0 - t) * f;
-            w[(r + 1) * C] += t * f;
+            double hat = i == r ? 1.0 - t : t;
+            share += hat * sin(e) * cos(e) * 2.0 * span * u * 0.5 * gl->w[j] * du;
         }
-    for (int r = 0; r < R; r++) {
-        double share = w[r * C];
+    }
+    return share;
+}
+
+void sky_grid_irradiance_weights(const sky_grid *g, double *w)
+{
+    const int C = g->cols;
+    const double dphi = FM_PI / (C - 1);
+    for (int r = 0; r < g->rows_sky; r++) {
+        double share = row_irradiance_share(g, r);
         for (int c = 0; c < C; c++)
             w[r * C + c] = share * 2.0 * dphi * (c == 0 || c == C - 1 ? 0.5 : 1.0);
     }
