@@ -260,7 +260,7 @@ path_context sky_path_context(const fm_sky *sky, int min_order, int max_order)
         .sun = &sky->sun,
         .sun_table = &sky->sun_table,
         .columns = &sky->columns,
-        .segment_sunlight = 1,
+        .segment_sunlight = SEGMENT_SUNLIGHT_UMBRA,
         .sky_guide = NULL,
         .sky_guide_fraction = 0.0,
         .sun_dir = sky->sun_dir,

@@ -112,7 +112,7 @@ static void all_orders_rural(void **state)
     (void)state;
     fm_sky *sky = sky_for("rural", 30.0, 1.0);
     path_context pc = twilight_path_context(sky, NULL, 1, 0);
-    pc.segment_sunlight = 2; /* as the renderer's ground irradiance */
+    pc.segment_sunlight = SEGMENT_SUNLIGHT_ALL; /* as the renderer's ground irradiance */
     double table = table_irradiance(sky, &pc, (ground_quadrature){32, 32, 6}, 16384);
     double se, paths = path_irradiance(sky, &pc, 60000, &se);
     double z = (table - paths) / se;

@@ -165,7 +165,7 @@ static void along_segment_matches_point_estimate(void **state)
     assert_non_null(guide);
     const vec3 zenith = v3(0.0, 0.0, 1.0);
     path_context point = sky_path_context(sky, 2, 0), along = point, twilight = twilight_path_context(sky, guide, 2, 0);
-    point.segment_sunlight = 0;
+    point.segment_sunlight = SEGMENT_SUNLIGHT_NONE;
     point.skip_ground_first = along.skip_ground_first = twilight.skip_ground_first = 1;
     const int n_point = 400000, n_along = 100000, n_twilight = 50000;
     double se_point, se_along, se_twilight;

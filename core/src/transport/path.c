@@ -178,8 +178,10 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
          * (before the flight and its forced-collision weight), and no point estimate after the flight. */
         if (ctx->segment_sunlight && order + 1 >= ctx->min_order) {
             along = segment_umbra(ctx, &seg, &umbra0, &umbra1);
-            if (!along && ctx->segment_sunlight > 1) {
-                along = 1; /* every segment: no umbra to skip */
+            int every = ctx->segment_sunlight == SEGMENT_SUNLIGHT_ALL ||
+                        (ctx->segment_sunlight == SEGMENT_SUNLIGHT_RISING && seg.s0 > 0.0);
+            if (!along && every) {
+                along = 1; /* no umbra to skip */
                 umbra0 = umbra1 = seg.t_end;
             }
         }

@@ -34,6 +34,11 @@
 struct ground_irradiance;
 struct sky_guide;
 
+/* path_context.segment_sunlight: none; the segments that enter the Earth's umbra; every segment
+ * (twilight); the umbra's and every rising one (a low sun behind thick haze: the sunlit air is above
+ * the haze, which the paths reach by climbing). */
+enum { SEGMENT_SUNLIGHT_NONE, SEGMENT_SUNLIGHT_UMBRA, SEGMENT_SUNLIGHT_ALL, SEGMENT_SUNLIGHT_RISING };
+
 typedef struct path_context {
     const atmosphere *atm;
     const sun_disk *sun;
@@ -52,8 +57,8 @@ typedef struct path_context {
      * sampled where its aerosol forward peak makes it large. */
     const phase_function *sun_guide;
     double sun_guide_fraction;
-    /* Segments that enter the Earth's umbra get their next interaction's sunlight by the expected
-     * value along the segment (sunlit_segment.h) instead of the point estimate; 0 turns it off. */
+    /* Which segments get their next interaction's sunlight by the expected value along the segment
+     * (sunlit_segment.h) instead of the point estimate: SEGMENT_SUNLIGHT_*. */
     int segment_sunlight;
     /* Twilight: with probability sky_guide_fraction a direction is drawn from the sky guide
      * (sky_guide.h), toward the sunlit air; NULL when the sun is up. */

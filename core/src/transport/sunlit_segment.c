@@ -5,8 +5,10 @@
 
 #include <math.h>
 
-#define PROXY_CELLS 8 /* cells of the piecewise-constant density over the sunlit length */
-#define SUN_SAMPLES 2 /* stratified evaluations per segment */
+#define PROXY_CELLS 8  /* cells of the proxy density over the sunlit length (at most) */
+#define RISING_CELLS 4 /* for SEGMENT_SUNLIGHT_RISING: urban sunset, 2 / 4 / 8 cells: node variance 1.04 /
+                          * 1 / 0.95, CPU 0.93 / 1 / 1.07 (as efficient; the fewer, the less time) */
+#define SUN_SAMPLES 2  /* stratified evaluations per segment */
 #define DEFENSIVE 0.2 /* share of the uniform density in the mixture */
 #define UMBRA_MARGIN 1.0 /* m taken off each end of the umbra interval */
 
@@ -86,6 +88,71 @@ void segment_columns_at(const segment_columns *sc, double t, double *col)
 /* Position along the segment of the sunlit length l (the umbra [u0, u1] skipped). */
 static double lit_to_t(double l, double u0, double u1) { return l < u0 ? l : l + (u1 - u0); }
 
+/* The density of the sample positions over the sunlit length: per cell a proxy of the integrand,
+ * mixed with a uniform share DEFENSIVE so that it is positive wherever the integrand can be. */
+typedef struct lit_proxy {
+    int cells;
+    double lit, cell;                   /* m: the sunlit length and a cell's */
+    double h[PROXY_CELLS + 1];          /* the proxy at the cells' ends */
+    double rate[PROXY_CELLS];           /* 1/m: exponential within the cell, or 0: constant */
+    double mass[PROXY_CELLS], total;    /* the proxy's integral per cell and over all */
+    double cdf[PROXY_CELLS + 1];        /* of the mixture, over the cells */
+} lit_proxy;
+
+/* A cell's proxy: exponential between its two ends when both are lit and the ends move the same
+ * way as their neighbours (the integrand falls with the air's density and rises with the
+ * sunlight, nearly exponentially over a cell: against the larger end as a constant, with every
+ * segment taken along, 10% less variance at sun 30 rural and 30% at sun 6 urban (turbidity 2); at
+ * twilight, 512 x 256 final, seed-pair RMS over two pairs: sun -4 0.67 / 0.54 -> 0.64 / 0.54%,
+ * -10 2.35 / 2.79 -> 2.28 / 2.50%); else, near a peak where the chord would pass below it, or next
+ * to the dark, the larger end as a constant. */
+static void proxy_cells(lit_proxy *p)
+{
+    const double *h = p->h, cell = p->cell;
+    const int n = p->cells;
+    p->total = 0.0;
+    for (int j = 0; j < n; j++) {
+        int rising = h[j + 1] > h[j];
+        int monotone = (j == 0 || (h[j] > h[j - 1]) == rising) && (j + 2 > n || (h[j + 2] > h[j + 1]) == rising);
+        double lr = monotone && h[j] > 0.0 && h[j + 1] > 0.0 ? log(h[j + 1] / h[j]) : 0.0;
+        p->rate[j] = fabs(lr) > 1e-6 ? lr / cell : 0.0;
+        p->mass[j] = p->rate[j] != 0.0 ? (h[j + 1] - h[j]) / p->rate[j] : fmax(h[j], h[j + 1]) * cell;
+        p->total += p->mass[j];
+    }
+    p->cdf[0] = 0.0;
+    for (int j = 0; j < n; j++)
+        p->cdf[j + 1] = p->cdf[j] + (p->total > 0.0 ? (1.0 - DEFENSIVE) * p->mass[j] / p->total + DEFENSIVE / n : 1.0 / n);
+}
+
+/* The sunlit length for the uniform number u in [0, 1), and the mixture's density there (1/m). */
+static double proxy_sample(const lit_proxy *p, double u, double *density)
+{
+    const int n = p->cells;
+    const double cell = p->cell;
+    u *= p->cdf[n];
+    int j = 0;
+    while (j < n - 1 && u >= p->cdf[j + 1])
+        j++;
+    double pj = p->cdf[j + 1] - p->cdf[j];
+    /* within the cell the proxy's part or the uniform part, by their shares of pj */
+    double v = fmin(fmax((u - p->cdf[j]) / pj, 0.0), 1.0 - 1e-12), x;
+    double share = p->total > 0.0 ? (1.0 - DEFENSIVE) * p->mass[j] / p->total / pj : 0.0;
+    if (v < share) {
+        double w = v / share;
+        x = p->rate[j] != 0.0 ? log1p(w * expm1(p->rate[j] * cell)) / p->rate[j] : w * cell;
+    } else {
+        x = (v - share) / (1.0 - share) * cell;
+    }
+    x = fmin(fmax(x, 0.0), cell);
+    if (p->total > 0.0) {
+        double proxy = p->rate[j] != 0.0 ? p->h[j] * exp(p->rate[j] * x) : p->mass[j] / cell;
+        *density = ((1.0 - DEFENSIVE) * proxy / p->total + DEFENSIVE / p->lit) / p->cdf[n];
+    } else {
+        *density = 1.0 / p->lit / p->cdf[n];
+    }
+    return cell * j + x;
+}
+
 void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0, double u1, rng *r, double *S)
 {
     const atmosphere *atm = ctx->atm;
@@ -98,16 +165,19 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
     double sig_s[FM_MAX_WAVELENGTHS], tbar[FM_MAX_WAVELENGTHS];
 
     if (lit > 0.0) {
-        /* proxy: sum over three wavelengths of T sigma_s Tbar at the cells' ends; a cell weighs the
-         * larger of its two ends */
+        /* proxy: sum over three wavelengths of T sigma_s Tbar at the cells' ends */
+        lit_proxy p;
+        p.cells = ctx->segment_sunlight == SEGMENT_SUNLIGHT_RISING ? RISING_CELLS : PROXY_CELLS;
+        p.lit = lit;
+        p.cell = lit / p.cells;
         int ks[3], nk = K < 3 ? K : 3;
         for (int i = 0; i < nk; i++)
             ks[i] = K < 3 ? i : K * (i + 1) / 4;
-        double h[PROXY_CELLS + 1], cdf[PROXY_CELLS + 1], ts[3];
-        for (int j = 0; j <= PROXY_CELLS; j++) {
-            double t = lit_to_t(lit * j / PROXY_CELLS, u0, u1), rad = ray_segment_radius(seg, t);
+        double ts[3];
+        for (int j = 0; j <= p.cells; j++) {
+            double t = lit_to_t(p.cell * j, u0, u1), rad = ray_segment_radius(seg, t);
             vec3 x = v3_madd(seg->origin, seg->dir, t);
-            h[j] = 0.0;
+            p.h[j] = 0.0;
             sun_irradiance_lookup_some(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, nk, ks, ts);
             if (ts[0] + ts[nk - 1] + ts[nk / 2] == 0.0)
                 continue;
@@ -117,26 +187,13 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
                 double sigma = 0.0;
                 for (int c = 0; c < atm->scattering_count; c++)
                     sigma += atm->species[c].sigma_s[ks[i]] * n[c];
-                h[j] += sigma * exp(-atmosphere_optical_depth(atm, col, ks[i])) * ts[i];
+                p.h[j] += sigma * exp(-atmosphere_optical_depth(atm, col, ks[i])) * ts[i];
             }
         }
-        double total = 0.0, mass[PROXY_CELLS];
-        for (int j = 0; j < PROXY_CELLS; j++)
-            total += (mass[j] = fmax(h[j], h[j + 1]));
-        cdf[0] = 0.0;
-        for (int j = 0; j < PROXY_CELLS; j++) {
-            double pj = total > 0.0 ? (1.0 - DEFENSIVE) * mass[j] / total + DEFENSIVE / PROXY_CELLS : 1.0 / PROXY_CELLS;
-            cdf[j + 1] = cdf[j] + pj;
-        }
-        const double cell = lit / PROXY_CELLS;
+        proxy_cells(&p);
         double phase[FM_MAX_WAVELENGTHS];
         for (int i = 0; i < SUN_SAMPLES; i++) {
-            double u = (i + rng_uniform(r)) / SUN_SAMPLES * cdf[PROXY_CELLS];
-            int j = 0;
-            while (j < PROXY_CELLS - 1 && u >= cdf[j + 1])
-                j++;
-            double pj = cdf[j + 1] - cdf[j];
-            double l = cell * (j + fmin(fmax((u - cdf[j]) / pj, 0.0), 1.0));
+            double density, l = proxy_sample(&p, (i + rng_uniform(r)) / SUN_SAMPLES, &density);
             double t = lit_to_t(l, u0, u1), rad = ray_segment_radius(seg, t);
             vec3 x = v3_madd(seg->origin, seg->dir, t);
             sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, tbar, NULL);
@@ -145,7 +202,7 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
                 any += tbar[k];
             if (!(any > 0.0))
                 continue;
-            double inv_pdf = cell / (pj / cdf[PROXY_CELLS]) / SUN_SAMPLES;
+            double inv_pdf = 1.0 / density / SUN_SAMPLES;
             segment_columns_at(&sc, t, col);
             atmosphere_densities(atm, rad, n);
             medium_phase(atm, n, cos_sun, phase, sig_s);

@@ -11,9 +11,11 @@
  * (estimate huge).  Here S is estimated directly instead:
  *  - the part of the segment in the umbra (no point of the disk above the horizon, Tbar = 0) is
  *    computed in closed form and left out; it is a single interval, the umbra being convex;
- *  - on the sunlit rest, a proxy of the integrand (three wavelengths) at 9 points gives a
- *    piecewise-constant density, mixed with a uniform one so that it is positive wherever the
- *    integrand can be; two stratified samples of it are evaluated at every wavelength;
+ *  - on the sunlit rest, a proxy of the integrand (three wavelengths) at 9 points (5 for rising
+ *    segments, path.h) gives a density that is exponential within each cell between its ends
+ *    (constant, at the larger end, next to a peak or the dark), mixed with a uniform one so that it
+ *    is positive wherever the integrand can be; two stratified samples of it are evaluated at every
+ *    wavelength;
  *  - the density is the same for every wavelength, so the path's spectral MIS weights are
  *    unchanged, and the transmittance from x comes from the column table (no random numbers).
  * The path then goes on by delta tracking as before, without the point estimate at its next

@@ -54,7 +54,7 @@ path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *t
         pc.sky_guide_fraction = SKY_GUIDE_FRACTION;
         /* every segment along its length: with guided directions of small weight, a point estimate
          * after Russian roulette would bring the noise back */
-        pc.segment_sunlight = 2;
+        pc.segment_sunlight = SEGMENT_SUNLIGHT_ALL;
     }
     return pc;
 }
