@@ -122,6 +122,10 @@ static void find_profile_edges(atmosphere *atm)
 void atmosphere_update_majorants(atmosphere *atm)
 {
     find_profile_edges(atm);
+    atm->profile_dz_m = atm->species_count > 0 ? atm->species[0].profile.dz_m : 0.0;
+    for (int c = 1; c < atm->species_count; c++)
+        if (atm->species[c].profile.dz_m != atm->profile_dz_m)
+            atm->profile_dz_m = 0.0;
     const double top_m = atm->top_radius_m - atm->bottom_radius_m;
     int n = 0;
     atm->shell_radius[0] = atm->bottom_radius_m;

@@ -21,10 +21,10 @@ typedef double (*density_fn)(void *ctx, double altitude_m);
 fm_status profile_sample(density_profile *p, density_fn fn, void *ctx, double top_m, double dz_m);
 void profile_free(density_profile *p);
 
-/* Density at altitude (m): linear between nodes, constant below 0, 0 above the top node. */
-static inline double profile_density(const density_profile *p, double altitude_m)
+/* Density at f = altitude / dz_m (grid steps): linear between nodes, constant below 0, 0 above the
+ * top node. */
+static inline double profile_density_at(const density_profile *p, double f)
 {
-    double f = altitude_m / p->dz_m;
     if (f <= 0.0)
         return p->n[0];
     int i = (int)f;
@@ -32,6 +32,12 @@ static inline double profile_density(const density_profile *p, double altitude_m
         return i == p->count - 1 && f == (double)i ? p->n[i] : 0.0;
     double t = f - i;
     return p->n[i] + (p->n[i + 1] - p->n[i]) * t;
+}
+
+/* Density at altitude (m). */
+static inline double profile_density(const density_profile *p, double altitude_m)
+{
+    return profile_density_at(p, altitude_m / p->dz_m);
 }
 
 /* Column (m^-2 for densities in m^-3): the integral of the piecewise-linear profile from the ground
