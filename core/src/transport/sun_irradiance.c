@@ -41,7 +41,7 @@ void sun_transmittance_direct(const atmosphere *atm, const column_table *columns
         sun_chord_rule_above(sun, K, -elevation, &cut);
         rule = &cut;
     }
-    double col[FM_MAX_SPECIES];
+    double col[FM_MAX_SPECIES], T[FM_MAX_WAVELENGTHS];
     for (int j = 0; j < rule->n; j++) {
         double mu_j = cos(theta_s - rule->delta[j]);
         if (columns) {
@@ -52,8 +52,9 @@ void sun_transmittance_direct(const atmosphere *atm, const column_table *columns
                 continue;
             column_quadrature(atm, r, mu_j, ray_distance_to_top(atm, r, mu_j), col);
         }
+        atmosphere_transmittances(atm, col, T);
         for (int k = 0; k < K; k++) {
-            double t = rule->weight[j][k] * exp(-atmosphere_optical_depth(atm, col, k));
+            double t = rule->weight[j][k] * T[k];
             normal[k] += t;
             if (horizontal)
                 horizontal[k] += t * mu_j;
@@ -78,9 +79,20 @@ static double table_xr(const atmosphere *atm, double r)
  * (exponentials of steep functions near the horizon); depths beyond MAX_DEPTH mean darkness. */
 #define MAX_DEPTH 200.0
 
-static double to_depth(double t)
+/* The depths -ln(t) of K transmittances in place, MAX_DEPTH for the dark ones (the logs in vector
+ * lanes). */
+static void to_depths(double *t, int K)
 {
-    return t > exp(-MAX_DEPTH) ? -log(t) : MAX_DEPTH;
+    const double darkest = exp(-MAX_DEPTH);
+    int dark[FM_MAX_WAVELENGTHS];
+    for (int k = 0; k < K; k++) {
+        dark[k] = !(t[k] > darkest);
+        if (dark[k])
+            t[k] = 1.0;
+    }
+    log_array(t, t, K);
+    for (int k = 0; k < K; k++)
+        t[k] = dark[k] ? MAX_DEPTH : -t[k];
 }
 
 static double from_depth(double d)
@@ -107,9 +119,11 @@ static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
         double x = (double)imu / (t->n_mu - 1);
         double mu_s = lo + (1.0 - lo) * x * x;
         sun_transmittance_direct(job->atm, job->columns, job->sun, r, mu_s, normal, horizontal);
+        to_depths(normal, t->count);
+        to_depths(horizontal, t->count);
         for (int k = 0; k < t->count; k++) {
-            t->normal[i * t->count + k] = (float)to_depth(normal[k]);
-            t->horizontal[i * t->count + k] = (float)to_depth(horizontal[k]);
+            t->normal[i * t->count + k] = (float)normal[k];
+            t->horizontal[i * t->count + k] = (float)horizontal[k];
         }
     }
 }
