@@ -114,6 +114,22 @@ static double multiple_scattering(const fm_sky *sky, const path_context *pc, vec
     return mean;
 }
 
+/* The same radiance toward d by two estimators (n_a and n_b paths on the streams of item_a and
+ * item_b): their means, standard errors and the z-score of their difference. */
+typedef struct estimator_pair {
+    double m_a, se_a, m_b, se_b, z;
+} estimator_pair;
+
+static estimator_pair compare_estimators(const fm_sky *sky, const path_context *a, int n_a, const path_context *b,
+                                         int n_b, vec3 d, uint64_t item_a, uint64_t item_b)
+{
+    estimator_pair e;
+    e.m_a = multiple_scattering(sky, a, d, n_a, item_a, &e.se_a);
+    e.m_b = multiple_scattering(sky, b, d, n_b, item_b, &e.se_b);
+    e.z = (e.m_b - e.m_a) / sqrt(e.se_a * e.se_a + e.se_b * e.se_b);
+    return e;
+}
+
 /* Zenith luminance (single scattering by quadrature + orders >= 2 by the renderer's estimator, default
  * rural sky) from +10 to -10 degrees in 1-degree steps: each step down must lower it by more than four
  * standard errors of the difference. */
@@ -208,15 +224,14 @@ static void rising_segments_match_point_estimate(void **state)
     const int n_point = 160000, n_rising = 60000;
     for (int i = 0; i < 2; i++) {
         vec3 d = direction_from_elevation_azimuth(views[i][0] * FM_DEG, views[i][1] * FM_DEG);
-        double se_p, se_r;
-        double m_p = multiple_scattering(sky, &point, d, n_point, 30 + (uint64_t)i, &se_p);
-        double m_r = multiple_scattering(sky, &rising, d, n_rising, 40 + (uint64_t)i, &se_r);
-        double z = (m_r - m_p) / sqrt(se_p * se_p + se_r * se_r);
-        double gain = (se_p * sqrt(n_point)) / (se_r * sqrt(n_rising));
+        estimator_pair e =
+            compare_estimators(sky, &point, n_point, &rising, n_rising, d, 30 + (uint64_t)i, 40 + (uint64_t)i);
+        double gain = (e.se_a * sqrt(n_point)) / (e.se_b * sqrt(n_rising));
         print_message("view %.0f deg up, %.0f deg from the sun: point estimates %.5e +- %.2f%%, rising segments along "
                       "%.5e +- %.2f%% (%+.1f sigma), noise per path / %.2f\n",
-                      views[i][0], views[i][1], m_p, 100.0 * se_p / m_p, m_r, 100.0 * se_r / m_r, z, gain);
-        assert_true(fabs(z) < 4.0);
+                      views[i][0], views[i][1], e.m_a, 100.0 * e.se_a / e.m_a, e.m_b, 100.0 * e.se_b / e.m_b, e.z,
+                      gain);
+        assert_true(fabs(e.z) < 4.0);
         assert_true(gain > 1.2);
     }
     fm_sky_destroy(sky);
@@ -245,17 +260,15 @@ static void shadow_flights_match_delta_tracking(void **state)
     double var_tracked = 0.0, var_guided = 0.0;
     for (int i = 0; i < 3; i++) {
         vec3 d = direction_from_elevation_azimuth(views[i][0] * FM_DEG, views[i][1] * FM_DEG);
-        double se_t, se_g;
-        double m_t = multiple_scattering(sky, &tracked, d, n_tracked, 10 + (uint64_t)i, &se_t);
-        double m_g = multiple_scattering(sky, &guided, d, n_guided, 20 + (uint64_t)i, &se_g);
-        double z = (m_g - m_t) / sqrt(se_t * se_t + se_g * se_g);
-        var_tracked += se_t * se_t * n_tracked / (m_t * m_t);
-        var_guided += se_g * se_g * n_guided / (m_t * m_t);
+        estimator_pair e = compare_estimators(sky, &tracked, n_tracked, &guided, n_guided, d, 10 + (uint64_t)i,
+                                              20 + (uint64_t)i);
+        var_tracked += e.se_a * e.se_a * n_tracked / (e.m_a * e.m_a);
+        var_guided += e.se_b * e.se_b * n_guided / (e.m_a * e.m_a);
         print_message("sun -9, view (%g, %g): delta tracking %.5e +- %.2f%%, guided flights %.5e +- %.2f%% (%+.2f%%, "
                       "%+.1f sigma)\n",
-                      views[i][0], views[i][1], m_t, 100.0 * se_t / m_t, m_g, 100.0 * se_g / m_g,
-                      100.0 * (m_g / m_t - 1.0), z);
-        assert_true(fabs(z) < 4.0);
+                      views[i][0], views[i][1], e.m_a, 100.0 * e.se_a / e.m_a, e.m_b, 100.0 * e.se_b / e.m_b,
+                      100.0 * (e.m_b / e.m_a - 1.0), e.z);
+        assert_true(fabs(e.z) < 4.0);
     }
     print_message("relative noise per path: delta tracking %.2f, guided flights %.2f\n", sqrt(var_tracked / 3.0),
                   sqrt(var_guided / 3.0));

@@ -120,8 +120,10 @@ static void proxy_cells(lit_proxy *p)
         p->total += p->mass[j];
     }
     p->cdf[0] = 0.0;
-    for (int j = 0; j < n; j++)
-        p->cdf[j + 1] = p->cdf[j] + (p->total > 0.0 ? (1.0 - DEFENSIVE) * p->mass[j] / p->total + DEFENSIVE / n : 1.0 / n);
+    for (int j = 0; j < n; j++) {
+        double share = p->total > 0.0 ? (1.0 - DEFENSIVE) * p->mass[j] / p->total + DEFENSIVE / n : 1.0 / n;
+        p->cdf[j + 1] = p->cdf[j] + share;
+    }
 }
 
 /* The sunlit length for the uniform number u in [0, 1), and the mixture's density there (1/m). */
