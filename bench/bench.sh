@@ -9,17 +9,27 @@
 #     percentile of the relative luminance error over all pixels, from `firmament compare`.  That the
 #     fast path has no bias beyond the reference mode's noise is a test
 #     (tests/physics/test_fast_vs_reference.c);
+#   - their error against the reference mode converged at 400 probe pixels of the 1024 x 512 map
+#     (tests/data/bench_reference/SKY-1024.txt, cached: 300 000 paths per pixel for the default sky,
+#     RMS noise about 0.1%, 1.2 million for the sunset, about 0.3%; a 4096 x 2048 map is averaged
+#     over 4 x 4 pixels there): "ref RMS %", the RMS relative luminance error at the probes with the
+#     reference's own noise taken out in quadrature, and "ref bias %", its mean.  Unlike the 16x
+#     map's, this error holds the fast path's bias too (the fit's, the tables' interpolation);
 #   - the speed-up against the reference mode at equal RMS error, measured in the same run: the
 #     reference mode (per-pixel path tracing, no tables) renders 400 pixels of the 1024 x 512 map
 #     with 256 paths each (bench/sky_bench.c); its time per pixel t and its RMS relative noise e
 #     (from its own standard errors: it is unbiased) give the time it needs for the whole map at the
-#     fast map's RMS error E, pixels x t x (e / E)^2, which is divided by the fast map's wall time.
+#     fast map's RMS error E against the converged reference, pixels x t x (e / E)^2, which is divided
+#     by the fast map's wall time.
 #
 # "cost x" (with --biomes) is the wall time relative to the clear sky (no aerosol) at equal RMS
 # error: Monte Carlo error falls as 1/sqrt(samples), so equal error costs wall * (RMS / RMS_clear)^2.
 #   bench/bench.sh                  the default sky (sun 30, rural) and a sunset (sun 2, urban, T 2)
 #   bench/bench.sh --biomes         1024 x 512 final maps of the clear sky and every biome at sun 30,
 #                                   with their cost against the clear sky (issue "composition")
+#   bench/bench.sh --make-reference rewrites the converged references (after a change of the physics;
+#                                   about 10 minutes for the default sky and 40 for the sunset on 2
+#                                   cores)
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 . "$ROOT/scripts/common.sh"
@@ -52,7 +62,19 @@ compare() { # a b -> prints "rms% p99%"
     echo "$(echo "$cmp" | field rms) $(echo "$cmp" | field p99)" | awk '{ printf "%.3f %.3f\n", 100 * $1, 100 * $2 }'
 }
 
-row() { printf '%-28s %-10s %-8s %8s %9s %7s %7s %12s\n' "$@"; }
+row() { printf '%-28s %-10s %-8s %8s %9s %7s %7s %9s %10s %12s\n' "$@"; }
+
+REFERENCES="$ROOT/tests/data/bench_reference"
+if [ "${1:-}" = "--make-reference" ]; then
+    mkdir -p "$REFERENCES"
+    for job in "default 300000" "sunset 1200000"; do
+        read -r sky paths <<<"$job"
+        "$SB" reference "$sky" 1024 "$paths" >"$out/$sky-1024.txt"
+        mv "$out/$sky-1024.txt" "$REFERENCES/$sky-1024.txt"
+        sed -n 2p "$REFERENCES/$sky-1024.txt"
+    done
+    exit 0
+fi
 
 echo "firmament $("$FM" --version | cut -d' ' -f2), $(nproc) threads, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 
@@ -72,7 +94,7 @@ if [ "${1:-}" = "--biomes" ]; then
     exit 0
 fi
 
-row sky size quality "wall s" "peak MiB" "RMS %" "p99 %" "vs reference"
+row sky size quality "wall s" "peak MiB" "RMS %" "p99 %" "ref RMS %" "ref bias %" "vs reference"
 for sky in default sunset; do
     read -r -a args <<<"$("$SB" args "$sky")"
     label="$sky ($(echo "${args[*]}" | sed 's/--sun-elevation \([0-9-]*\).*--biome \([a-z-]*\) --turbidity \([0-9.]*\)/sun \1, \2, T \3/'))"
@@ -85,8 +107,11 @@ for sky in default sunset; do
             render "$sky-$width-16x" "${args[@]}" --width "$width" --sample-scale 16 >/dev/null
         read -r sec mib <<<"$(timed "$name" "${args[@]}" --width "$width" --quality "$quality")"
         read -r rms p99 <<<"$(compare "$name" "$sky-$width-16x")"
-        speedup=$(awk -v t="$t_ref" -v e="$e_ref" -v E="$rms" -v w="$width" -v s="$sec" \
+        # against the converged reference at its probes: error without the reference's noise, bias
+        read -r _ _ _ _ ref_rms _ ref_bias _ <<<"$("$SB" error "$out/$name.exr" "$REFERENCES/$sky-1024.txt")"
+        read -r ref_rms ref_bias <<<"$(awk -v r="$ref_rms" -v b="$ref_bias" 'BEGIN { printf "%.3f %+.3f", 100 * r, 100 * b }')"
+        speedup=$(awk -v t="$t_ref" -v e="$e_ref" -v E="$ref_rms" -v w="$width" -v s="$sec" \
             'BEGIN { printf "%.0fx", w * w / 2 * t * (100 * e / E) ^ 2 / s }')
-        row "$label" "${width}x$((width / 2))" "$quality" "$sec" "$mib" "$rms" "$p99" "$speedup"
+        row "$label" "${width}x$((width / 2))" "$quality" "$sec" "$mib" "$rms" "$p99" "$ref_rms" "$ref_bias" "$speedup"
     done
 done

@@ -1,10 +1,19 @@
 /* The speed benchmark's measurement of the reference mode (bench/bench.sh runs it): the reference
  * mode itself (fm_render_pixels: per-pixel path tracing, no tables) at PROBES pixels of the
  * benchmark sky's equirect map, its wall time per pixel and its RMS relative noise from its own
- * standard errors (it is unbiased: its error is its noise, falling as 1 / sqrt(paths)).
+ * standard errors (it is unbiased: its error is its noise, falling as 1 / sqrt(paths)); and the
+ * error of a fast map against a converged reference-mode estimate at those pixels, cached in
+ * tests/data/bench_reference/ (a whole map that converged is out of reach: 10^5 to 10^7 paths per
+ * pixel; a few hundred pixels are not, and their errors estimate the map's RMS error, noise and
+ * bias together).
  *
- *   sky-bench args SKY                the firmament render options of the sky (default | sunset)
- *   sky-bench speed SKY WIDTH PATHS   prints "seconds_per_pixel T noise E paths N"
+ *   sky-bench args SKY                   the firmament render options of the sky (default | sunset)
+ *   sky-bench speed SKY WIDTH PATHS      prints "seconds_per_pixel T noise E paths N"
+ *   sky-bench reference SKY WIDTH PATHS  prints the converged reference at the probes (the cache file)
+ *   sky-bench error MAP.exr REFERENCE    prints "rms E noise N corrected C bias B probes P": the map's
+ *                                        relative luminance error at the reference's probes (a map k
+ *                                        times as wide is averaged over k x k pixels first), the
+ *                                        reference's own noise and the error with it taken out
  *
  * Probe pixels: positions uniform over the map's pixels (the map's RMS weighs every pixel alike),
  * from a fixed hash, leaving out those within EXCLUDE_DEG of the sun (the benchmark's maps have no
@@ -16,6 +25,7 @@
 #include "base/rng.h"
 #include "base/units.h"
 #include "camera/equirect.h"
+#include "colour/colour.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -116,19 +126,109 @@ static double reference(const bench_sky *b, int W, int paths, uint64_t seed, con
     return t;
 }
 
+/* The reference at the probes, as tests/data/bench_reference/SKY-WIDTH.txt: a header, then per
+ * probe "x y Y se" (CIE Y in W m^-2 sr^-1 and its standard error). */
+static int write_reference(const bench_sky *b, int W, int paths)
+{
+    int x[PROBES], y[PROBES], n = probe_pixels(b, W, x, y);
+    static double Y[PROBES], se[PROBES];
+    const uint64_t seed = 1000003; /* not the speed measurement's */
+    double t = reference(b, W, paths, seed, x, y, n, Y, se), noise2 = 0.0;
+    for (int i = 0; i < n; i++)
+        noise2 += (se[i] / Y[i]) * (se[i] / Y[i]);
+    printf("# The reference mode at %d probe pixels of the %d x %d map of the benchmark sky '%s' (%s,\n", n, W, W / 2,
+           b->name, b->args);
+    printf("# --no-sun-disk), %d paths per pixel, seed %llu: RMS relative noise %.4f%%; %.0f s wall.\n", paths,
+           (unsigned long long)seed, 100.0 * sqrt(noise2 / n), t);
+    printf("# Per probe: x y (pixel), CIE Y (W m^-2 sr^-1), its standard error.  Regenerate after a change of the\n");
+    printf("# physics: bench/bench.sh --make-reference (hours).\n");
+    printf("%d %d %d\n", W, W / 2, n);
+    for (int i = 0; i < n; i++)
+        printf("%d %d %.9g %.9g\n", x[i], y[i], Y[i], se[i]);
+    return 0;
+}
+
+/* CIE Y of pixel (x, y) of a colour map (XYZ, Rec.709 or another RGB space), as firmament compare. */
+static double map_luminance(const fm_image *m, int x, int y)
+{
+    const float *v = &m->pixels[((size_t)y * m->width + x) * m->channels];
+    if (m->content == FM_IMAGE_XYZ)
+        return v[1];
+    double rgb[3] = {v[0], v[1], v[2]}, xyz[3];
+    if (m->content == FM_IMAGE_RGB)
+        colour_matrix_apply(&m->rgb_to_xyz[0][0], rgb, xyz);
+    else
+        colour_rec709_to_xyz(rgb, xyz);
+    return xyz[1];
+}
+
+static int map_error(const char *map_path, const char *ref_path)
+{
+    fm_image *m;
+    fm_error err;
+    if (fm_image_read_exr(map_path, &m, &err)) {
+        fprintf(stderr, "sky-bench: %s\n", err.message);
+        return 1;
+    }
+    FILE *f = fopen(ref_path, "r");
+    if (!f) {
+        fprintf(stderr, "sky-bench: cannot read %s\n", ref_path);
+        return 1;
+    }
+    char line[512];
+    int W = 0, H = 0, n = 0;
+    while (fgets(line, sizeof line, f) && line[0] == '#')
+        continue;
+    if (sscanf(line, "%d %d %d", &W, &H, &n) != 3 || W < 8 || m->width % W || m->height * W != H * m->width ||
+        m->channels != 3 || (m->content != FM_IMAGE_XYZ && m->content != FM_IMAGE_RGB_REC709 &&
+                             m->content != FM_IMAGE_RGB)) {
+        fprintf(stderr, "sky-bench: %s does not match %s (a colour map, a multiple of %d x %d)\n", map_path, ref_path,
+                W, H);
+        return 1;
+    }
+    const int k = m->width / W;
+    double e2 = 0.0, noise2 = 0.0, bias = 0.0;
+    int used = 0;
+    for (int i = 0; i < n; i++) {
+        int x, y;
+        double Y, se;
+        if (fscanf(f, "%d %d %lf %lf", &x, &y, &Y, &se) != 4 || !(Y > 0.0)) {
+            fprintf(stderr, "sky-bench: %s: probe %d unreadable\n", ref_path, i + 1);
+            return 1;
+        }
+        double sum = 0.0; /* the k x k pixels of the larger map that make up probe pixel (x, y) */
+        for (int dy = 0; dy < k; dy++)
+            for (int dx = 0; dx < k; dx++)
+                sum += map_luminance(m, k * x + dx, k * y + dy);
+        double e = sum / (k * k) / Y - 1.0;
+        e2 += e * e;
+        bias += e;
+        noise2 += (se / Y) * (se / Y);
+        used++;
+    }
+    fclose(f);
+    fm_image_destroy(m);
+    double rms = sqrt(e2 / used), noise = sqrt(noise2 / used);
+    printf("rms %.6f noise %.6f corrected %.6f bias %.6f probes %d\n", rms, noise,
+           sqrt(fmax(0.0, rms * rms - noise * noise)), bias / used, used);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc == 3 && strcmp(argv[1], "args") == 0) {
         printf("%s\n", find_sky(argv[2])->args);
         return 0;
     }
-    if (argc == 5 && strcmp(argv[1], "speed") == 0) {
+    if (argc == 5 && (strcmp(argv[1], "speed") == 0 || strcmp(argv[1], "reference") == 0)) {
         const bench_sky *b = find_sky(argv[2]);
         int W = atoi(argv[3]), paths = atoi(argv[4]), x[PROBES], y[PROBES];
         if (W < 8 || W % 2 || paths < 2) {
             fprintf(stderr, "sky-bench: WIDTH must be even and at least 8, PATHS at least 2\n");
             return 2;
         }
+        if (strcmp(argv[1], "reference") == 0)
+            return write_reference(b, W, paths);
         int n = probe_pixels(b, W, x, y);
         static double Y[PROBES], se[PROBES];
         double t = reference(b, W, paths, 1, x, y, n, Y, se), noise2 = 0.0;
@@ -137,6 +237,9 @@ int main(int argc, char **argv)
         printf("seconds_per_pixel %.6g noise %.6f paths %d\n", t / n, sqrt(noise2 / n), paths);
         return 0;
     }
-    fprintf(stderr, "usage: sky-bench args SKY | speed SKY WIDTH PATHS\n");
+    if (argc == 4 && strcmp(argv[1], "error") == 0)
+        return map_error(argv[2], argv[3]);
+    fprintf(stderr, "usage: sky-bench args SKY | speed SKY WIDTH PATHS | reference SKY WIDTH PATHS | error MAP.exr "
+                    "REFERENCE\n");
     return 2;
 }
