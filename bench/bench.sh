@@ -108,7 +108,7 @@ for sky in default sunset; do
         read -r sec mib <<<"$(timed "$name" "${args[@]}" --width "$width" --quality "$quality")"
         read -r rms p99 <<<"$(compare "$name" "$sky-$width-16x")"
         # against the converged reference at its probes: error without the reference's noise, bias
-        read -r _ _ _ _ ref_rms _ ref_bias _ <<<"$("$SB" error "$out/$name.exr" "$REFERENCES/$sky-1024.txt")"
+        read -r _ _ _ _ _ ref_rms _ ref_bias _ <<<"$("$SB" error "$out/$name.exr" "$REFERENCES/$sky-1024.txt")"
         read -r ref_rms ref_bias <<<"$(awk -v r="$ref_rms" -v b="$ref_bias" 'BEGIN { printf "%.3f %+.3f", 100 * r, 100 * b }')"
         speedup=$(awk -v t="$t_ref" -v e="$e_ref" -v E="$ref_rms" -v w="$width" -v s="$sec" \
             'BEGIN { printf "%.0fx", w * w / 2 * t * (100 * e / E) ^ 2 / s }')
