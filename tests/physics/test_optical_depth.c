@@ -37,6 +37,16 @@ static void ray_geometry(void **state)
     assert_true(ray_hits_ground(a, r, mh - 1e-6));
     assert_false(ray_hits_ground(a, r, mh + 1e-6));
     check_rel(ray_distance_to_ground(a, r, -1.0), 10000.0, 1e-9, "straight down");
+    /* from the ground itself every downward ray ends where it starts: exactly 0, not a rounding
+     * error's sliver of air (an observer on the ground, the table's downward nodes) */
+    for (double mu = -0.9999; mu < 0.0; mu += 0.0137)
+        assert_true(ray_distance_to_ground(a, R, mu) == 0.0);
+    /* 1 m up, the nearer root in long double: (r^2 - R^2) / (-r mu + sqrt(disc)) is the same root */
+    for (double mu = -1.0; mu < -0.01; mu += 0.0731) {
+        long double rl = (long double)R + 1.0L, disc = rl * rl * ((long double)mu * mu - 1.0L) + (long double)R * R;
+        double expected = (double)(-rl * mu - sqrtl(disc));
+        check_rel(ray_distance_to_ground(a, R + 1.0, mu), expected, 1e-6, "1 m up");
+    }
 }
 
 /* Independent check: Simpson's rule with many points on the density evaluated pointwise. */

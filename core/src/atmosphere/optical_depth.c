@@ -22,11 +22,15 @@ int ray_hits_ground(const atmosphere *atm, double r, double mu)
     return mu < 0.0 && r * r * (mu * mu - 1.0) + rb * rb >= 0.0;
 }
 
+/* The nearer root as (r^2 - rb^2) / (the farther one): no cancellation, so a ray from the ground
+ * itself (r = rb) meets it at exactly 0, not at a rounding error of about 1e-9 m whose sliver of
+ * air a path would then scatter in. */
 double ray_distance_to_ground(const atmosphere *atm, double r, double mu)
 {
     double rb = atm->bottom_radius_m;
     double disc = r * r * (mu * mu - 1.0) + rb * rb;
-    return fmax(0.0, -r * mu - safe_sqrt(disc));
+    double far = -r * mu + safe_sqrt(disc);
+    return far > 0.0 ? fmax(0.0, (r - rb) * (r + rb) / far) : 0.0;
 }
 
 double ray_distance_to_boundary(const atmosphere *atm, double r, double mu, int *hits_ground)
