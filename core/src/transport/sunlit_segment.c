@@ -1,6 +1,7 @@
 #include "transport/sunlit_segment.h"
 
 #include "atmosphere/optical_depth.h"
+#include "base/exp_array.h"
 #include "base/units.h"
 
 #include <math.h>
@@ -164,7 +165,7 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
     segment_columns sc;
     segment_columns_init(&sc, ctx, seg);
     double col[FM_MAX_SPECIES], n[FM_MAX_SPECIES];
-    double sig_s[FM_MAX_WAVELENGTHS], tbar[FM_MAX_WAVELENGTHS];
+    double tbar[FM_MAX_WAVELENGTHS];
 
     if (lit > 0.0) {
         /* proxy: sum over three wavelengths of T sigma_s Tbar at the cells' ends */
@@ -193,25 +194,36 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
             }
         }
         proxy_cells(&p);
-        double phase[FM_MAX_WAVELENGTHS];
+        /* the angle to the sun is the same all along the segment: each species' phase once */
+        double phase[FM_MAX_SPECIES][FM_MAX_WAVELENGTHS];
+        for (int c = 0; c < atm->scattering_count; c++)
+            phase_evaluate_all(&atm->species[c].phase, K, cos_sun, phase[c]);
         for (int i = 0; i < SUN_SAMPLES; i++) {
             double density, l = proxy_sample(&p, (i + rng_uniform(r)) / SUN_SAMPLES, &density);
             double t = lit_to_t(l, u0, u1), rad = ray_segment_radius(seg, t);
             vec3 x = v3_madd(seg->origin, seg->dir, t);
-            sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, tbar, NULL);
-            double any = 0.0;
+            double depth[FM_MAX_WAVELENGTHS]; /* the sunlight's, then the path's to here added */
+            sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, depth);
+            int any = 0;
             for (int k = 0; k < K; k++)
-                any += tbar[k];
-            if (!(any > 0.0))
+                any |= depth[k] < INFINITY;
+            if (!any)
                 continue;
             double inv_pdf = 1.0 / density / SUN_SAMPLES;
             segment_columns_at(&sc, t, col);
             atmosphere_densities(atm, rad, n);
-            medium_phase(atm, n, cos_sun, phase, sig_s);
-            double tr[FM_MAX_WAVELENGTHS];
-            atmosphere_transmittances(atm, col, tr);
+            double scatter[FM_MAX_WAVELENGTHS] = {0}; /* sigma_s p over the species, 1/(m sr) */
+            for (int c = 0; c < atm->scattering_count; c++) {
+                if (n[c] == 0.0)
+                    continue;
+                for (int k = 0; k < K; k++)
+                    scatter[k] += atm->species[c].sigma_s[k] * n[c] * phase[c][k];
+            }
             for (int k = 0; k < K; k++)
-                S[k] += inv_pdf * tr[k] * sig_s[k] * phase[k] * E0[k] * tbar[k];
+                depth[k] = -(depth[k] + atmosphere_optical_depth(atm, col, k));
+            exp_array(depth, depth, K); /* from the sun to here and on to the segment's origin */
+            for (int k = 0; k < K; k++)
+                S[k] += inv_pdf * scatter[k] * E0[k] * depth[k];
         }
     }
 
