@@ -25,7 +25,7 @@
 #include "base/rng.h"
 #include "base/units.h"
 #include "camera/equirect.h"
-#include "colour/colour.h"
+#include "image/image.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -126,6 +126,15 @@ static double reference(const bench_sky *b, int W, int paths, uint64_t seed, con
     return t;
 }
 
+/* RMS relative noise of n estimates Y with standard errors se. */
+static double rms_relative_noise(const double *Y, const double *se, int n)
+{
+    double noise2 = 0.0;
+    for (int i = 0; i < n; i++)
+        noise2 += (se[i] / Y[i]) * (se[i] / Y[i]);
+    return sqrt(noise2 / n);
+}
+
 /* The reference at the probes, as tests/data/bench_reference/SKY-WIDTH.txt: a header, then per
  * probe "x y Y se" (CIE Y in W m^-2 sr^-1 and its standard error). */
 static int write_reference(const bench_sky *b, int W, int paths)
@@ -133,13 +142,11 @@ static int write_reference(const bench_sky *b, int W, int paths)
     int x[PROBES], y[PROBES], n = probe_pixels(b, W, x, y);
     static double Y[PROBES], se[PROBES];
     const uint64_t seed = 1000003; /* not the speed measurement's */
-    double t = reference(b, W, paths, seed, x, y, n, Y, se), noise2 = 0.0;
-    for (int i = 0; i < n; i++)
-        noise2 += (se[i] / Y[i]) * (se[i] / Y[i]);
+    double t = reference(b, W, paths, seed, x, y, n, Y, se);
     printf("# The reference mode at %d probe pixels of the %d x %d map of the benchmark sky '%s' (%s,\n", n, W, W / 2,
            b->name, b->args);
     printf("# --no-sun-disk), %d paths per pixel, seed %llu: RMS relative noise %.4f%%; %.0f s wall.\n", paths,
-           (unsigned long long)seed, 100.0 * sqrt(noise2 / n), t);
+           (unsigned long long)seed, 100.0 * rms_relative_noise(Y, se, n), t);
     printf("# Per probe: x y (pixel), CIE Y (W m^-2 sr^-1), its standard error.  Regenerate after a change of the\n");
     printf("# physics: bench/bench.sh --make-reference (hours).\n");
     printf("%d %d %d\n", W, W / 2, n);
@@ -151,48 +158,23 @@ static int write_reference(const bench_sky *b, int W, int paths)
 /* CIE Y of pixel (x, y) of a colour map (XYZ, Rec.709 or another RGB space), as firmament compare. */
 static double map_luminance(const fm_image *m, int x, int y)
 {
-    const float *v = &m->pixels[((size_t)y * m->width + x) * m->channels];
-    if (m->content == FM_IMAGE_XYZ)
-        return v[1];
-    double rgb[3] = {v[0], v[1], v[2]}, xyz[3];
-    if (m->content == FM_IMAGE_RGB)
-        colour_matrix_apply(&m->rgb_to_xyz[0][0], rgb, xyz);
-    else
-        colour_rec709_to_xyz(rgb, xyz);
+    const float *p = &m->pixels[((size_t)y * m->width + x) * m->channels];
+    double v[3] = {p[0], p[1], p[2]}, xyz[3];
+    image_colour_to_xyz(m, v, xyz);
     return xyz[1];
 }
 
-static int map_error(const char *map_path, const char *ref_path)
+/* The map's relative luminance error at the n probes that follow in the reference file f;
+ * 0, or 1 with the problem said. */
+static int probe_errors(const fm_image *m, FILE *f, const char *ref_path, int W, int n)
 {
-    fm_image *m;
-    fm_error err;
-    if (fm_image_read_exr(map_path, &m, &err)) {
-        fprintf(stderr, "sky-bench: %s\n", err.message);
-        return 1;
-    }
-    FILE *f = fopen(ref_path, "r");
-    if (!f) {
-        fprintf(stderr, "sky-bench: cannot read %s\n", ref_path);
-        return 1;
-    }
-    char line[512];
-    int W = 0, H = 0, n = 0;
-    while (fgets(line, sizeof line, f) && line[0] == '#')
-        continue;
-    if (sscanf(line, "%d %d %d", &W, &H, &n) != 3 || W < 8 || m->width % W || m->height * W != H * m->width ||
-        m->channels != 3 || (m->content != FM_IMAGE_XYZ && m->content != FM_IMAGE_RGB_REC709 &&
-                             m->content != FM_IMAGE_RGB)) {
-        fprintf(stderr, "sky-bench: %s does not match %s (a colour map, a multiple of %d x %d)\n", map_path, ref_path,
-                W, H);
-        return 1;
-    }
     const int k = m->width / W;
     double e2 = 0.0, noise2 = 0.0, bias = 0.0;
-    int used = 0;
     for (int i = 0; i < n; i++) {
         int x, y;
         double Y, se;
-        if (fscanf(f, "%d %d %lf %lf", &x, &y, &Y, &se) != 4 || !(Y > 0.0)) {
+        if (fscanf(f, "%d %d %lf %lf", &x, &y, &Y, &se) != 4 || !(Y > 0.0) || x < 0 || y < 0 ||
+            k * x >= m->width || k * y >= m->height) {
             fprintf(stderr, "sky-bench: %s: probe %d unreadable\n", ref_path, i + 1);
             return 1;
         }
@@ -204,14 +186,41 @@ static int map_error(const char *map_path, const char *ref_path)
         e2 += e * e;
         bias += e;
         noise2 += (se / Y) * (se / Y);
-        used++;
     }
-    fclose(f);
-    fm_image_destroy(m);
-    double rms = sqrt(e2 / used), noise = sqrt(noise2 / used);
+    double rms = sqrt(e2 / n), noise = sqrt(noise2 / n);
     printf("rms %.6f noise %.6f corrected %.6f bias %.6f probes %d\n", rms, noise,
-           sqrt(fmax(0.0, rms * rms - noise * noise)), bias / used, used);
+           sqrt(fmax(0.0, rms * rms - noise * noise)), bias / n, n);
     return 0;
+}
+
+static int map_error(const char *map_path, const char *ref_path)
+{
+    fm_image *m;
+    fm_error err;
+    if (fm_image_read_exr(map_path, &m, &err)) {
+        fprintf(stderr, "sky-bench: %s\n", err.message);
+        return 1;
+    }
+    FILE *f = fopen(ref_path, "r");
+    int status = 1;
+    if (!f) {
+        fprintf(stderr, "sky-bench: cannot read %s\n", ref_path);
+    } else {
+        char line[512] = "";
+        int W = 0, H = 0, n = 0;
+        while (fgets(line, sizeof line, f) && line[0] == '#')
+            continue;
+        if (sscanf(line, "%d %d %d", &W, &H, &n) != 3 || W < 8 || n < 1 || m->width % W ||
+            m->height * W != H * m->width || m->channels != 3 ||
+            (m->content != FM_IMAGE_XYZ && m->content != FM_IMAGE_RGB_REC709 && m->content != FM_IMAGE_RGB))
+            fprintf(stderr, "sky-bench: %s does not match %s (a colour map, a multiple of %d x %d)\n", map_path,
+                    ref_path, W, H);
+        else
+            status = probe_errors(m, f, ref_path, W, n);
+        fclose(f);
+    }
+    fm_image_destroy(m);
+    return status;
 }
 
 int main(int argc, char **argv)
@@ -231,10 +240,8 @@ int main(int argc, char **argv)
             return write_reference(b, W, paths);
         int n = probe_pixels(b, W, x, y);
         static double Y[PROBES], se[PROBES];
-        double t = reference(b, W, paths, 1, x, y, n, Y, se), noise2 = 0.0;
-        for (int i = 0; i < n; i++)
-            noise2 += (se[i] / Y[i]) * (se[i] / Y[i]);
-        printf("seconds_per_pixel %.6g noise %.6f paths %d\n", t / n, sqrt(noise2 / n), paths);
+        double t = reference(b, W, paths, 1, x, y, n, Y, se);
+        printf("seconds_per_pixel %.6g noise %.6f paths %d\n", t / n, rms_relative_noise(Y, se, n), paths);
         return 0;
     }
     if (argc == 4 && strcmp(argv[1], "error") == 0)

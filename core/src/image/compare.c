@@ -4,7 +4,7 @@
 #include "base/status.h"
 #include "base/units.h"
 #include "camera/camera.h"
-#include "colour/colour.h"
+#include "image/image.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -15,14 +15,9 @@ static void pixel_xyz(const fm_image *img, size_t i, double xyz[3])
     if (img->channels == 1) {
         xyz[0] = xyz[2] = 0.0;
         xyz[1] = p[0];
-    } else if (img->content == FM_IMAGE_XYZ) {
-        xyz[0] = p[0], xyz[1] = p[1], xyz[2] = p[2];
-    } else if (img->content == FM_IMAGE_RGB) {
-        double rgb[3] = {p[0], p[1], p[2]};
-        colour_matrix_apply(&img->rgb_to_xyz[0][0], rgb, xyz);
     } else {
-        double rgb[3] = {p[0], p[1], p[2]};
-        colour_rec709_to_xyz(rgb, xyz);
+        double v[3] = {p[0], p[1], p[2]};
+        image_colour_to_xyz(img, v, xyz);
     }
 }
 

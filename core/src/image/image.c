@@ -150,3 +150,14 @@ int fm_image_diffuse_horizontal(const fm_image *image, double out[3])
     }
     return 1;
 }
+
+void image_colour_to_xyz(const fm_image *img, const double v[3], double xyz[3])
+{
+    if (img->content == FM_IMAGE_XYZ) {
+        xyz[0] = v[0], xyz[1] = v[1], xyz[2] = v[2];
+    } else if (img->content == FM_IMAGE_RGB) {
+        colour_matrix_apply(&img->rgb_to_xyz[0][0], v, xyz);
+    } else {
+        colour_rec709_to_xyz(v, xyz);
+    }
+}

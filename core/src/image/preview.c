@@ -4,7 +4,6 @@
 #include "base/status.h"
 #include "base/units.h"
 #include "camera/camera.h"
-#include "colour/colour.h"
 #include "image/image.h"
 
 #include <errno.h>
@@ -22,13 +21,8 @@ static double sky_luminance(const fm_image *img, size_t i)
     double v[3];
     for (int c = 0; c < 3; c++)
         v[c] = img->pixels[3 * i + c] - (img->sun_disk ? img->sun_disk[3 * i + c] : 0.0f);
-    if (img->content == FM_IMAGE_XYZ)
-        return v[1];
     double xyz[3];
-    if (img->content == FM_IMAGE_RGB)
-        colour_matrix_apply(&img->rgb_to_xyz[0][0], v, xyz);
-    else
-        colour_rec709_to_xyz(v, xyz);
+    image_colour_to_xyz(img, v, xyz);
     return xyz[1];
 }
 

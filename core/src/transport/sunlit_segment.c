@@ -165,7 +165,6 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
     segment_columns sc;
     segment_columns_init(&sc, ctx, seg);
     double col[FM_MAX_SPECIES], n[FM_MAX_SPECIES];
-    double tbar[FM_MAX_WAVELENGTHS];
 
     if (lit > 0.0) {
         /* proxy: sum over three wavelengths of T sigma_s Tbar at the cells' ends */
@@ -229,7 +228,7 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
 
     if (seg->hits_ground) {
         vec3 x = v3_madd(seg->origin, seg->dir, seg->t_end);
-        double rad = v3_length(x), thor[FM_MAX_WAVELENGTHS];
+        double rad = v3_length(x), tbar[FM_MAX_WAVELENGTHS], thor[FM_MAX_WAVELENGTHS];
         sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, atm->bottom_radius_m, v3_dot(x, ctx->sun_dir) / rad, tbar,
                               thor);
         double any = 0.0;
