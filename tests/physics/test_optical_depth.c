@@ -8,6 +8,7 @@
 #include "transport/free_flight.h"
 
 #include <math.h>
+#include <string.h>
 
 static fm_sky *sky;
 
@@ -81,6 +82,33 @@ static void closed_form_matches_fine_quadrature(void **state)
     }
 }
 
+/* Aerosol layers end in 50 m ramps; a Gauss piece with a ramp's end inside misses the kink.  Rays
+ * grazing the stratospheric layer's top (35 km, between the fixed breakpoints at 33 and 36 km)
+ * and the boundary layer's (2 km), each species' column against the closed form.  Before the
+ * layers' kinks were breakpoints, the first ray's stratospheric column was 0.76% off. */
+static void quadrature_breaks_at_layer_edges(void **state)
+{
+    fm_sky_params p = test_params(10.0, 0.0);
+    p.biome = "urban";
+    p.turbidity = 2.0;
+    fm_sky *urban;
+    fm_error err;
+    assert_int_equal(fm_sky_create(&p, &urban, &err), FM_OK);
+    const atmosphere *a = &urban->atm;
+    const double cases[][2] = {{37904.0, -0.03259}, {35052.0, -0.0118}, {40000.0, -0.0345}, {2500.0, -0.012},
+                               {2040.0, -0.0011}, {36000.0, 0.02}};
+    for (int i = 0; i < 6; i++) {
+        double r = a->bottom_radius_m + cases[i][0], mu = cases[i][1];
+        double t = ray_distance_to_top(a, r, mu), exact[FM_MAX_SPECIES], quad[FM_MAX_SPECIES];
+        column_exact(a, r, mu, t, exact);
+        column_quadrature(a, r, mu, t, quad);
+        for (int c = 0; c < a->species_count; c++)
+            if (strcmp(a->species[c].name, "aerosol") == 0 && exact[c] > 0.0)
+                check_rel(quad[c], exact[c], 1e-6, "aerosol column across a layer's edge");
+    }
+    fm_sky_destroy(urban);
+}
+
 /* The transmittance tables are used for sunlight; check optical depth where it matters. */
 static void column_table_accuracy(void **state)
 {
@@ -143,6 +171,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(ray_geometry),
         cmocka_unit_test(closed_form_matches_fine_quadrature),
+        cmocka_unit_test(quadrature_breaks_at_layer_edges),
         cmocka_unit_test(column_table_accuracy),
         cmocka_unit_test(sun_table_accuracy),
         cmocka_unit_test(majorants_bound_the_medium),

@@ -94,28 +94,39 @@ species *atmosphere_new_species(atmosphere *atm, int scatters)
     return &atm->species[at];
 }
 
-/* The first and last altitude of nonzero density of each species, inside the atmosphere. */
+/* Where a species' profile bends sharply: the nodes whose second difference exceeds a tenth of
+ * the local density, i.e. the ends of the steps at an aerosol layer's bottom and top (sampled as
+ * ramps over one or two 50 m cells).  The profile is linear between nodes, and smooth profiles bend
+ * by far less per node (an exponential of 1 km scale height by 0.25%), so these are the kinks that
+ * a Gauss rule across them would miss: a 2 km piece with the stratospheric layer's top inside (35
+ * km, no fixed breakpoint there) put grazing columns 0.8% off with 8 points. */
+#define EDGE_BEND 0.1
+
+static void add_edge(atmosphere *atm, double z_m, double top_m)
+{
+    if (!(z_m > 0.0 && z_m < top_m) || atm->edge_count == FM_MAX_EDGES)
+        return;
+    for (int i = 0; i < atm->edge_count; i++)
+        if (atm->edge_altitude_m[i] == z_m)
+            return;
+    atm->edge_altitude_m[atm->edge_count++] = z_m;
+}
+
 static void find_profile_edges(atmosphere *atm)
 {
     const double top_m = atm->top_radius_m - atm->bottom_radius_m;
     atm->edge_count = 0;
     for (int c = 0; c < atm->species_count; c++) {
         const density_profile *p = &atm->species[c].profile;
-        int first = 0, last = p->count - 1;
-        while (first < p->count && p->n[first] == 0.0)
-            first++;
-        while (last > first && p->n[last] == 0.0)
-            last--;
-        if (first >= p->count)
-            continue;
-        /* the ramp to zero ends one node beyond the last nonzero one (profile_density is 0 above
-         * the top node) */
-        double edges[2] = {first > 0 ? (first - 1) * p->dz_m : 0.0, fmin((last + 1) * p->dz_m, (p->count - 1) * p->dz_m)};
-        if (last == p->count - 1)
-            edges[1] = last * p->dz_m;
-        for (int e = 0; e < 2; e++)
-            if (edges[e] > 0.0 && edges[e] < top_m)
-                atm->edge_altitude_m[atm->edge_count++] = edges[e];
+        for (int i = 1; i + 1 < p->count; i++) {
+            double bend = fabs(p->n[i - 1] - 2.0 * p->n[i] + p->n[i + 1]);
+            double local = fmax(p->n[i - 1], fmax(p->n[i], p->n[i + 1]));
+            if (bend > EDGE_BEND * local)
+                add_edge(atm, i * p->dz_m, top_m);
+        }
+        /* profile_density is 0 above the top node */
+        if (p->count > 0 && p->n[p->count - 1] != 0.0)
+            add_edge(atm, (p->count - 1) * p->dz_m, top_m);
     }
 }
 

@@ -17,6 +17,8 @@
 #define FM_MAX_SPECIES 12
 #define FM_MAX_SHELLS 40
 
+#define FM_MAX_EDGES (4 * FM_MAX_SPECIES) /* atmosphere.edge_altitude_m */
+
 typedef struct species {
     const char *name;
     density_profile profile;
@@ -40,10 +42,10 @@ typedef struct atmosphere {
     double shell_radius[FM_MAX_SHELLS + 1];
     double shell_majorant[FM_MAX_SHELLS][FM_MAX_WAVELENGTHS];
 
-    /* Altitudes (m) where a species' profile starts or ends (an aerosol layer's bottom and top):
-     * the density jumps there, so quadratures along rays break at them (ray_pieces). */
+    /* Altitudes (m) where a species' profile bends sharply (the ends of the steps at an aerosol
+     * layer's bottom and top), so quadratures along rays break at them (ray_pieces). */
     int edge_count;
-    double edge_altitude_m[2 * FM_MAX_SPECIES];
+    double edge_altitude_m[FM_MAX_EDGES];
 
     /* The grid spacing that every species' profile shares (m), or 0 when they differ; set by
      * atmosphere_update_majorants. */

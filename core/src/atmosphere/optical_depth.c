@@ -126,9 +126,13 @@ static const double breakpoint_altitude_km[] = {0.25, 0.5, 1, 1.5, 2, 2.5, 3, 4,
                                                 70, 80, 90, 100, 150, 200, 300, 500, 1000, 2000, 5000};
 #define N_BREAKPOINTS ((int)(sizeof breakpoint_altitude_km / sizeof breakpoint_altitude_km[0]))
 
-/* Inserts v into the ascending s[0..n-1]; returns the new count. */
+/* Inserts v into the ascending s[0..n-1] unless it is there already (an edge on a fixed
+ * breakpoint); returns the new count. */
 static int insert_sorted(double *s, int n, double v)
 {
+    for (int j = 0; j < n; j++)
+        if (s[j] == v)
+            return n;
     int i = n;
     while (i > 0 && s[i - 1] > v) {
         s[i] = s[i - 1];
@@ -193,7 +197,7 @@ int ray_pieces(const atmosphere *atm, double r, double mu, double t_max, double 
 }
 
 #define COLUMN_GAUSS_POINTS 8
-#define MAX_PIECES (2 * (N_BREAKPOINTS + 2 * FM_MAX_SPECIES) + 4)
+#define MAX_PIECES (2 * (N_BREAKPOINTS + FM_MAX_EDGES) + 4)
 
 void column_quadrature(const atmosphere *atm, double r, double mu, double t_max, double *columns)
 {
