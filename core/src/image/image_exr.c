@@ -167,6 +167,11 @@ static void encode_chunks(void *ctx, int64_t begin, int64_t end, int thread)
     }
 }
 
+/* zlib level of ZIP chunks: 1 (fastest) instead of the library's 6.  A 4096 x 2048 RGB float
+ * map: 41.2 MB instead of 40.0 MB (+3%), and about 0.3 s less of a 2.5-3 s render on two cores
+ * (zlib had been a tenth of the urban sunset's final 4096 x 2048 render's CPU). */
+#define ZIP_LEVEL 1
+
 fm_status image_write_exr(const char *path, const fm_image *img, const metadata *meta, int half,
                           fm_exr_compression compression, int threads, const atomic_int *cancel, fm_error *err)
 {
@@ -187,7 +192,8 @@ fm_status image_write_exr(const char *path, const fm_image *img, const metadata 
     /* attribute names such as firmament.sun.direct_normal_illuminance_lux exceed 31 characters */
     if ((rv = exr_set_longname_support(ctxt, 1)) ||
         (rv = exr_add_part(ctxt, "", EXR_STORAGE_SCANLINE, &part)) ||
-        (rv = exr_initialize_required_attr_simple(ctxt, part, W, H, method)))
+        (rv = exr_initialize_required_attr_simple(ctxt, part, W, H, method)) ||
+        (method == EXR_COMPRESSION_ZIP && (rv = exr_set_zip_compression_level(ctxt, part, ZIP_LEVEL))))
         goto fail;
     for (int c = 0; c < C; c++) {
         char name[32];
