@@ -24,7 +24,8 @@ typedef struct phase_table {
     int wavelength_count; /* K */
     int angle_count;      /* n >= 2 */
     double *mu;           /* [n] cos(theta_j), descending from 1 to -1 */
-    double *value;        /* [K][n] sr^-1 */
+    double *value;        /* [n][K] sr^-1: a node's values for all wavelengths side by side, which
+                           * evaluating every wavelength at one angle reads (phase_table_eval_all) */
     double *cdf;          /* [K][n] probability of cos_theta >= mu_j */
 } phase_table;
 

@@ -84,7 +84,7 @@ fm_status phase_table_create(phase_table **out, int K, int n, const double *thet
 
     for (int k = 0; k < K; k++) {
         const double *v = values + (size_t)k * n;
-        double *pv = t->value + (size_t)k * n, *cdf = t->cdf + (size_t)k * n;
+        double *cdf = t->cdf + (size_t)k * n;
         /* integral over the sphere of the piecewise-linear function: 2 pi * trapezoid sum in mu */
         double total = 0.0;
         for (int j = 0; j + 1 < n; j++)
@@ -94,10 +94,11 @@ fm_status phase_table_create(phase_table **out, int K, int n, const double *thet
             return bad_table(err, "wavelength %d integrates to %g over the sphere", k, total);
         }
         for (int j = 0; j < n; j++)
-            pv[j] = v[j] / total;
+            t->value[(size_t)j * K + k] = v[j] / total;
         cdf[0] = 0.0;
         for (int j = 0; j + 1 < n; j++)
-            cdf[j + 1] = cdf[j] + FM_PI * (pv[j] + pv[j + 1]) * (t->mu[j] - t->mu[j + 1]);
+            cdf[j + 1] = cdf[j] + FM_PI * (t->value[(size_t)j * K + k] + t->value[(size_t)(j + 1) * K + k]) *
+                                      (t->mu[j] - t->mu[j + 1]);
         /* Dividing by the sum makes the last entry, and a trailing zero plateau, exactly 1, so that a
          * u < 1 never selects an empty bin. */
         double sum = cdf[n - 1];
@@ -141,8 +142,8 @@ static inline double bin_weight(const phase_table *t, int j, double cos_theta)
 
 static inline double lerp_value(const phase_table *t, int k, int j, double w)
 {
-    const double *v = t->value + (size_t)k * t->angle_count + j;
-    return v[0] + w * (v[1] - v[0]);
+    const double *v0 = t->value + (size_t)j * t->wavelength_count + k, *v1 = v0 + t->wavelength_count;
+    return *v0 + w * (*v1 - *v0);
 }
 
 double phase_table_eval(const phase_table *t, int k, double cos_theta)
@@ -155,8 +156,9 @@ void phase_table_eval_all(const phase_table *t, int K, double cos_theta, double 
 {
     int j = phase_table_bin(t, cos_theta);
     double w = bin_weight(t, j, cos_theta);
+    const double *v0 = t->value + (size_t)j * t->wavelength_count, *v1 = v0 + t->wavelength_count;
     for (int k = 0; k < K; k++)
-        out[k] = lerp_value(t, k, j, w);
+        out[k] = v0[k] + w * (v1[k] - v0[k]);
 }
 
 double phase_table_sample(const phase_table *t, int k, double u)
@@ -173,14 +175,14 @@ double phase_table_sample(const phase_table *t, int k, double u)
             hi = mid;
     }
     const int j = lo;
-    const double *v = t->value + (size_t)k * n + j;
+    const double v0 = t->value[(size_t)j * t->wavelength_count + k], v1 = t->value[(size_t)(j + 1) * t->wavelength_count + k];
     const double width = t->mu[j] - t->mu[j + 1];
     /* Inside the bin, with x = mu_j - cos_theta in [0, width], the probability of [0, x] is
      * a x^2 + b x, a = pi (v_j+1 - v_j) / width, b = 2 pi v_j.  The root of a x^2 + b x = r written as
      * 2 r / (b + sqrt(b^2 + 4 a r)) has no cancellation: it tends to r / b as the slope vanishes and
      * to sqrt(r / a) where the density starts from zero. */
     double r = u - cdf[j];
-    double a = FM_PI * (v[1] - v[0]) / width, b = 2.0 * FM_PI * v[0];
+    double a = FM_PI * (v1 - v0) / width, b = 2.0 * FM_PI * v0;
     double disc = b * b + 4.0 * a * r;
     double den = b + sqrt(disc > 0.0 ? disc : 0.0);
     double x = (r > 0.0 && den > 0.0) ? 2.0 * r / den : 0.0;
@@ -194,9 +196,11 @@ double phase_table_asymmetry(const phase_table *t, int k)
     /* 2 pi times the integral of mu p(mu): over a bin [m1, m0] with p linear from p1 to p0 it is
      * (m0 - m1) / 6 * (p1 (2 m1 + m0) + p0 (m1 + 2 m0)), exact for a linear p. */
     const int n = t->angle_count;
-    const double *v = t->value + (size_t)k * n, *mu = t->mu;
+    const int K = t->wavelength_count;
+    const double *v = t->value + k, *mu = t->mu; /* v[j * K]: node j */
     double g = 0.0;
     for (int j = 0; j + 1 < n; j++)
-        g += (mu[j] - mu[j + 1]) / 6.0 * (v[j + 1] * (2.0 * mu[j + 1] + mu[j]) + v[j] * (mu[j + 1] + 2.0 * mu[j]));
+        g += (mu[j] - mu[j + 1]) / 6.0 *
+             (v[(size_t)(j + 1) * K] * (2.0 * mu[j + 1] + mu[j]) + v[(size_t)j * K] * (mu[j + 1] + 2.0 * mu[j]));
     return 2.0 * FM_PI * g;
 }
