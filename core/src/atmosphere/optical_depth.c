@@ -226,10 +226,9 @@ void column_quadrature(const atmosphere *atm, double r, double mu, double t_max,
 /* Bruneton's mapping: x_r = rho / H with rho = sqrt(r^2 - rb^2), H = sqrt(rt^2 - rb^2); for rays
  * that do not hit the ground, x_mu = (d - d_min) / (d_max - d_min) with d the distance to the top,
  * d_min = rt - r, d_max = rho + H. */
-static void table_coordinates(const atmosphere *atm, double r, double mu, double *xr, double *xmu)
+static void table_coordinates(const atmosphere *atm, double H, double r, double mu, double *xr, double *xmu)
 {
     double rb = atm->bottom_radius_m, rt = atm->top_radius_m;
-    double H = sqrt(rt * rt - rb * rb);
     double rho = safe_sqrt(r * r - rb * rb);
     double d = ray_distance_to_top(atm, r, mu);
     double d_min = rt - r, d_max = rho + H;
@@ -274,6 +273,7 @@ fm_status column_table_build(column_table *table, const atmosphere *atm, int n_r
     table->n_r = n_r;
     table->n_mu = n_mu;
     table->species = atm->species_count;
+    table->horizon_m = sqrt(atm->top_radius_m * atm->top_radius_m - atm->bottom_radius_m * atm->bottom_radius_m);
     table->columns = malloc(sizeof(float) * (size_t)n_r * (size_t)n_mu * (size_t)atm->species_count);
     if (!table->columns)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the transmittance table");
@@ -293,9 +293,9 @@ int column_table_lookup(const column_table *table, const atmosphere *atm, double
     if (ray_hits_ground(atm, r, mu))
         return 0;
     double xr, xmu;
-    table_coordinates(atm, fmin(fmax(r, atm->bottom_radius_m), atm->top_radius_m), mu, &xr, &xmu);
-    double fr = fmin(fmax(xr, 0.0), 1.0) * (table->n_r - 1);
-    double fm = fmin(fmax(xmu, 0.0), 1.0) * (table->n_mu - 1);
+    table_coordinates(atm, table->horizon_m, clamp_between(r, atm->bottom_radius_m, atm->top_radius_m), mu, &xr, &xmu);
+    double fr = clamp_between(xr, 0.0, 1.0) * (table->n_r - 1);
+    double fm = clamp_between(xmu, 0.0, 1.0) * (table->n_mu - 1);
     int ir = (int)fr, im = (int)fm;
     if (ir > table->n_r - 2)
         ir = table->n_r - 2;

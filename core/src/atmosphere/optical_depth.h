@@ -40,6 +40,7 @@ int ray_pieces(const atmosphere *atm, double r, double mu, double t_max, double 
 
 typedef struct column_table {
     int n_r, n_mu, species;
+    double horizon_m; /* sqrt(rt^2 - rb^2): the distance to the top's horizon from the ground */
     float *columns; /* [i_r][i_mu][c], particles m^-2 */
 } column_table;
 

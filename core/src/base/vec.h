@@ -24,6 +24,8 @@ static inline vec3 v3_normalize(vec3 a) { return v3_scale(a, 1.0 / v3_length(a))
 /* Clamps a cosine into [-1, 1] before acos/sqrt(1 - mu^2). */
 static inline double clamp_cosine(double mu) { return mu < -1.0 ? -1.0 : (mu > 1.0 ? 1.0 : mu); }
 static inline double safe_sqrt(double a) { return a > 0.0 ? sqrt(a) : 0.0; }
+/* x clamped into [lo, hi] (lo for NaN), as fmin(fmax(x, lo), hi) without two libm calls. */
+static inline double clamp_between(double x, double lo, double hi) { return x > lo ? (x < hi ? x : hi) : lo; }
 
 /* Orthonormal basis (t, b, n) around unit n (Duff et al. 2017, "Building an orthonormal basis,
  * revisited"): a local direction (x, y, z) maps to x t + y b + z n. */

@@ -2,6 +2,7 @@
 
 #include "base/quadrature.h"
 #include "base/units.h"
+#include "base/vec.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -89,20 +90,20 @@ void sky_grid_lookup(const sky_grid *g, double elevation, double rel_azimuth, fl
     double u;
     int first, rows;
     if (elevation > g->horizon_elevation) {
-        u = sqrt(fmax(0.0, elevation - g->horizon_elevation - HORIZON_GAP) / sky_span(g));
+        u = safe_sqrt((elevation - g->horizon_elevation - HORIZON_GAP) / sky_span(g));
         first = 0;
         rows = g->rows_sky;
     } else {
-        u = sqrt(fmax(0.0, g->horizon_elevation - HORIZON_GAP - elevation) / ground_span(g));
+        u = safe_sqrt((g->horizon_elevation - HORIZON_GAP - elevation) / ground_span(g));
         first = g->rows_sky;
         rows = g->rows_ground;
     }
-    double fr = fmin(u, 1.0) * (rows - 1);
+    double fr = (u < 1.0 ? u : 1.0) * (rows - 1);
     int r0 = (int)fr;
     if (r0 > rows - 2)
         r0 = rows - 2;
     double tr = fr - r0;
-    double fc = fmin(fmax(rel_azimuth / FM_PI, 0.0), 1.0) * (g->cols - 1);
+    double fc = clamp_between(rel_azimuth / FM_PI, 0.0, 1.0) * (g->cols - 1);
     int c0 = (int)fc;
     if (c0 > g->cols - 2)
         c0 = g->cols - 2;

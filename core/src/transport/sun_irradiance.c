@@ -69,10 +69,10 @@ static double table_radius(const atmosphere *atm, double xr)
     return sqrt(rho * rho + rb * rb);
 }
 
-static double table_xr(const atmosphere *atm, double r)
+static double table_xr(const sun_irradiance *table, const atmosphere *atm, double r)
 {
-    double rb = atm->bottom_radius_m, rt = atm->top_radius_m;
-    return safe_sqrt(r * r - rb * rb) / sqrt(rt * rt - rb * rb);
+    double rb = atm->bottom_radius_m;
+    return safe_sqrt(r * r - rb * rb) / table->horizon_m;
 }
 
 /* The tables hold the effective optical depth -ln(Tbar), which is far smoother than Tbar itself
@@ -134,6 +134,7 @@ fm_status sun_irradiance_build(sun_irradiance *table, const atmosphere *atm, con
     table->n_r = n_r;
     table->n_mu = n_mu;
     table->count = atm->grid.count;
+    table->horizon_m = sqrt(atm->top_radius_m * atm->top_radius_m - atm->bottom_radius_m * atm->bottom_radius_m);
     size_t n = (size_t)n_r * (size_t)n_mu * (size_t)table->count;
     table->normal = malloc(n * sizeof(float));
     table->horizontal = malloc(n * sizeof(float));
@@ -164,7 +165,7 @@ static int locate(const sun_irradiance *table, const atmosphere *atm, const sun_
                   double w[4], size_t idx[4])
 {
     const int K = table->count;
-    double fr = fmin(fmax(table_xr(atm, r), 0.0), 1.0) * (table->n_r - 1);
+    double fr = clamp_between(table_xr(table, atm, r), 0.0, 1.0) * (table->n_r - 1);
     int ir = (int)fr;
     if (ir > table->n_r - 2)
         ir = table->n_r - 2;
@@ -174,7 +175,7 @@ static int locate(const sun_irradiance *table, const atmosphere *atm, const sun_
     for (int row = 0; row < 2; row++) {
         double lo = table->mu_lo[ir + row];
         double x = mu_s <= lo ? 0.0 : sqrt((mu_s - lo) / (1.0 - lo));
-        double fm = fmin(x, 1.0) * (table->n_mu - 1);
+        double fm = (x < 1.0 ? x : 1.0) * (table->n_mu - 1);
         int im = (int)fm;
         if (im > table->n_mu - 2)
             im = table->n_mu - 2;

@@ -18,6 +18,7 @@
 
 typedef struct sun_irradiance {
     int n_r, n_mu, count;
+    double horizon_m;  /* sqrt(rt^2 - rb^2), the radius mapping's scale */
     float *normal;     /* [i_r][i_mu][k] Tbar_k */
     float *horizontal; /* [i_r][i_mu][k] the same times the cosine to the local zenith */
     double *mu_lo;     /* [i_r] mu_lo of the row's radius (lookups need it for two rows each time) */

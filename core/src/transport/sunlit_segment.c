@@ -138,7 +138,7 @@ static double proxy_sample(const lit_proxy *p, double u, double *density)
         j++;
     double pj = p->cdf[j + 1] - p->cdf[j];
     /* within the cell the proxy's part or the uniform part, by their shares of pj */
-    double v = fmin(fmax((u - p->cdf[j]) / pj, 0.0), 1.0 - 1e-12), x;
+    double v = clamp_between((u - p->cdf[j]) / pj, 0.0, 1.0 - 1e-12), x;
     double share = p->total > 0.0 ? (1.0 - DEFENSIVE) * p->mass[j] / p->total / pj : 0.0;
     if (v < share) {
         double w = v / share;
@@ -146,7 +146,7 @@ static double proxy_sample(const lit_proxy *p, double u, double *density)
     } else {
         x = (v - share) / (1.0 - share) * cell;
     }
-    x = fmin(fmax(x, 0.0), cell);
+    x = clamp_between(x, 0.0, cell);
     if (p->total > 0.0) {
         double proxy = p->rate[j] != 0.0 ? p->h[j] * exp(p->rate[j] * x) : p->mass[j] / cell;
         *density = ((1.0 - DEFENSIVE) * proxy / p->total + DEFENSIVE / p->lit) / p->cdf[n];
