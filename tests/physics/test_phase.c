@@ -8,6 +8,7 @@
 #include "phase/phase.h"
 #include "phase/phase_hg.h"
 #include "phase/phase_rayleigh.h"
+#include "phase/phase_table.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -252,6 +253,43 @@ static void table_reproduces_hg(void **state)
 }
 
 /* phase_evaluate_all gives, bit for bit, what phase_evaluate gives wavelength by wavelength. */
+/* phase_table_bin starts from a coarse index and moves to the exact bin: it must give the bin that a
+ * search gives (the largest j <= n-2 with mu_j >= cos_theta, else 0) for every cos_theta, nodes,
+ * their neighbouring doubles and the ends included, on the aerosol tables' grid, a uniform grid and a
+ * six-angle one. */
+static void table_bin_is_the_searched_bin(void **state)
+{
+    phase_function tables[3] = {hg_table(0.8, 301), {0}, step_table()};
+    double theta[181], values[181];
+    for (int j = 0; j < 181; j++) {
+        theta[j] = FM_PI * j / 180.0;
+        values[j] = 1.0 + cos(theta[j]);
+    }
+    fm_error err;
+    assert_int_equal(phase_init_tabulated(&tables[1], 1, 181, theta, values, &err), FM_OK);
+    rng r = rng_for(7, 8, 9);
+    for (int i = 0; i < 3; i++) {
+        const phase_table *t = tables[i].table;
+        const int n = t->angle_count;
+        for (int q = -6; q < 3 * n + 20000; q++) {
+            double c;
+            if (q < 0)
+                c = (double[]){-1.0, 1.0, 1.5, -1.5, NAN, 0.0}[q + 6];
+            else if (q < 3 * n)
+                c = q % 3 == 0 ? t->mu[q / 3] : nextafter(t->mu[q / 3], q % 3 == 1 ? 2.0 : -2.0);
+            else
+                c = 2.0 * rng_uniform(&r) - 1.0;
+            int expected = 0;
+            for (int j = 0; j + 1 < n; j++)
+                if (t->mu[j] >= c)
+                    expected = j;
+            if (phase_table_bin(t, c) != expected)
+                fail_msg("table %d, cos_theta %.17g: bin %d, searched %d", i, c, phase_table_bin(t, c), expected);
+        }
+        phase_free(&tables[i]);
+    }
+}
+
 static void evaluate_all_matches_evaluate(void **state)
 {
     const int K = 3, n = 101;
@@ -333,6 +371,7 @@ int main(void)
         cmocka_unit_test(hg_sampler_inverts_cdf),
         cmocka_unit_test(table_sampler_matches_density),
         cmocka_unit_test(table_reproduces_hg),
+        cmocka_unit_test(table_bin_is_the_searched_bin),
         cmocka_unit_test(evaluate_all_matches_evaluate),
         cmocka_unit_test(bad_tables_are_refused),
     };

@@ -27,6 +27,8 @@ typedef struct phase_table {
     double *value;        /* [n][K] sr^-1: a node's values for all wavelengths side by side, which
                            * evaluating every wavelength at one angle reads (phase_table_eval_all) */
     double *cdf;          /* [K][n] probability of cos_theta >= mu_j */
+    int *first_bin;       /* [2n - 1]: the bin at the start of each of 2n - 2 equal steps of
+                           * u = (sin(theta / 2))^(1/2) (phase_table_bin) */
 } phase_table;
 
 typedef struct phase_function {
