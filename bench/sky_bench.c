@@ -20,6 +20,7 @@
  * disk; the aureole is kept). */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 
+#include "bench_skies.h"
 #include "firmament/firmament.h"
 
 #include "base/rng.h"
@@ -37,34 +38,19 @@
 #define PROBES 400
 #define EXCLUDE_DEG 1.0
 
-typedef struct bench_sky {
-    const char *name, *args;
-    double sun_elevation, sun_azimuth, turbidity;
-    const char *biome;
-} bench_sky;
-
-/* The skies of issue "Speed": the default sky and a sunset. */
-static const bench_sky SKIES[] = {
-    {"default", "--sun-elevation 30 --sun-azimuth 180 --biome rural --turbidity 1", 30.0, 180.0, 1.0, "rural"},
-    {"sunset", "--sun-elevation 2 --sun-azimuth 180 --biome urban --turbidity 2", 2.0, 180.0, 2.0, "urban"},
-};
-
 static const bench_sky *find_sky(const char *name)
 {
-    for (size_t i = 0; i < sizeof SKIES / sizeof SKIES[0]; i++)
-        if (strcmp(SKIES[i].name, name) == 0)
-            return &SKIES[i];
-    fprintf(stderr, "sky-bench: unknown sky '%s' (default | sunset)\n", name);
-    exit(2);
+    const bench_sky *b = bench_sky_find(name);
+    if (!b) {
+        fprintf(stderr, "sky-bench: unknown sky '%s' (default | sunset)\n", name);
+        exit(2);
+    }
+    return b;
 }
 
 static fm_sky *make_sky(const bench_sky *b)
 {
-    fm_sky_params p = fm_sky_params_default();
-    p.sun_elevation_deg = b->sun_elevation;
-    p.sun_azimuth_deg = b->sun_azimuth;
-    p.biome = b->biome;
-    p.turbidity = b->turbidity;
+    fm_sky_params p = bench_sky_params(b);
     fm_sky *sky;
     fm_error err;
     if (fm_sky_create(&p, &sky, &err)) {
@@ -164,17 +150,16 @@ static double map_luminance(const fm_image *m, int x, int y)
     return xyz[1];
 }
 
-/* The map's relative luminance error at the n probes that follow in the reference file f;
- * 0, or 1 with the problem said. */
-static int probe_errors(const fm_image *m, FILE *f, const char *ref_path, int W, int n)
+/* The map's relative luminance error at the n probes that follow in the reference file f (of a W x H
+ * map); 0, or 1 with the problem said. */
+static int probe_errors(const fm_image *m, FILE *f, const char *ref_path, int W, int H, int n)
 {
     const int k = m->width / W;
     double e2 = 0.0, noise2 = 0.0, bias = 0.0;
     for (int i = 0; i < n; i++) {
         int x, y;
         double Y, se;
-        if (fscanf(f, "%d %d %lf %lf", &x, &y, &Y, &se) != 4 || !(Y > 0.0) || x < 0 || y < 0 ||
-            k * x >= m->width || k * y >= m->height) {
+        if (!bench_reference_probe(f, W, H, &x, &y, &Y, &se)) {
             fprintf(stderr, "sky-bench: %s: probe %d unreadable\n", ref_path, i + 1);
             return 1;
         }
@@ -206,17 +191,14 @@ static int map_error(const char *map_path, const char *ref_path)
     if (!f) {
         fprintf(stderr, "sky-bench: cannot read %s\n", ref_path);
     } else {
-        char line[512] = "";
         int W = 0, H = 0, n = 0;
-        while (fgets(line, sizeof line, f) && line[0] == '#')
-            continue;
-        if (sscanf(line, "%d %d %d", &W, &H, &n) != 3 || W < 8 || n < 1 || m->width % W ||
+        if (!bench_reference_header(f, &W, &H, &n) || m->width % W ||
             m->height * W != H * m->width || m->channels != 3 ||
             (m->content != FM_IMAGE_XYZ && m->content != FM_IMAGE_RGB_REC709 && m->content != FM_IMAGE_RGB))
             fprintf(stderr, "sky-bench: %s does not match %s (a colour map, a multiple of %d x %d)\n", map_path,
                     ref_path, W, H);
         else
-            status = probe_errors(m, f, ref_path, W, n);
+            status = probe_errors(m, f, ref_path, W, H, n);
         fclose(f);
     }
     fm_image_destroy(m);

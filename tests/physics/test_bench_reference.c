@@ -6,6 +6,7 @@
  * z = (Y_now - Y_cached) / sqrt(se_now^2 + se_cached^2) per probe, mean z^2 < 1.6 and |mean z| <
  * 0.5 (4 standard deviations of that mean), every |z| < 5.  At the default sky each probe's noise
  * is about 0.6%, so a 1% change of the physics fails it; the sunset's about 3.5%. */
+#include "bench_skies.h"
 #include "check.h"
 
 #include <math.h>
@@ -16,32 +17,24 @@
 #define PATHS 8192
 #define SEED 77
 
-typedef struct bench_sky {
-    const char *name, *biome;
-    double sun_elevation, sun_azimuth, turbidity;
-} bench_sky;
-
-/* as SKIES in bench/sky_bench.c */
-static const bench_sky SKIES[] = {{"default", "rural", 30.0, 180.0, 1.0}, {"sunset", "urban", 2.0, 180.0, 2.0}};
-
-static void check_sky(const bench_sky *b)
+static void check_sky(const char *name)
 {
-    char path[4096], line[512];
+    const bench_sky *b = bench_sky_find(name);
+    assert_non_null(b);
+    char path[4096];
     snprintf(path, sizeof path, "%s/bench_reference/%s-1024.txt", FM_TEST_DATA_DIR, b->name);
     FILE *f = fopen(path, "r");
     if (!f)
         fail_msg("cannot read %s (bench/bench.sh --make-reference writes it)", path);
     int W = 0, H = 0, n = 0;
-    while (fgets(line, sizeof line, f) && line[0] == '#')
-        continue;
-    assert_int_equal(sscanf(line, "%d %d %d", &W, &H, &n), 3);
+    assert_true(bench_reference_header(f, &W, &H, &n));
     assert_true(W == 1024 && H == 512 && n >= PROBES);
     int x[PROBES], y[PROBES];
     double Y[PROBES], se[PROBES];
     for (int i = 0, kept = 0; i < n; i++) {
         int px, py;
         double v, s;
-        assert_int_equal(fscanf(f, "%d %d %lf %lf", &px, &py, &v, &s), 4);
+        assert_true(bench_reference_probe(f, W, H, &px, &py, &v, &s));
         if (i % (n / PROBES) || kept == PROBES)
             continue; /* every (n / PROBES)-th probe */
         x[kept] = px, y[kept] = py, Y[kept] = v, se[kept] = s;
@@ -49,11 +42,7 @@ static void check_sky(const bench_sky *b)
     }
     fclose(f);
 
-    fm_sky_params p = fm_sky_params_default();
-    p.sun_elevation_deg = b->sun_elevation;
-    p.sun_azimuth_deg = b->sun_azimuth;
-    p.biome = b->biome;
-    p.turbidity = b->turbidity;
+    fm_sky_params p = bench_sky_params(b);
     fm_sky *sky = test_sky(&p);
     fm_render_params rp = fm_render_params_default();
     rp.width = W;
@@ -82,8 +71,8 @@ static void check_sky(const bench_sky *b)
     fm_sky_destroy(sky);
 }
 
-static void default_sky(void **state) { check_sky(&SKIES[0]); }
-static void sunset(void **state) { check_sky(&SKIES[1]); }
+static void default_sky(void **state) { check_sky("default"); }
+static void sunset(void **state) { check_sky("sunset"); }
 
 int main(void)
 {
