@@ -166,6 +166,39 @@ static void majorants_bound_the_medium(void **state)
     }
 }
 
+/* free_flight_majorant_depth sums majorant columns per species and expands them per wavelength at
+ * the end (free_flight.c): against the majorant table itself summed along the ray by a fine
+ * midpoint rule, every wavelength, rays from 0 to 60 km in every direction. */
+static void majorant_depth_sums_the_shells(void **state)
+{
+    fm_sky_params p = test_params(10.0, 0.0);
+    p.biome = "urban";
+    p.turbidity = 2.0;
+    fm_sky *urban = test_sky(&p);
+    rng r = rng_for(11, 12, 13);
+    for (int i = 0; i < 40; i++) {
+        const atmosphere *a = i % 2 ? &urban->atm : &sky->atm; /* molecules and ozone; and aerosol layers */
+        const int K = a->grid.count;
+        double z = 60000.0 * rng_uniform(&r), mu = 2.0 * rng_uniform(&r) - 1.0;
+        vec3 origin = v3(0.0, 0.0, a->bottom_radius_m + z), dir = v3(sqrt(1.0 - mu * mu), 0.0, mu);
+        ray_segment seg;
+        ray_segment_init(&seg, a, origin, dir);
+        double depth[FM_MAX_WAVELENGTHS], fine[FM_MAX_WAVELENGTHS] = {0};
+        free_flight_majorant_depth(a, &seg, 0.0, seg.t_end, depth);
+        const int steps = 2000000;
+        const double dt = seg.t_end / steps;
+        double length[FM_MAX_SHELLS] = {0}; /* m of the ray in each shell, by midpoints */
+        for (int j = 0; j < steps; j++)
+            length[atmosphere_shell_of(a, ray_segment_radius(&seg, (j + 0.5) * dt))] += dt;
+        for (int s = 0; s < a->shell_count; s++)
+            for (int k = 0; k < K; k++)
+                fine[k] += a->shell_majorant[s][k] * length[s];
+        for (int k = 0; k < K; k++)
+            check_rel(depth[k], fine[k], 2e-5, "majorant depth against the shells summed finely");
+    }
+    fm_sky_destroy(urban);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -175,6 +208,7 @@ int main(void)
         cmocka_unit_test(column_table_accuracy),
         cmocka_unit_test(sun_table_accuracy),
         cmocka_unit_test(majorants_bound_the_medium),
+        cmocka_unit_test(majorant_depth_sums_the_shells),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -147,17 +147,15 @@ void atmosphere_update_majorants(atmosphere *atm)
     for (int i = 0; i < n; i++) {
         double z0 = atm->shell_radius[i] - atm->bottom_radius_m;
         double z1 = atm->shell_radius[i + 1] - atm->bottom_radius_m;
-        double nmax[FM_MAX_SPECIES] = {0};
+        /* a little headroom against rounding in the interpolation */
         for (int c = 0; c < atm->species_count; c++)
-            nmax[c] = profile_max(&atm->species[c].profile, z0, z1);
-        for (int k = 0; k < atm->grid.count; k++) {
-            double s = 0.0;
-            for (int c = 0; c < atm->species_count; c++)
-                s += (atm->species[c].sigma_s[k] + atm->species[c].sigma_a[k]) * nmax[c];
-            /* a little headroom against rounding in the interpolation */
-            atm->shell_majorant[i][k] = s * (1.0 + 1e-9);
-        }
+            atm->shell_density_max[i][c] = profile_max(&atm->species[c].profile, z0, z1) * (1.0 + 1e-9);
     }
+    for (int c = 0; c < atm->species_count; c++)
+        for (int k = 0; k < atm->grid.count; k++)
+            atm->species_sigma_t[c][k] = atm->species[c].sigma_s[k] + atm->species[c].sigma_a[k];
+    for (int i = 0; i < n; i++)
+        atmosphere_optical_depths(atm, atm->shell_density_max[i], atm->shell_majorant[i]);
 }
 
 void atmosphere_coefficients(const atmosphere *atm, double r, double *sigma_s, double *sigma_t)
@@ -182,6 +180,20 @@ void atmosphere_coefficients_from_densities(const atmosphere *atm, const double 
             sigma_s[k] += sp->sigma_s[k] * n[c];
             sigma_t[k] += (sp->sigma_s[k] + sp->sigma_a[k]) * n[c];
         }
+    }
+}
+
+void atmosphere_optical_depths(const atmosphere *atm, const double *columns, double *depth)
+{
+    const int K = atm->grid.count;
+    for (int k = 0; k < K; k++)
+        depth[k] = 0.0;
+    for (int c = 0; c < atm->species_count; c++) {
+        if (columns[c] == 0.0)
+            continue;
+        const double *sigma = atm->species_sigma_t[c];
+        for (int k = 0; k < K; k++)
+            depth[k] += sigma[k] * columns[c];
     }
 }
 

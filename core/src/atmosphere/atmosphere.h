@@ -37,10 +37,15 @@ typedef struct atmosphere {
     char species_names[FM_MAX_SPECIES][32];   /* storage for names read from a file */
 
     /* Delta-tracking majorants: shell i spans [shell_radius[i], shell_radius[i+1]]; for every grid
-     * wavelength k, shell_majorant[i][k] >= sigma_t(r, lambda_k) for all r in the shell. */
+     * wavelength k, shell_majorant[i][k] >= sigma_t(r, lambda_k) for all r in the shell.  It is
+     * sum_c species_sigma_t[c][k] shell_density_max[i][c], each species at its largest density in
+     * the shell, so a majorant optical depth along a ray is a sum over species of the same form
+     * (free_flight.h: one column per species per shell instead of one depth per wavelength). */
     int shell_count;
     double shell_radius[FM_MAX_SHELLS + 1];
     double shell_majorant[FM_MAX_SHELLS][FM_MAX_WAVELENGTHS];
+    double shell_density_max[FM_MAX_SHELLS][FM_MAX_SPECIES]; /* m^-3, with headroom against rounding */
+    double species_sigma_t[FM_MAX_SPECIES][FM_MAX_WAVELENGTHS]; /* m^2: sigma_s + sigma_a */
 
     /* Altitudes (m) where a species' profile bends sharply (the ends of the steps at an aerosol
      * layer's bottom and top), so quadratures along rays break at them (ray_pieces). */
@@ -94,6 +99,10 @@ static inline double atmosphere_optical_depth(const atmosphere *atm, const doubl
         tau += (atm->species[c].sigma_s[k] + atm->species[c].sigma_a[k]) * columns[c];
     return tau;
 }
+
+/* The optical depths of every grid wavelength for a set of species columns, all at once:
+ * depth[k] = sum_c species_sigma_t[c][k] columns[c] (set by atmosphere_update_majorants). */
+void atmosphere_optical_depths(const atmosphere *atm, const double *columns, double *depth);
 
 /* exp(-optical depth) of every grid wavelength for a set of species columns: T[k]. */
 void atmosphere_transmittances(const atmosphere *atm, const double *columns, double *T);

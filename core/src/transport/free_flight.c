@@ -71,26 +71,34 @@ static void walk_pieces(const atmosphere *atm, const ray_segment *seg, double t0
     }
 }
 
+/* The majorant is each species at its largest density in the shell (atmosphere.h), so a majorant
+ * depth is a sum over species of "majorant columns": one number per species per shell crossed, then
+ * one product per wavelength and species (5 species and 41 wavelengths: a sixth of the work of a
+ * depth per wavelength per shell). */
 typedef struct depth_ctx {
     const atmosphere *atm;
-    double *depth;
+    double col[FM_MAX_SPECIES];
 } depth_ctx;
+
+static void add_columns(const atmosphere *atm, int shell, double length, double *col)
+{
+    const double *n = atm->shell_density_max[shell];
+    for (int c = 0; c < atm->species_count; c++)
+        col[c] += n[c] * length;
+}
 
 static int add_depth(void *p, int shell, double ta, double tb)
 {
     depth_ctx *c = p;
-    const double *m = c->atm->shell_majorant[shell];
-    for (int k = 0; k < c->atm->grid.count; k++)
-        c->depth[k] += m[k] * (tb - ta);
+    add_columns(c->atm, shell, tb - ta, c->col);
     return 0;
 }
 
 void free_flight_majorant_depth(const atmosphere *atm, const ray_segment *seg, double t0, double t1, double *depth)
 {
-    for (int k = 0; k < atm->grid.count; k++)
-        depth[k] = 0.0;
-    depth_ctx c = {atm, depth};
+    depth_ctx c = {atm, {0}};
     walk_pieces(atm, seg, t0, t1, add_depth, &c);
+    atmosphere_optical_depths(atm, c.col, depth);
 }
 
 typedef struct advance_ctx {
@@ -98,7 +106,7 @@ typedef struct advance_ctx {
     double remaining;
     int hero, found, shell;
     double t;
-    double *depth;
+    double col[FM_MAX_SPECIES];
 } advance_ctx;
 
 static int advance_piece(void *p, int shell, double ta, double tb)
@@ -115,18 +123,16 @@ static int advance_piece(void *p, int shell, double ta, double tb)
     } else {
         c->remaining -= d;
     }
-    for (int k = 0; k < c->atm->grid.count; k++)
-        c->depth[k] += m[k] * (tb - ta);
+    add_columns(c->atm, shell, tb - ta, c->col);
     return c->found;
 }
 
 int free_flight_advance(const atmosphere *atm, const ray_segment *seg, double t0, double tau, int hero,
                         double *t_out, double *depth, int *shell)
 {
-    for (int k = 0; k < atm->grid.count; k++)
-        depth[k] = 0.0;
-    advance_ctx c = {atm, tau, hero, 0, 0, seg->t_end, depth};
+    advance_ctx c = {atm, tau, hero, 0, 0, seg->t_end, {0}};
     walk_pieces(atm, seg, t0, seg->t_end, advance_piece, &c);
+    atmosphere_optical_depths(atm, c.col, depth);
     *t_out = c.found ? fmin(c.t, seg->t_end) : seg->t_end;
     *shell = c.shell;
     return c.found;
