@@ -175,10 +175,10 @@ void atmosphere_coefficients_from_densities(const atmosphere *atm, const double 
     for (int c = 0; c < atm->species_count; c++) {
         if (n[c] == 0.0)
             continue;
-        const species *sp = &atm->species[c];
+        const double *s = atm->species[c].sigma_s, *t = atm->species_sigma_t[c];
         for (int k = 0; k < K; k++) {
-            sigma_s[k] += sp->sigma_s[k] * n[c];
-            sigma_t[k] += (sp->sigma_s[k] + sp->sigma_a[k]) * n[c];
+            sigma_s[k] += s[k] * n[c];
+            sigma_t[k] += t[k] * n[c];
         }
     }
 }
@@ -200,7 +200,8 @@ void atmosphere_optical_depths(const atmosphere *atm, const double *columns, dou
 void atmosphere_transmittances(const atmosphere *atm, const double *columns, double *T)
 {
     const int K = atm->grid.count;
+    atmosphere_optical_depths(atm, columns, T);
     for (int k = 0; k < K; k++)
-        T[k] = -atmosphere_optical_depth(atm, columns, k);
+        T[k] = -T[k];
     exp_array(T, T, K);
 }

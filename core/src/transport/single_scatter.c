@@ -66,7 +66,7 @@ fm_status single_scatter_ray_init(single_scatter_ray *ray, const path_context *c
                                   int points)
 {
     const atmosphere *atm = ctx->atm;
-    const int K = atm->grid.count, C = atm->species_count, stride = point_stride(atm);
+    const int C = atm->species_count, stride = point_stride(atm);
     const gauss_rule *g = gauss_legendre_cached(points);
     const gauss_rule *gs = gauss_legendre_cached(SS_SUB_POINTS);
     ray_segment seg;
@@ -97,15 +97,13 @@ fm_status single_scatter_ray_init(single_scatter_ray *ray, const path_context *c
             pt[1] = half * g->w[j];
             pt[2] = sqrt(seg.p2 + s * s);
             atmosphere_densities(atm, pt[2], pt + 3);
-            for (int k = 0; k < K; k++)
-                pt[3 + C + k] = atmosphere_optical_depth(atm, col, k);
+            atmosphere_optical_depths(atm, col, pt + 3 + C);
         }
         piece_columns(atm, seg.p2, sa, sb, g, part);
         for (int c = 0; c < C; c++)
             col_start[c] += part[c];
     }
-    for (int k = 0; k < K; k++)
-        ray->ground_depth[k] = atmosphere_optical_depth(atm, col_start, k);
+    atmosphere_optical_depths(atm, col_start, ray->ground_depth);
     return FM_OK;
 }
 

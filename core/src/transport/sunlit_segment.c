@@ -218,8 +218,10 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
                 for (int k = 0; k < K; k++)
                     scatter[k] += atm->species[c].sigma_s[k] * n[c] * phase[c][k];
             }
+            double path[FM_MAX_WAVELENGTHS];
+            atmosphere_optical_depths(atm, col, path);
             for (int k = 0; k < K; k++)
-                depth[k] = -(depth[k] + atmosphere_optical_depth(atm, col, k));
+                depth[k] = -(depth[k] + path[k]);
             exp_array(depth, depth, K); /* from the sun to here and on to the segment's origin */
             for (int k = 0; k < K; k++)
                 S[k] += inv_pdf * scatter[k] * E0[k] * depth[k];
