@@ -91,12 +91,13 @@ static inline void atmosphere_densities(const atmosphere *atm, double r, double 
 void atmosphere_coefficients_from_densities(const atmosphere *atm, const double *n, double *sigma_s, double *sigma_t);
 void atmosphere_coefficients(const atmosphere *atm, double r, double *sigma_s, double *sigma_t);
 
-/* Optical depth for grid wavelength k of a set of species columns (particles m^-2). */
+/* Optical depth for grid wavelength k of a set of species columns (particles m^-2; species_sigma_t
+ * is set by atmosphere_update_majorants). */
 static inline double atmosphere_optical_depth(const atmosphere *atm, const double *columns, int k)
 {
     double tau = 0.0;
     for (int c = 0; c < atm->species_count; c++)
-        tau += (atm->species[c].sigma_s[k] + atm->species[c].sigma_a[k]) * columns[c];
+        tau += atm->species_sigma_t[c][k] * columns[c];
     return tau;
 }
 

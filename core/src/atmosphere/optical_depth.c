@@ -236,10 +236,16 @@ static void table_coordinates(const atmosphere *atm, double H, double r, double 
     *xmu = d_max > d_min ? (d - d_min) / (d_max - d_min) : 0.0;
 }
 
+double top_horizon_distance(const atmosphere *atm)
+{
+    double rb = atm->bottom_radius_m, rt = atm->top_radius_m;
+    return sqrt(rt * rt - rb * rb);
+}
+
 static void table_ray(const atmosphere *atm, double xr, double xmu, double *r, double *mu)
 {
     double rb = atm->bottom_radius_m, rt = atm->top_radius_m;
-    double H = sqrt(rt * rt - rb * rb);
+    double H = top_horizon_distance(atm);
     double rho = H * xr;
     *r = sqrt(rho * rho + rb * rb);
     double d_min = rt - *r, d_max = rho + H;
@@ -273,7 +279,7 @@ fm_status column_table_build(column_table *table, const atmosphere *atm, int n_r
     table->n_r = n_r;
     table->n_mu = n_mu;
     table->species = atm->species_count;
-    table->horizon_m = sqrt(atm->top_radius_m * atm->top_radius_m - atm->bottom_radius_m * atm->bottom_radius_m);
+    table->horizon_m = top_horizon_distance(atm);
     table->columns = malloc(sizeof(float) * (size_t)n_r * (size_t)n_mu * (size_t)atm->species_count);
     if (!table->columns)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the transmittance table");

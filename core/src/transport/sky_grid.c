@@ -98,7 +98,7 @@ void sky_grid_lookup(const sky_grid *g, double elevation, double rel_azimuth, fl
         first = g->rows_sky;
         rows = g->rows_ground;
     }
-    double fr = (u < 1.0 ? u : 1.0) * (rows - 1);
+    double fr = clamp_between(u, 0.0, 1.0) * (rows - 1);
     int r0 = (int)fr;
     if (r0 > rows - 2)
         r0 = rows - 2;

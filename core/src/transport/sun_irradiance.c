@@ -64,8 +64,8 @@ void sun_transmittance_direct(const atmosphere *atm, const column_table *columns
 
 static double table_radius(const atmosphere *atm, double xr)
 {
-    double rb = atm->bottom_radius_m, rt = atm->top_radius_m;
-    double rho = sqrt(rt * rt - rb * rb) * xr;
+    double rb = atm->bottom_radius_m;
+    double rho = top_horizon_distance(atm) * xr;
     return sqrt(rho * rho + rb * rb);
 }
 
@@ -134,7 +134,7 @@ fm_status sun_irradiance_build(sun_irradiance *table, const atmosphere *atm, con
     table->n_r = n_r;
     table->n_mu = n_mu;
     table->count = atm->grid.count;
-    table->horizon_m = sqrt(atm->top_radius_m * atm->top_radius_m - atm->bottom_radius_m * atm->bottom_radius_m);
+    table->horizon_m = top_horizon_distance(atm);
     size_t n = (size_t)n_r * (size_t)n_mu * (size_t)table->count;
     table->normal = malloc(n * sizeof(float));
     table->horizontal = malloc(n * sizeof(float));
@@ -175,7 +175,7 @@ static int locate(const sun_irradiance *table, const atmosphere *atm, const sun_
     for (int row = 0; row < 2; row++) {
         double lo = table->mu_lo[ir + row];
         double x = mu_s <= lo ? 0.0 : sqrt((mu_s - lo) / (1.0 - lo));
-        double fm = (x < 1.0 ? x : 1.0) * (table->n_mu - 1);
+        double fm = clamp_between(x, 0.0, 1.0) * (table->n_mu - 1);
         int im = (int)fm;
         if (im > table->n_mu - 2)
             im = table->n_mu - 2;
