@@ -223,17 +223,16 @@ void column_quadrature(const atmosphere *atm, double r, double mu, double t_max,
 
 /* ---- table ---------------------------------------------------------------------------------- */
 
-/* Bruneton's mapping: x_r = rho / H with rho = sqrt(r^2 - rb^2), H = sqrt(rt^2 - rb^2); for rays
- * that do not hit the ground, x_mu = (d - d_min) / (d_max - d_min) with d the distance to the top,
- * d_min = rt - r, d_max = rho + H. */
-static void table_coordinates(const atmosphere *atm, double H, double r, double mu, double *xr, double *xmu)
+/* Bruneton's mapping of the direction: for rays that do not hit the ground,
+ * x_mu = (d - d_min) / (d_max - d_min) with d the distance to the top, d_min = rt - r,
+ * d_max = rho + H, rho = sqrt(r^2 - rb^2), H = sqrt(rt^2 - rb^2). */
+static double table_xmu(const atmosphere *atm, double H, double r, double mu)
 {
     double rb = atm->bottom_radius_m, rt = atm->top_radius_m;
     double rho = safe_sqrt(r * r - rb * rb);
     double d = ray_distance_to_top(atm, r, mu);
     double d_min = rt - r, d_max = rho + H;
-    *xr = rho / H;
-    *xmu = d_max > d_min ? (d - d_min) / (d_max - d_min) : 0.0;
+    return d_max > d_min ? (d - d_min) / (d_max - d_min) : 0.0;
 }
 
 double top_horizon_distance(const atmosphere *atm)
@@ -242,15 +241,14 @@ double top_horizon_distance(const atmosphere *atm)
     return sqrt(rt * rt - rb * rb);
 }
 
-static void table_ray(const atmosphere *atm, double xr, double xmu, double *r, double *mu)
+/* The cosine of the direction x_mu at radius r. */
+static double table_mu(const atmosphere *atm, double H, double r, double xmu)
 {
     double rb = atm->bottom_radius_m, rt = atm->top_radius_m;
-    double H = top_horizon_distance(atm);
-    double rho = H * xr;
-    *r = sqrt(rho * rho + rb * rb);
-    double d_min = rt - *r, d_max = rho + H;
+    double rho = safe_sqrt(r * r - rb * rb);
+    double d_min = rt - r, d_max = rho + H;
     double d = d_min + xmu * (d_max - d_min);
-    *mu = d == 0.0 ? 1.0 : clamp_cosine((H * H - rho * rho - d * d) / (2.0 * *r * d));
+    return d == 0.0 ? 1.0 : clamp_cosine((H * H - rho * rho - d * d) / (2.0 * r * d));
 }
 
 typedef struct table_job {
@@ -258,15 +256,15 @@ typedef struct table_job {
     const atmosphere *atm;
 } table_job;
 
-static void table_rows(void *ctx, int64_t begin, int64_t end, int thread)
+static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
 {
     table_job *job = ctx;
     column_table *t = job->table;
     double col[FM_MAX_SPECIES];
     for (int64_t i = begin; i < end; i++) {
         int ir = (int)(i / t->n_mu), imu = (int)(i % t->n_mu);
-        double r, mu;
-        table_ray(job->atm, (double)ir / (t->n_r - 1), (double)imu / (t->n_mu - 1), &r, &mu);
+        double r = table_rows_radius(&t->rows, job->atm, ir);
+        double mu = table_mu(job->atm, t->rows.horizon_m, r, (double)imu / (t->n_mu - 1));
         column_quadrature(job->atm, r, mu, ray_distance_to_top(job->atm, r, mu), col);
         for (int c = 0; c < t->species; c++)
             t->columns[i * t->species + c] = (float)col[c];
@@ -276,15 +274,20 @@ static void table_rows(void *ctx, int64_t begin, int64_t end, int thread)
 fm_status column_table_build(column_table *table, const atmosphere *atm, int n_r, int n_mu, int threads,
                              fm_error *err)
 {
-    table->n_r = n_r;
     table->n_mu = n_mu;
     table->species = atm->species_count;
-    table->horizon_m = top_horizon_distance(atm);
-    table->columns = malloc(sizeof(float) * (size_t)n_r * (size_t)n_mu * (size_t)atm->species_count);
-    if (!table->columns)
+    table->columns = NULL;
+    fm_status s = table_rows_init(&table->rows, atm, n_r, err);
+    if (s)
+        return s;
+    int rows = table->rows.count;
+    table->columns = malloc(sizeof(float) * (size_t)rows * (size_t)n_mu * (size_t)atm->species_count);
+    if (!table->columns) {
+        column_table_free(table);
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the transmittance table");
+    }
     table_job job = {table, atm};
-    parallel_for(threads, (int64_t)n_r * n_mu, 64, table_rows, &job, NULL, NULL);
+    parallel_for(threads, (int64_t)rows * n_mu, 64, build_rows, &job, NULL, NULL);
     return FM_OK;
 }
 
@@ -292,22 +295,22 @@ void column_table_free(column_table *table)
 {
     free(table->columns);
     table->columns = NULL;
+    table_rows_free(&table->rows);
 }
 
 int column_table_lookup(const column_table *table, const atmosphere *atm, double r, double mu, double *columns)
 {
     if (ray_hits_ground(atm, r, mu))
         return 0;
-    double xr, xmu;
-    table_coordinates(atm, table->horizon_m, clamp_between(r, atm->bottom_radius_m, atm->top_radius_m), mu, &xr, &xmu);
-    double fr = clamp_between(xr, 0.0, 1.0) * (table->n_r - 1);
+    r = clamp_between(r, atm->bottom_radius_m, atm->top_radius_m);
+    double tr;
+    int ir = table_rows_locate(&table->rows, atm, r, &tr);
+    double xmu = table_xmu(atm, table->rows.horizon_m, r, mu);
     double fm = clamp_between(xmu, 0.0, 1.0) * (table->n_mu - 1);
-    int ir = (int)fr, im = (int)fm;
-    if (ir > table->n_r - 2)
-        ir = table->n_r - 2;
+    int im = (int)fm;
     if (im > table->n_mu - 2)
         im = table->n_mu - 2;
-    double tr = fr - ir, tm = fm - im;
+    double tm = fm - im;
     const int S = table->species;
     const float *c00 = &table->columns[((size_t)ir * table->n_mu + im) * S];
     const float *c01 = c00 + S;

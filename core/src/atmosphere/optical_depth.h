@@ -13,11 +13,13 @@
  *   1e-6 relative, fast; used to build tables and in the single-scattering quadrature.
  * - column_table_lookup: bilinear table of the column from (r, mu) to the top of the atmosphere,
  *   parametrised as in E. Bruneton's precomputed atmospheric scattering (2017) so the horizon is
- *   resolved; used for the transmittance toward the sun. */
+ *   resolved, with rows on the aerosol layers' edges (table_rows.h); used for the transmittance
+ *   toward the sun and along paths' segments. */
 #ifndef FM_ATMOSPHERE_OPTICAL_DEPTH_H
 #define FM_ATMOSPHERE_OPTICAL_DEPTH_H
 
 #include "atmosphere/atmosphere.h"
+#include "atmosphere/table_rows.h"
 
 /* Distance from (r, mu) to the top of the atmosphere along the ray (r <= top). */
 double ray_distance_to_top(const atmosphere *atm, double r, double mu);
@@ -42,11 +44,12 @@ void column_quadrature(const atmosphere *atm, double r, double mu, double t_max,
 int ray_pieces(const atmosphere *atm, double r, double mu, double t_max, double *s, int max_count);
 
 typedef struct column_table {
-    int n_r, n_mu, species;
-    double horizon_m; /* sqrt(rt^2 - rb^2): the distance to the top's horizon from the ground */
+    table_rows rows; /* the radii */
+    int n_mu, species;
     float *columns; /* [i_r][i_mu][c], particles m^-2 */
 } column_table;
 
+/* n_r rows uniform in x_r and the edges' rows (table_rows.h), n_mu directions each. */
 fm_status column_table_build(column_table *table, const atmosphere *atm, int n_r, int n_mu, int threads,
                              fm_error *err);
 void column_table_free(column_table *table);

@@ -62,19 +62,6 @@ void sun_transmittance_direct(const atmosphere *atm, const column_table *columns
     }
 }
 
-static double table_radius(const atmosphere *atm, double xr)
-{
-    double rb = atm->bottom_radius_m;
-    double rho = top_horizon_distance(atm) * xr;
-    return sqrt(rho * rho + rb * rb);
-}
-
-static double table_xr(const sun_irradiance *table, const atmosphere *atm, double r)
-{
-    double rb = atm->bottom_radius_m;
-    return safe_sqrt(r * r - rb * rb) / table->horizon_m;
-}
-
 /* The tables hold the effective optical depth -ln(Tbar), which is far smoother than Tbar itself
  * (exponentials of steep functions near the horizon); depths beyond MAX_DEPTH mean darkness. */
 #define MAX_DEPTH 200.0
@@ -114,7 +101,7 @@ static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
     double normal[FM_MAX_WAVELENGTHS], horizontal[FM_MAX_WAVELENGTHS];
     for (int64_t i = begin; i < end; i++) {
         int ir = (int)(i / t->n_mu), imu = (int)(i % t->n_mu);
-        double r = table_radius(job->atm, (double)ir / (t->n_r - 1));
+        double r = table_rows_radius(&t->rows, job->atm, ir);
         double lo = t->mu_lo[ir];
         double x = (double)imu / (t->n_mu - 1);
         double mu_s = lo + (1.0 - lo) * x * x;
@@ -131,22 +118,26 @@ static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
 fm_status sun_irradiance_build(sun_irradiance *table, const atmosphere *atm, const column_table *columns,
                                const sun_disk *sun, int n_r, int n_mu, int threads, fm_error *err)
 {
-    table->n_r = n_r;
     table->n_mu = n_mu;
     table->count = atm->grid.count;
-    table->horizon_m = top_horizon_distance(atm);
-    size_t n = (size_t)n_r * (size_t)n_mu * (size_t)table->count;
+    table->normal = table->horizontal = NULL;
+    table->mu_lo = NULL;
+    fm_status s = table_rows_init(&table->rows, atm, n_r, err);
+    if (s)
+        return s;
+    int rows = table->rows.count;
+    size_t n = (size_t)rows * (size_t)n_mu * (size_t)table->count;
     table->normal = malloc(n * sizeof(float));
     table->horizontal = malloc(n * sizeof(float));
-    table->mu_lo = malloc((size_t)n_r * sizeof(double));
+    table->mu_lo = malloc((size_t)rows * sizeof(double));
     if (!table->normal || !table->horizontal || !table->mu_lo) {
         sun_irradiance_free(table);
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the sun irradiance table");
     }
-    for (int i = 0; i < n_r; i++)
-        table->mu_lo[i] = mu_low(atm, sun, table_radius(atm, (double)i / (n_r - 1)));
+    for (int i = 0; i < rows; i++)
+        table->mu_lo[i] = mu_low(atm, sun, table_rows_radius(&table->rows, atm, i));
     build_job job = {table, atm, columns, sun};
-    parallel_for(threads, (int64_t)n_r * n_mu, 32, build_rows, &job, NULL, NULL);
+    parallel_for(threads, (int64_t)rows * n_mu, 32, build_rows, &job, NULL, NULL);
     return FM_OK;
 }
 
@@ -157,6 +148,7 @@ void sun_irradiance_free(sun_irradiance *table)
     free(table->mu_lo);
     table->normal = table->horizontal = NULL;
     table->mu_lo = NULL;
+    table_rows_free(&table->rows);
 }
 
 /* Bilinear weights and node offsets of (r, mu_s); returns 1 when the point is fully in the Earth's
@@ -165,11 +157,8 @@ static int locate(const sun_irradiance *table, const atmosphere *atm, const sun_
                   double w[4], size_t idx[4])
 {
     const int K = table->count;
-    double fr = clamp_between(table_xr(table, atm, r), 0.0, 1.0) * (table->n_r - 1);
-    int ir = (int)fr;
-    if (ir > table->n_r - 2)
-        ir = table->n_r - 2;
-    double tr = fr - ir;
+    double tr;
+    int ir = table_rows_locate(&table->rows, atm, r, &tr);
     /* the mu mapping depends on the row's radius: locate mu_s in each of the two rows */
     int dark = 0;
     for (int row = 0; row < 2; row++) {

@@ -8,7 +8,8 @@
  * surface facing the sun is E0_k Tbar_k; on a horizontal surface the same with each chord weighted
  * by its own cosine.  Tables are over (x_r, x_mu) with x_r as in the column table and
  *     mu_s = mu_lo(r) + (1 - mu_lo(r)) x_mu^2,  mu_lo = cos(theta_horizon(r) + sun radius),
- * which packs nodes where the sun sets for that altitude. */
+ * which packs nodes where the sun sets for that altitude.  The rows are the column table's
+ * (table_rows.h), with rows at the aerosol layers' edges. */
 #ifndef FM_TRANSPORT_SUN_IRRADIANCE_H
 #define FM_TRANSPORT_SUN_IRRADIANCE_H
 
@@ -17,8 +18,8 @@
 #include "sun/sun_disk.h"
 
 typedef struct sun_irradiance {
-    int n_r, n_mu, count;
-    double horizon_m;  /* sqrt(rt^2 - rb^2), the radius mapping's scale */
+    table_rows rows;   /* the radii, as the column table's */
+    int n_mu, count;
     float *normal;     /* [i_r][i_mu][k] Tbar_k */
     float *horizontal; /* [i_r][i_mu][k] the same times the cosine to the local zenith */
     double *mu_lo;     /* [i_r] mu_lo of the row's radius (lookups need it for two rows each time) */
