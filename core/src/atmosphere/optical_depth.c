@@ -196,7 +196,11 @@ int ray_pieces(const atmosphere *atm, double r, double mu, double t_max, double 
     return n;
 }
 
-#define COLUMN_GAUSS_POINTS 8
+/* Gauss points per piece.  The profile bends at every 50 m node, so more points gain little:
+ * against column_exact over 20 000 rays of the urban sky (T 2; optical depth at 380 nm, absolute
+ * below 1, relative above) 6 points are within 2.6e-5 for 99% of rays and 9e-5 at worst, 8 points
+ * 1.6e-5 and 4.5e-5 for a third more time; the tables' interpolation is ten times coarser. */
+#define COLUMN_GAUSS_POINTS 6
 #define MAX_PIECES (2 * (N_BREAKPOINTS + FM_MAX_EDGES) + 4)
 
 void column_quadrature(const atmosphere *atm, double r, double mu, double t_max, double *columns)
