@@ -76,10 +76,19 @@ static inline void atmosphere_densities(const atmosphere *atm, double r, double 
 {
     double z = r - atm->bottom_radius_m;
     if (atm->profile_dz_m > 0.0) {
-        /* one grid for all: one division, the same values (a tenth of the sky tables' build) */
+        /* one grid for all: one division and one cell, the same values (a tenth of the sky
+         * tables' build, and a fifth of the column quadratures') */
+        const int S = atm->species_count;
         double f = z / atm->profile_dz_m;
-        for (int c = 0; c < atm->species_count; c++)
-            n[c] = profile_density_at(&atm->species[c].profile, f);
+        if (f <= 0.0) {
+            for (int c = 0; c < S; c++)
+                n[c] = atm->species[c].profile.n[0];
+            return;
+        }
+        int i = (int)f;
+        double t = f - i;
+        for (int c = 0; c < S; c++)
+            n[c] = profile_density_between(&atm->species[c].profile, f, i, t);
         return;
     }
     for (int c = 0; c < atm->species_count; c++)

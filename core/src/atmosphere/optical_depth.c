@@ -209,20 +209,21 @@ void column_quadrature(const atmosphere *atm, double r, double mu, double t_max,
     double s[MAX_PIECES];
     int n = ray_pieces(atm, r, mu, t_max, s, MAX_PIECES);
     double p2 = fmax(0.0, r * r * (1.0 - mu * mu));
-    for (int c = 0; c < atm->species_count; c++)
-        columns[c] = 0.0;
-    double dens[FM_MAX_SPECIES];
+    const int S = atm->species_count;
+    double sum[FM_MAX_SPECIES] = {0}, dens[FM_MAX_SPECIES];
     for (int i = 0; i + 1 < n; i++) {
         double half = 0.5 * (s[i + 1] - s[i]), mid = 0.5 * (s[i + 1] + s[i]);
         if (half <= 0.0)
             continue;
         for (int g = 0; g < rule->n; g++) {
-            double sg = mid + half * rule->x[g];
+            double sg = mid + half * rule->x[g], weight = half * rule->w[g];
             atmosphere_densities(atm, sqrt(p2 + sg * sg), dens);
-            for (int c = 0; c < atm->species_count; c++)
-                columns[c] += half * rule->w[g] * dens[c];
+            for (int c = 0; c < S; c++)
+                sum[c] += weight * dens[c];
         }
     }
+    for (int c = 0; c < S; c++)
+        columns[c] = sum[c];
 }
 
 /* ---- table ---------------------------------------------------------------------------------- */
