@@ -21,24 +21,23 @@ typedef double (*density_fn)(void *ctx, double altitude_m);
 fm_status profile_sample(density_profile *p, density_fn fn, void *ctx, double top_m, double dz_m);
 void profile_free(density_profile *p);
 
+/* Density at f = altitude / dz_m (grid steps) for f > 0, with i = (int)f and t = f - i (taken once
+ * for several profiles on one grid): linear between nodes, 0 above the top node. */
+static inline double profile_density_between(const density_profile *p, double f, int i, double t)
+{
+    if (i >= p->count - 1)
+        return i == p->count - 1 && f == (double)i ? p->n[i] : 0.0;
+    return p->n[i] + (p->n[i + 1] - p->n[i]) * t;
+}
+
 /* Density at f = altitude / dz_m (grid steps): linear between nodes, constant below 0, 0 above the
  * top node. */
-static inline double profile_density_between(const density_profile *p, double f, int i, double t);
-
 static inline double profile_density_at(const density_profile *p, double f)
 {
     if (f <= 0.0)
         return p->n[0];
     int i = (int)f;
     return profile_density_between(p, f, i, f - i);
-}
-
-/* The same for f > 0 with i = (int)f and t = f - i taken once for several profiles on one grid. */
-static inline double profile_density_between(const density_profile *p, double f, int i, double t)
-{
-    if (i >= p->count - 1)
-        return i == p->count - 1 && f == (double)i ? p->n[i] : 0.0;
-    return p->n[i] + (p->n[i + 1] - p->n[i]) * t;
 }
 
 /* Density at altitude (m). */
