@@ -231,10 +231,9 @@ void column_quadrature(const atmosphere *atm, double r, double mu, double t_max,
 /* Bruneton's mapping of the direction: for rays that do not hit the ground,
  * x_mu = (d - d_min) / (d_max - d_min) with d the distance to the top, d_min = rt - r,
  * d_max = rho + H, rho = sqrt(r^2 - rb^2), H = sqrt(rt^2 - rb^2). */
-static double table_xmu(const atmosphere *atm, double H, double r, double mu)
+static double table_xmu(const atmosphere *atm, double H, double r, double rho, double mu)
 {
-    double rb = atm->bottom_radius_m, rt = atm->top_radius_m;
-    double rho = safe_sqrt(r * r - rb * rb);
+    double rt = atm->top_radius_m;
     double d = ray_distance_to_top(atm, r, mu);
     double d_min = rt - r, d_max = rho + H;
     return d_max > d_min ? (d - d_min) / (d_max - d_min) : 0.0;
@@ -308,9 +307,10 @@ int column_table_lookup(const column_table *table, const atmosphere *atm, double
     if (ray_hits_ground(atm, r, mu))
         return 0;
     r = clamp_between(r, atm->bottom_radius_m, atm->top_radius_m);
-    double tr;
-    int ir = table_rows_locate(&table->rows, atm, r, &tr);
-    double xmu = table_xmu(atm, table->rows.horizon_m, r, mu);
+    double rb = atm->bottom_radius_m, H = table->rows.horizon_m;
+    double rho = safe_sqrt(r * r - rb * rb), tr; /* one sqrt for both coordinates */
+    int ir = table_rows_locate_x(&table->rows, rho / H, &tr);
+    double xmu = table_xmu(atm, H, r, rho, mu);
     double fm = clamp_between(xmu, 0.0, 1.0) * (table->n_mu - 1);
     int im = (int)fm;
     if (im > table->n_mu - 2)

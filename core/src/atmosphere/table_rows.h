@@ -29,14 +29,11 @@ void table_rows_free(table_rows *rows);
 /* The radius (m) of row i. */
 double table_rows_radius(const table_rows *rows, const atmosphere *atm, int i);
 
-/* The row i in [0, count - 2] below radius r and the fraction *t in [0, 1] toward row i + 1
- * (r clamped to the atmosphere). */
-static inline int table_rows_locate(const table_rows *rows, const atmosphere *atm, double r, double *t)
+/* The row i in [0, count - 2] at or below x_r = x (clamped to [0, 1]) and the fraction *t in
+ * [0, 1] toward row i + 1. */
+static inline int table_rows_locate_x(const table_rows *rows, double x, double *t)
 {
-    double rb = atm->bottom_radius_m;
-    double rho2 = r * r - rb * rb;
-    double x = rho2 > 0.0 ? sqrt(rho2) / rows->horizon_m : 0.0;
-    x = x < 1.0 ? x : 1.0;
+    x = x > 0.0 ? (x < 1.0 ? x : 1.0) : 0.0;
     int j = (int)(x * rows->cells);
     int i = rows->first[j < rows->cells ? j : rows->cells - 1];
     while (i + 2 < rows->count && rows->x[i + 1] <= x)
@@ -45,6 +42,14 @@ static inline int table_rows_locate(const table_rows *rows, const atmosphere *at
         i = rows->count - 2;
     *t = (x - rows->x[i]) / (rows->x[i + 1] - rows->x[i]);
     return i;
+}
+
+/* The same below radius r (clamped to the atmosphere). */
+static inline int table_rows_locate(const table_rows *rows, const atmosphere *atm, double r, double *t)
+{
+    double rb = atm->bottom_radius_m;
+    double rho2 = r * r - rb * rb;
+    return table_rows_locate_x(rows, rho2 > 0.0 ? sqrt(rho2) / rows->horizon_m : 0.0, t);
 }
 
 #endif

@@ -11,17 +11,16 @@
  * The vertex's spectral weight is sigma_s,k(t) T_k(0, t) / pdf(t); the density is the same for
  * every wavelength.  T comes from the species' columns along the ray, summed cell by cell by
  * quadrature once per ray and completed within the vertex's cell: the column table's difference
- * of two columns to the top (sunlit_segment.h) loses the short path of a ray near the horizon
- * between two long ones, and made the urban sunset's horizon 0.8% too dark (its rows 128; 0.3% at
- * 256, 0.1% at 512).  Delta tracking would place the vertices by the same
- * law, but at random: at twilight, where the little light there is reaches the vertices high on
- * the ray, that randomness was most of the noise. */
+ * of two columns to the top (which the paths' segments still take, sunlit_segment.h) loses the
+ * short path of a ray near the horizon between two long ones, and made the urban sunset's horizon
+ * 0.8% too dark (its rows 128; 0.3% at 256, 0.1% at 512).  Delta tracking would place the
+ * vertices by the same law, but at random: at twilight, where the little light there is reaches
+ * the vertices high on the ray, that randomness was most of the noise. */
 #ifndef FM_TRANSPORT_VIEW_RAY_VERTICES_H
 #define FM_TRANSPORT_VIEW_RAY_VERTICES_H
 
 #include "transport/free_flight.h"
 #include "transport/path.h"
-#include "transport/sunlit_segment.h"
 
 #define VIEW_RAY_CELLS 64
 
