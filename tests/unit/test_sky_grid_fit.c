@@ -84,7 +84,7 @@ static void noise_averaged_without_bias(void **state)
         }
         sky_grid_fit_choice choice[2];
         assert_int_equal(sky_grid_fit(&g, SUN, y, var, choice), FM_OK);
-        assert_true(choice[0].azimuth_modes >= 1 && choice[0].azimuth_modes <= 6);
+        assert_true(choice[0].azimuth_modes >= 1);
         assert_true(choice[0].risk_fit < 0.5 * choice[0].risk_raw);
         assert_true(choice[1].azimuth_modes >= 0);
         for (int i = 0; i < NODES; i++) {
@@ -136,25 +136,33 @@ static void exact_nodes_kept(void **state)
 }
 
 /* A narrow peak no smooth basis holds (one node at 5 times its neighbours, like an aureole between
- * two columns), with 1% noise: smoothing it would cost far more than the noise, so the sky's nodes
- * stay; a fit of the ground (smooth, noisy) does not touch the sky. */
+ * two columns), with 1% noise: smoothing it away would cost far more than the noise, so it stays
+ * (within 3% of its true value: its own noise is 1%) and the sky's nodes come out no farther from
+ * the truth than they went in; a fit of the ground (smooth, noisy) is made too. */
 static void unrepresentable_peak_kept(void **state)
 {
     (void)state;
     sky_grid g;
     assert_int_equal(sky_grid_init(&g, -1e-4, ROWS_SKY, ROWS_GROUND, COLS, CHANNELS, 0), FM_OK);
-    static double y[NODES], var[NODES];
-    static float before[NODES * CHANNELS];
+    static double y[NODES], var[NODES], truth[NODES];
     noisy_table(&g, 0.01, 7, y, var);
     const int peak = 11 * COLS;
+    for (int i = 0; i < NODES; i++)
+        truth[i] = field(&g, i) * (i == peak ? 5.0 : 1.0);
     y[peak] *= 5.0;
     for (int c = 0; c < CHANNELS; c++)
         g.values[peak * CHANNELS + c] *= 5.0f;
-    copy_values(&g, before, NODES * CHANNELS);
+    double raw2 = 0.0, fit2 = 0.0;
+    for (int i = 0; i < ROWS_SKY * COLS; i++)
+        raw2 += (g.values[i * CHANNELS] / truth[i] - 1.0) * (g.values[i * CHANNELS] / truth[i] - 1.0);
     sky_grid_fit_choice choice[2];
     assert_int_equal(sky_grid_fit(&g, SUN, y, var, choice), FM_OK);
-    assert_int_equal(choice[0].azimuth_modes, -1);
-    check_unchanged(&g, before, ROWS_SKY * COLS * CHANNELS);
+    for (int i = 0; i < ROWS_SKY * COLS; i++)
+        fit2 += (g.values[i * CHANNELS] / truth[i] - 1.0) * (g.values[i * CHANNELS] / truth[i] - 1.0);
+    print_message("peak: RMS relative error of the sky %.3f%% raw, %.3f%% after the fit\n",
+                  100 * sqrt(raw2 / (ROWS_SKY * COLS)), 100 * sqrt(fit2 / (ROWS_SKY * COLS)));
+    check_rel(g.values[peak * CHANNELS], truth[peak], 0.03, "the peak");
+    assert_true(fit2 <= raw2);
     assert_true(choice[1].azimuth_modes >= 0);
     sky_grid_free(&g);
 }
