@@ -150,22 +150,31 @@ static const double *smoother_of(const fit_work *w, int m, int o)
     return o < 0 ? NULL : &w->bank[m > 0][o][0][0];
 }
 
+/* out[r][m] = sum_q S_m[r][q] in[q][m] (or S_m[q][r], transposed): each cosine's row coefficients
+ * through its chosen smoother, 0 for a dropped cosine. */
+static void smooth_coefficients(const fit_work *w, double in[FIT_MAX][FIT_MAX], double out[FIT_MAX][FIT_MAX],
+                                int transposed)
+{
+    const int R = w->rows;
+    for (int m = 0; m < w->cols; m++) {
+        const double *S = smoother_of(w, m, w->option[m]);
+        for (int r = 0; r < R; r++) {
+            double v = 0.0;
+            if (S)
+                for (int q = 0; q < R; q++)
+                    v += (transposed ? S[q * FIT_MAX + r] : S[r * FIT_MAX + q]) * in[q][m];
+            out[r][m] = v;
+        }
+    }
+}
+
 /* out = S in: each cosine's row coefficients through its chosen smoother, summed back. */
 static void smooth_nodes(const fit_work *w, node_array in, node_array out)
 {
     const int R = w->rows, C = w->cols;
     double coef[FIT_MAX][FIT_MAX], f[FIT_MAX][FIT_MAX];
     cosine_coefficients(w, in, coef);
-    for (int m = 0; m < C; m++) {
-        const double *S = smoother_of(w, m, w->option[m]);
-        for (int r = 0; r < R; r++) {
-            double v = 0.0;
-            if (S)
-                for (int q = 0; q < R; q++)
-                    v += S[r * FIT_MAX + q] * coef[q][m];
-            f[r][m] = v;
-        }
-    }
+    smooth_coefficients(w, coef, f, 0);
     for (int r = 0; r < R; r++)
         for (int j = 0; j < C; j++) {
             double v = 0.0;
@@ -187,16 +196,7 @@ static void smooth_nodes_transposed(const fit_work *w, node_array in, node_array
                 sum += w->cs[m][j] * in[r][j];
             a[r][m] = sum;
         }
-    for (int m = 0; m < C; m++) {
-        const double *S = smoother_of(w, m, w->option[m]);
-        for (int q = 0; q < R; q++) {
-            double v = 0.0;
-            if (S)
-                for (int r = 0; r < R; r++)
-                    v += S[r * FIT_MAX + q] * a[r][m];
-            f[q][m] = v;
-        }
-    }
+    smooth_coefficients(w, a, f, 1);
     for (int q = 0; q < R; q++)
         for (int j = 0; j < C; j++) {
             double v = 0.0;
@@ -211,7 +211,8 @@ static double smooth_diagonal(const fit_work *w, int r, int j)
 {
     double h = 0.0;
     for (int m = 0; m < w->cols; m++) {
-        double s = w->option[m] == DROPPED ? 0.0 : w->bank[m > 0][w->option[m]][r][r];
+        const double *S = smoother_of(w, m, w->option[m]);
+        double s = S ? S[r * FIT_MAX + r] : 0.0;
         h += s * w->t[j] * w->cs[m][j] * w->cs[m][j] / w->norm[m];
     }
     return h;
