@@ -141,6 +141,49 @@ static vec3 scatter_direction(const path_context *ctx, vec3 x, const double *n, 
     return nd;
 }
 
+/* A direction leaving the Lambertian ground at the point whose outward normal is `normal`; updates
+ * the spectral pdf ratios q and weights w (albedo_k (cos / pi) / pdf_k).  Cosine-weighted about the
+ * normal or, with probability a while the sun is above the point's horizon, drawn from the sun guide
+ * about the sun (one-sample MIS, balance heuristic, as scatter_direction): the ground's light from
+ * the aureole is the aerosols' forward peak, which cosine sampling finds only by chance (reference
+ * mode at sun 30, a ground pixel's relative standard deviation per path: desert dust 1.2, urban 0.8,
+ * rural 0.35, clear air 0.10).  Returns 0 for a guided direction into the ground (no light). */
+static int ground_direction(const path_context *ctx, vec3 normal, int h, rng *r, double *q, double *w, vec3 *out)
+{
+    const atmosphere *atm = ctx->atm;
+    const int K = atm->grid.count;
+    const double a = ctx->sun_guide && v3_dot(normal, ctx->sun_dir) > 0.0 ? ctx->sun_guide_fraction : 0.0;
+    vec3 d;
+    if (a > 0.0 && rng_uniform(r) < a) {
+        double cos_sun = phase_sample(ctx->sun_guide, h, rng_uniform(r));
+        d = rotate_direction(ctx->sun_dir, cos_sun, 2.0 * FM_PI * rng_uniform(r));
+    } else {
+        double u1 = rng_uniform(r), u2 = rng_uniform(r);
+        double sr = sqrt(u1), phi = 2.0 * FM_PI * u2;
+        frame f = frame_from_normal(normal);
+        /* u1 < 1, so the direction points strictly upward and leaves the ground */
+        d = v3_normalize(frame_to_world(&f, v3(sr * cos(phi), sr * sin(phi), sqrt(1.0 - u1))));
+    }
+    double cos_n = v3_dot(d, normal);
+    if (!(cos_n > 0.0))
+        return 0;
+    if (a > 0.0) {
+        double guide[FM_MAX_WAVELENGTHS], pdf[FM_MAX_WAVELENGTHS], lambert = cos_n / FM_PI;
+        phase_evaluate_all(ctx->sun_guide, K, clamp_cosine(v3_dot(d, ctx->sun_dir)), guide);
+        for (int k = 0; k < K; k++)
+            pdf[k] = (1.0 - a) * lambert + a * guide[k];
+        for (int k = 0; k < K; k++) {
+            w[k] *= pdf[k] > 0.0 ? atm->ground_albedo[k] * lambert / pdf[k] : 0.0;
+            q[k] *= pdf[k] / pdf[h];
+        }
+    } else {
+        for (int k = 0; k < K; k++)
+            w[k] *= atm->ground_albedo[k];
+    }
+    *out = d;
+    return 1;
+}
+
 /* The path from origin along dir; with first_weight, it begins with a scattering at origin (arrived
  * along dir) whose spectral weights are first_weight. */
 static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L,
@@ -304,18 +347,11 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
             if (ctx->max_order > 0 && order >= ctx->max_order)
                 return;
             double any = 0.0;
-            for (int k = 0; k < K; k++) {
-                w[k] *= atm->ground_albedo[k];
-                any += w[k];
-            }
-            if (!(any > 0.0))
+            for (int k = 0; k < K; k++)
+                any += w[k] * atm->ground_albedo[k];
+            if (!(any > 0.0) || !ground_direction(ctx, normal, h, r, q, w, &d))
                 return;
-            /* cosine-weighted direction about the normal: weight albedo (f cos / pdf) */
-            double u1 = rng_uniform(r), u2 = rng_uniform(r);
-            double sr = sqrt(u1), phi = 2.0 * FM_PI * u2;
-            frame f = frame_from_normal(normal);
-            /* u1 < 1, so the new direction points strictly upward and leaves the ground */
-            d = v3_normalize(frame_to_world(&f, v3(sr * cos(phi), sr * sin(phi), sqrt(1.0 - u1))));
+            renormalise(q, K);
             pos = v3_scale(normal, atm->bottom_radius_m);
         } else {
             return; /* left the atmosphere */
