@@ -5,7 +5,9 @@
  *  - order 1 alone (max_order 1): the quadrature against 400 000 order-1 paths, in skies where
  *    its grid matters: desert dust (the forward peak), clear air, the urban sunset, twilight -4;
  *  - its grid: 32 x 32 nodes against 64 x 64 (the final quality's against a finer one);
- *  - all orders: the table against 60 000 full paths (rural, sun 30).
+ *  - all orders: the table against 60 000 full paths (rural, sun 30);
+ *  - the path tracer's ground bounce: the ground seen from the observer at order 2 against albedo /
+ *    pi times the order-1 quadrature (desert dust, where the bounce's sun guide matters; clear air).
  * A quadrature that lost the forward peak, the horizon or a factor of pi, or a decomposition that
  * counted order 1 twice or not at all, misses these by far more than the bounds. */
 #include "check.h"
@@ -107,6 +109,55 @@ static void order_one_twilight(void **state)
     check_order_one("rural", -4.0, 1.0);
 }
 
+/* The ground bounce's directions (path.c: the cosine lobe and, with aerosols, the sun guide by
+ * one-sample MIS): the ground seen from the observer, order 2 (a bounce, then one scattering in the
+ * air), is albedo / pi times the order-1 diffuse irradiance, which the quadrature gives without any
+ * bounce.  Wrong MIS weights, or a guided direction into the ground counted, miss by far more. */
+static void check_bounce(const char *biome_name)
+{
+    fm_sky *sky = sky_for(biome_name, 30.0, 1.0);
+    const int K = sky->atm.grid.count, N = 200000;
+    path_context single = twilight_path_context(sky, NULL, 1, 1);
+    ground_irradiance g;
+    assert_int_equal(ground_irradiance_build(&g, &single, acos(sky->sun_dir.z), 0.0, (ground_quadrature){32, 32, 6}, 1,
+                                             3, 2, NULL),
+                     FM_OK);
+    double reflected[FM_MAX_WAVELENGTHS];
+    for (int k = 0; k < K; k++)
+        reflected[k] = sky->atm.ground_albedo[k] / FM_PI * g.E[k];
+    double expected = luminance(sky, reflected);
+    ground_irradiance_free(&g);
+    path_context pc = twilight_path_context(sky, NULL, 2, 2);
+    vec3 down = v3_normalize(v3(0.3, 0.2, -1.0));
+    double s1 = 0.0, s2 = 0.0;
+    for (int i = 0; i < N; i++) {
+        rng r = rng_for(13, 0xbb67ae85ull, (uint64_t)i);
+        double L[FM_MAX_WAVELENGTHS] = {0};
+        path_trace(&pc, sky->observer, down, i % K, &r, L);
+        double y = luminance(sky, L);
+        s1 += y;
+        s2 += y * y;
+    }
+    double mean = s1 / N, se = sqrt(fmax(s2 / N - mean * mean, 0.0) / N), z = (mean - expected) / se;
+    print_message("%s sun 30: the ground's order 2 seen from the observer %.6g +- %.2g, albedo / pi x order-1 E_d "
+                  "%.6g (z %.2f; relative sd per path %.2f)\n",
+                  biome_name, mean, se, expected, z, se * sqrt(N) / mean);
+    check_abs(z, 0.0, 4.0, "a bounce's order 2 against the quadrature (z)");
+    fm_sky_destroy(sky);
+}
+
+static void bounce_desert_dust(void **state)
+{
+    (void)state;
+    check_bounce("desert-dust");
+}
+
+static void bounce_clear(void **state)
+{
+    (void)state;
+    check_bounce("none");
+}
+
 static void all_orders_rural(void **state)
 {
     (void)state;
@@ -127,7 +178,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(order_one_desert_dust),  cmocka_unit_test(order_one_clear),
         cmocka_unit_test(order_one_urban_sunset), cmocka_unit_test(order_one_twilight),
-        cmocka_unit_test(all_orders_rural),
+        cmocka_unit_test(all_orders_rural),       cmocka_unit_test(bounce_desert_dust),
+        cmocka_unit_test(bounce_clear),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -9,7 +9,8 @@
  * At every scattering vertex and at the ground, next-event estimation adds direct sunlight from the
  * precomputed disk-integrated transmittance table (sun_irradiance.h); directions sampled by the phase
  * function never count the sun, so it is never counted twice.  Ground: Lambertian, bounced with
- * cosine sampling (weight = albedo).  Russian roulette ends paths: every order of scattering is
+ * cosine sampling and, while the sun is above the ground's horizon, the sun guide below (one-sample
+ * MIS).  Russian roulette ends paths: every order of scattering is
  * included.  Scattering directions are drawn from the local phase function or, a fraction of the
  * time, from an aerosol phase function about the sun (the sun guide, one-sample MIS), so the next
  * vertex's direct sunlight through its aerosol forward peak is not left to chance.  Segments that would leave the atmosphere are optionally forced to collide (weight
