@@ -24,6 +24,10 @@
 #
 # "cost x" (with --biomes) is the wall time relative to the clear sky (no aerosol) at equal RMS
 # error: Monte Carlo error falls as 1/sqrt(samples), so equal error costs wall * (RMS / RMS_clear)^2.
+# "ref cost x" is the same ratio for the path tracer alone, without the fast path's tables and fit:
+# the reference mode at 400 pixels of the map, 2048 paths each (bench/sky_bench.c: time per pixel
+# x its RMS relative noise "ref RSD %" squared), which is what the sampling of the aerosols'
+# scattering decides.
 #   bench/bench.sh                  the default sky (sun 30, rural) and a sunset (sun 2, urban, T 2)
 #   bench/bench.sh --biomes         1024 x 512 final maps of the clear sky and every biome at sun 30,
 #                                   with their cost against the clear sky (issue "composition")
@@ -79,8 +83,9 @@ fi
 echo "firmament $("$FM" --version | cut -d' ' -f2), $(nproc) threads, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 
 if [ "${1:-}" = "--biomes" ]; then
-    printf '%-28s %-10s %8s %7s %7s %8s\n' sky size "wall s" "RMS %" "p99 %" "cost x"
+    printf '%-28s %-10s %8s %7s %7s %8s %9s %12s\n' sky size "wall s" "RMS %" "p99 %" "cost x" "ref RSD %" "ref cost x"
     clear_cost=""
+    clear_ref=""
     for b in none background desert-dust maritime-clean maritime-mineral polar-antarctic polar-arctic \
         remote-continental rural urban; do
         read -r sec _ <<<"$(timed "$b" --width 1024 --sun-elevation 30 --biome "$b")"
@@ -88,8 +93,13 @@ if [ "${1:-}" = "--biomes" ]; then
         read -r rms p99 <<<"$(compare "$b" "$b-16x")"
         cost=$(awk -v s="$sec" -v r="$rms" 'BEGIN { print s * r * r }')
         [ -z "$clear_cost" ] && clear_cost=$cost
-        printf '%-28s %-10s %8.2f %7.3f %7.3f %8.2f\n' "$b (sun 30)" 1024x512 "$sec" "$rms" "$p99" \
-            "$(awk -v c="$cost" -v c0="$clear_cost" 'BEGIN { print c / c0 }')"
+        # the path tracer alone (reference mode, 2048 paths at 400 pixels): time x noise^2
+        read -r _ t_ref _ e_ref _ <<<"$("$SB" speed "biome:$b" 1024 2048)"
+        ref=$(awk -v t="$t_ref" -v e="$e_ref" 'BEGIN { print t * e * e }')
+        [ -z "$clear_ref" ] && clear_ref=$ref
+        printf '%-28s %-10s %8.2f %7.3f %7.3f %8.2f %9.3f %12.2f\n' "$b (sun 30)" 1024x512 "$sec" "$rms" "$p99" \
+            "$(awk -v c="$cost" -v c0="$clear_cost" 'BEGIN { print c / c0 }')" \
+            "$(awk -v e="$e_ref" 'BEGIN { print 100 * e }')" "$(awk -v c="$ref" -v c0="$clear_ref" 'BEGIN { print c / c0 }')"
     done
     exit 0
 fi

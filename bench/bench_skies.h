@@ -18,7 +18,8 @@ typedef struct bench_sky {
     const char *biome;
 } bench_sky;
 
-/* The sky called name, or NULL. */
+/* The sky called name ("default", "sunset", or "biome:NAME": sun 30 through biome NAME at turbidity
+ * 1), or NULL.  The biome sky lives in static storage, overwritten by the next such call. */
 const bench_sky *bench_sky_find(const char *name);
 
 /* Its parameters for fm_sky_create. */

@@ -7,7 +7,8 @@
  * pixel; a few hundred pixels are not, and their errors estimate the map's RMS error, noise and
  * bias together).
  *
- *   sky-bench args SKY                   the firmament render options of the sky (default | sunset)
+ *   sky-bench args SKY                   the firmament render options of the sky (default | sunset |
+ *                                        biome:NAME, sun 30 through that biome)
  *   sky-bench speed SKY WIDTH PATHS      prints "seconds_per_pixel T noise E paths N"
  *   sky-bench reference SKY WIDTH PATHS  prints the converged reference at the probes (the cache file)
  *   sky-bench error MAP.exr REFERENCE    prints "rms E noise N corrected C bias B probes P": the map's
@@ -42,7 +43,7 @@ static const bench_sky *find_sky(const char *name)
 {
     const bench_sky *b = bench_sky_find(name);
     if (!b) {
-        fprintf(stderr, "sky-bench: unknown sky '%s' (default | sunset)\n", name);
+        fprintf(stderr, "sky-bench: unknown sky '%s' (default | sunset | biome:NAME)\n", name);
         exit(2);
     }
     return b;
