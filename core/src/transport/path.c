@@ -86,6 +86,23 @@ static void renormalise(double *q, int K)
             q[k] /= m;
 }
 
+/* A direction drawn from the sun guide (path.h) about the sun, at the hero wavelength h. */
+static vec3 sun_guide_direction(const path_context *ctx, int h, rng *r)
+{
+    double cos_sun = phase_sample(ctx->sun_guide, h, rng_uniform(r));
+    return rotate_direction(ctx->sun_dir, cos_sun, 2.0 * FM_PI * rng_uniform(r));
+}
+
+/* One-sample MIS over the techniques of a direction, balance heuristic: with f[k] the directional
+ * factor and pdf[k] the mixture's density for wavelength k, w[k] *= f / pdf and q[k] *= pdf / pdf_h. */
+static void mis_weigh(int K, int h, const double *f, const double *pdf, double *q, double *w)
+{
+    for (int k = 0; k < K; k++) {
+        w[k] *= pdf[k] > 0.0 ? f[k] / pdf[k] : 0.0;
+        q[k] *= pdf[k] / pdf[h];
+    }
+}
+
 /* A new direction at a scattering vertex with densities n, arriving along d; updates the spectral
  * pdf ratios q and weights w.  Local technique: choose a species in proportion to its sigma_s at the
  * hero wavelength, then draw from its phase function; the mixture's pdf for wavelength k is the
@@ -103,8 +120,7 @@ static vec3 scatter_direction(const path_context *ctx, vec3 x, const double *n, 
     vec3 nd;
     double technique = (a > 0.0 || b > 0.0) ? rng_uniform(r) : 1.0;
     if (technique < a) {
-        double cos_sun = phase_sample(ctx->sun_guide, h, rng_uniform(r));
-        nd = rotate_direction(ctx->sun_dir, cos_sun, 2.0 * FM_PI * rng_uniform(r));
+        nd = sun_guide_direction(ctx, h, r);
         cos_theta = clamp_cosine(v3_dot(d, nd));
     } else if (technique < a + b) {
         double u1 = rng_uniform(r), u2 = rng_uniform(r), u3 = rng_uniform(r);
@@ -130,10 +146,7 @@ static vec3 scatter_direction(const path_context *ctx, vec3 x, const double *n, 
         double sky = b > 0.0 ? sky_guide_pdf(ctx->sky_guide, x, ctx->sun_dir, nd) : 0.0;
         for (int k = 0; k < K; k++)
             pdf[k] = (1.0 - a - b) * phase[k] + a * guide[k] + b * sky;
-        for (int k = 0; k < K; k++) {
-            w[k] *= pdf[k] > 0.0 ? phase[k] / pdf[k] : 0.0;
-            q[k] *= pdf[k] / pdf[h];
-        }
+        mis_weigh(K, h, phase, pdf, q, w);
     } else {
         for (int k = 0; k < K; k++)
             q[k] *= phase[k] / phase[h];
@@ -155,8 +168,7 @@ static int ground_direction(const path_context *ctx, vec3 normal, int h, rng *r,
     const double a = ctx->sun_guide && v3_dot(normal, ctx->sun_dir) > 0.0 ? ctx->sun_guide_fraction : 0.0;
     vec3 d;
     if (a > 0.0 && rng_uniform(r) < a) {
-        double cos_sun = phase_sample(ctx->sun_guide, h, rng_uniform(r));
-        d = rotate_direction(ctx->sun_dir, cos_sun, 2.0 * FM_PI * rng_uniform(r));
+        d = sun_guide_direction(ctx, h, r);
     } else {
         double u1 = rng_uniform(r), u2 = rng_uniform(r);
         double sr = sqrt(u1), phi = 2.0 * FM_PI * u2;
@@ -168,14 +180,13 @@ static int ground_direction(const path_context *ctx, vec3 normal, int h, rng *r,
     if (!(cos_n > 0.0))
         return 0;
     if (a > 0.0) {
-        double guide[FM_MAX_WAVELENGTHS], pdf[FM_MAX_WAVELENGTHS], lambert = cos_n / FM_PI;
+        double guide[FM_MAX_WAVELENGTHS], pdf[FM_MAX_WAVELENGTHS], f[FM_MAX_WAVELENGTHS], lambert = cos_n / FM_PI;
         phase_evaluate_all(ctx->sun_guide, K, clamp_cosine(v3_dot(d, ctx->sun_dir)), guide);
-        for (int k = 0; k < K; k++)
-            pdf[k] = (1.0 - a) * lambert + a * guide[k];
         for (int k = 0; k < K; k++) {
-            w[k] *= pdf[k] > 0.0 ? atm->ground_albedo[k] * lambert / pdf[k] : 0.0;
-            q[k] *= pdf[k] / pdf[h];
+            f[k] = atm->ground_albedo[k] * lambert;
+            pdf[k] = (1.0 - a) * lambert + a * guide[k];
         }
+        mis_weigh(K, h, f, pdf, q, w);
     } else {
         for (int k = 0; k < K; k++)
             w[k] *= atm->ground_albedo[k];
