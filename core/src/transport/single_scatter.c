@@ -132,14 +132,16 @@ void single_scatter_ray_radiance(const single_scatter_ray *ray, const path_conte
         const double *pt = ray->point + (size_t)i * stride;
         double t = pt[0], wgt = pt[1], rad = pt[2];
         const double *n = pt + 3, *view_depth = pt + 3 + C;
+        /* sunlight in, transmittance out: one exp of the two optical depths (none in the Earth's shadow) */
+        if (!sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, (origin_sun + t * cos_sun) / rad,
+                                         sun_depth))
+            continue;
         for (int k = 0; k < K; k++)
             coef[k] = 0.0;
         for (int c = 0; c < atm->scattering_count; c++)
             if (n[c] != 0.0) /* aerosol layers are absent at most altitudes */
                 for (int k = 0; k < K; k++)
                     coef[k] += n[c] * scatter[c][k];
-        /* sunlight in, transmittance out: one exp of the two optical depths */
-        sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, (origin_sun + t * cos_sun) / rad, sun_depth);
         double tr[FM_MAX_WAVELENGTHS];
         for (int k = 0; k < K; k++)
             tr[k] = -(view_depth[k] + sun_depth[k]);

@@ -197,9 +197,11 @@ static double interpolate(const float *v, const double w[4], const size_t idx[4]
 /* from_depth of every wavelength's interpolated depth, the exps in vector lanes (exp_array.h) */
 static void exp_of_depths(const float *v, const double w[4], const size_t idx[4], int K, double *out)
 {
+    /* the corners' rows as separate streams and the cut-off as a select: vector lanes */
+    const float *restrict c0 = v + idx[0], *restrict c1 = v + idx[1], *restrict c2 = v + idx[2], *restrict c3 = v + idx[3];
     for (int k = 0; k < K; k++) {
-        double d = interpolate_depth(v, w, idx, k);
-        out[k] = d >= MAX_DEPTH ? -INFINITY : -d;
+        double d = w[0] * c0[k] + w[1] * c1[k] + w[2] * c2[k] + w[3] * c3[k];
+        out[k] = d < MAX_DEPTH ? -d : -INFINITY;
     }
     exp_array(out, out, K);
 }
@@ -224,16 +226,25 @@ void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, c
         exp_of_depths(table->horizontal, w, idx, K, horizontal);
 }
 
-void sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
-                                 double mu_s, double *depth)
+int sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
+                                double mu_s, double *depth)
 {
     double w[4];
     size_t idx[4];
-    int dark = locate(table, atm, sun, r, mu_s, w, idx);
-    for (int k = 0; k < table->count; k++) {
-        double d = dark ? INFINITY : interpolate_depth(table->normal, w, idx, k);
-        depth[k] = d >= MAX_DEPTH ? INFINITY : d; /* as from_depth: 0 beyond MAX_DEPTH */
+    const int K = table->count;
+    if (locate(table, atm, sun, r, mu_s, w, idx)) {
+        for (int k = 0; k < K; k++)
+            depth[k] = INFINITY;
+        return 0;
     }
+    /* the corners' rows as separate streams and the cut-off as a select: the loop runs in vector lanes */
+    const float *restrict c0 = table->normal + idx[0], *restrict c1 = table->normal + idx[1];
+    const float *restrict c2 = table->normal + idx[2], *restrict c3 = table->normal + idx[3];
+    for (int k = 0; k < K; k++) {
+        double d = w[0] * c0[k] + w[1] * c1[k] + w[2] * c2[k] + w[3] * c3[k];
+        depth[k] = d < MAX_DEPTH ? d : INFINITY; /* as from_depth: 0 beyond MAX_DEPTH */
+    }
+    return 1;
 }
 
 void sun_irradiance_lookup_some(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,

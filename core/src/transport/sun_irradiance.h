@@ -39,8 +39,9 @@ void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, c
                            double mu_s, double *normal, double *horizontal);
 
 /* The same as optical depths, -ln Tbar_k (infinite where Tbar is 0), for callers that multiply Tbar
- * by another transmittance: one exp of the summed depths instead of two. */
-void sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
+ * by another transmittance: one exp of the summed depths instead of two.  Returns 0 when the point
+ * is in the Earth's shadow (every depth infinite), so callers can skip it. */
+int sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
                                  double mu_s, double *depth);
 
 /* The same for the n grid wavelengths ks[0..n-1] only (normal[i] for ks[i]). */

@@ -202,11 +202,7 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
             double t = lit_to_t(l, u0, u1), rad = ray_segment_radius(seg, t);
             vec3 x = v3_madd(seg->origin, seg->dir, t);
             double depth[FM_MAX_WAVELENGTHS]; /* the sunlight's, then the path's to here added */
-            sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, depth);
-            int any = 0;
-            for (int k = 0; k < K; k++)
-                any |= depth[k] < INFINITY;
-            if (!any)
+            if (!sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, depth))
                 continue;
             double inv_pdf = 1.0 / density / SUN_SAMPLES;
             segment_columns_at(&sc, t, col);
