@@ -165,7 +165,11 @@ void atmosphere_coefficients(const atmosphere *atm, double r, double *sigma_s, d
     atmosphere_coefficients_from_densities(atm, n, sigma_s, sigma_t);
 }
 
-void atmosphere_coefficients_from_densities(const atmosphere *atm, const double *n, double *sigma_s, double *sigma_t)
+/* The spectral loops below take each species' density or column into a local and write through
+ * restrict pointers: without them every product reloads it (the output might overwrite it) and the
+ * loops stay scalar. */
+void atmosphere_coefficients_from_densities(const atmosphere *atm, const double *n, double *restrict sigma_s,
+                                            double *restrict sigma_t)
 {
     const int K = atm->grid.count;
     for (int k = 0; k < K; k++)
@@ -173,27 +177,29 @@ void atmosphere_coefficients_from_densities(const atmosphere *atm, const double 
     /* species by species, skipping the absent ones (aerosol layers exist only in their altitude
      * range); the sums per wavelength run over species in a fixed order */
     for (int c = 0; c < atm->species_count; c++) {
-        if (n[c] == 0.0)
+        const double nc = n[c];
+        if (nc == 0.0)
             continue;
         const double *s = atm->species[c].sigma_s, *t = atm->species_sigma_t[c];
         for (int k = 0; k < K; k++) {
-            sigma_s[k] += s[k] * n[c];
-            sigma_t[k] += t[k] * n[c];
+            sigma_s[k] += s[k] * nc;
+            sigma_t[k] += t[k] * nc;
         }
     }
 }
 
-void atmosphere_optical_depths(const atmosphere *atm, const double *columns, double *depth)
+void atmosphere_optical_depths(const atmosphere *atm, const double *columns, double *restrict depth)
 {
     const int K = atm->grid.count;
     for (int k = 0; k < K; k++)
         depth[k] = 0.0;
     for (int c = 0; c < atm->species_count; c++) {
-        if (columns[c] == 0.0)
+        const double col = columns[c];
+        if (col == 0.0)
             continue;
         const double *sigma = atm->species_sigma_t[c];
         for (int k = 0; k < K; k++)
-            depth[k] += sigma[k] * columns[c];
+            depth[k] += sigma[k] * col;
     }
 }
 
