@@ -129,6 +129,33 @@ static void sobol_shuffle_is_a_permutation(void **state)
     assert_int_equal(sobol_shuffle(3u << M | 5u, M, 77) >> M, 3);
 }
 
+/* The tabulated scramble draws the same numbers as sobol_owen, bit for bit, and a stream given the
+ * table the same as without it; more levels than the table holds leave it unused. */
+static void sobol_table_matches_hashed_scramble(void **state)
+{
+    static sobol_scramble table;
+    for (int levels = 1; levels <= FM_SOBOL_TABLE_LEVELS; levels += 3)
+        for (uint64_t seed = 1; seed < 4; seed++) {
+            sobol_scramble_init(&table, seed * 0x9E3779B97F4A7C15ull, levels);
+            assert_int_equal(table.levels, levels);
+            for (uint32_t i = 0; i < 1u << levels; i += 1 + (1u << levels) / 97)
+                for (int d = 0; d < FM_SOBOL_DIMS; d++)
+                    assert_true(sobol_owen_tabulated(&table, i, d) ==
+                                sobol_owen(i, d, seed * 0x9E3779B97F4A7C15ull, levels));
+        }
+    sobol_scramble_init(&table, rng_qmc_seed(3, 4), sobol_levels(64));
+    rng r = rng_for_qmc(3, 4, 5, 64), hashed = rng_for_qmc(3, 4, 5, 64);
+    rng_use_scramble(&r, &table);
+    assert_non_null(r.qmc_table);
+    for (int d = 0; d < FM_SOBOL_DIMS + 2; d++)
+        assert_true(rng_uniform(&r) == rng_uniform(&hashed));
+    sobol_scramble_init(&table, 7, FM_SOBOL_TABLE_LEVELS + 1);
+    assert_int_equal(table.levels, 0);
+    rng big = rng_for_qmc(3, 4, 5, 1u << (FM_SOBOL_TABLE_LEVELS + 1));
+    rng_use_scramble(&big, &table);
+    assert_null(big.qmc_table);
+}
+
 static void count_items(void *ctx, int64_t begin, int64_t end, int thread)
 {
     atomic_llong *sum = ctx;
@@ -220,6 +247,7 @@ int main(void)
         cmocka_unit_test(sobol_matches_published_points),
         cmocka_unit_test(sobol_owen_points_are_stratified),
         cmocka_unit_test(sobol_shuffle_is_a_permutation),
+        cmocka_unit_test(sobol_table_matches_hashed_scramble),
         cmocka_unit_test(parallel_for_visits_every_item_once),
         cmocka_unit_test(exp_arrays_match_libm),
         cmocka_unit_test(log_array_matches_libm),

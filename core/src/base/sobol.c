@@ -86,12 +86,51 @@ uint32_t sobol_shuffle(uint32_t index, int levels, uint64_t seed)
     return index >> levels << levels | low >> (32 - levels);
 }
 
-double sobol_owen(uint32_t index, int dim, uint64_t seed, int levels)
+static uint64_t dimension_key(uint64_t seed, int dim)
 {
-    uint64_t key = mix64(seed ^ mix64((uint64_t)dim + 0x5851F42D4C957F2Dull));
-    uint32_t y = nested_scramble(sobol_u32(index, dim), levels, key);
-    /* below the scrambled digits: random digits drawn from the point's own prefix */
+    return mix64(seed ^ mix64((uint64_t)dim + 0x5851F42D4C957F2Dull));
+}
+
+/* The scrambled digits y (the top `levels` bits) completed below by random digits drawn from the
+ * point's own prefix, as a double in [0, 1). */
+static double with_low_digits(uint32_t y, int levels, uint64_t key)
+{
     uint64_t prefix = levels < 32 ? y >> (32 - levels) : y;
     uint64_t low = mix64(key ^ 0xA0761D6478BD642Full ^ ((uint64_t)levels << 40) ^ prefix) >> (11 + levels);
     return (double)(prefix << (53 - levels) | low) * 0x1.0p-53;
+}
+
+double sobol_owen(uint32_t index, int dim, uint64_t seed, int levels)
+{
+    uint64_t key = dimension_key(seed, dim);
+    return with_low_digits(nested_scramble(sobol_u32(index, dim), levels, key), levels, key);
+}
+
+void sobol_scramble_init(sobol_scramble *s, uint64_t seed, int levels)
+{
+    s->levels = levels <= FM_SOBOL_TABLE_LEVELS ? levels : 0;
+    for (int d = 0; d < FM_SOBOL_DIMS; d++) {
+        s->key[d] = dimension_key(seed, d);
+        for (int w = 0; w < (1 << FM_SOBOL_TABLE_LEVELS) / 64; w++)
+            s->flips[d][w] = 0;
+        for (int level = 0; level < s->levels; level++)
+            for (uint32_t prefix = 0; prefix < 1u << level; prefix++) {
+                /* nested_scramble's flip of this node */
+                uint64_t flip = mix64(s->key[d] ^ ((uint64_t)level << 32 | prefix)) >> 63;
+                uint32_t node = 1u << level | prefix;
+                s->flips[d][node >> 6] |= flip << (node & 63);
+            }
+    }
+}
+
+double sobol_owen_tabulated(const sobol_scramble *s, uint32_t index, int dim)
+{
+    const uint64_t *flips = s->flips[dim];
+    uint32_t x = sobol_u32(index, dim), y = 0;
+    for (int level = 0; level < s->levels; level++) {
+        uint32_t node = 1u << level | (level ? x >> (32 - level) : 0u);
+        uint32_t flip = (uint32_t)(flips[node >> 6] >> (node & 63)) & 1u;
+        y |= (((x >> (31 - level)) & 1u) ^ flip) << (31 - level);
+    }
+    return with_low_digits(y, s->levels, s->key[dim]);
 }

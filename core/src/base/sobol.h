@@ -21,6 +21,23 @@ uint32_t sobol_u32(uint32_t index, int dim);
 double sobol_owen(uint32_t index, int dim, uint64_t seed, int levels);
 int sobol_levels(uint64_t points);
 
+/* The scramble of one seed with its digit flips tabulated: sobol_owen hashes every digit of every
+ * coordinate (a tenth of a multiple-scattering path's instructions), while a table holds each node
+ * of the binary tree once, 2^levels - 1 per dimension for the 2^levels points that use them all. */
+#define FM_SOBOL_TABLE_LEVELS 12
+typedef struct sobol_scramble {
+    int levels; /* 0: more levels than the table holds (sobol_scramble_init) */
+    uint64_t key[FM_SOBOL_DIMS];
+    uint64_t flips[FM_SOBOL_DIMS][(1 << FM_SOBOL_TABLE_LEVELS) / 64]; /* bit (1 << level | prefix) */
+} sobol_scramble;
+
+/* The table of sobol_owen's scramble for `seed` and `levels`; levels 0 if it needs more than
+ * FM_SOBOL_TABLE_LEVELS. */
+void sobol_scramble_init(sobol_scramble *s, uint64_t seed, int levels);
+
+/* sobol_owen(index, dim, seed, levels) of the table's seed and levels, bit for bit. */
+double sobol_owen_tabulated(const sobol_scramble *s, uint32_t index, int dim);
+
 /* A bijection of [0, 2^levels), levels 1 to 31, drawn from seed (a nested uniform scramble of the index's digits),
  * so that samples 0 .. N-1 still use points 0 .. N-1 of the sequence (N a power of 2) but in an
  * order unrelated to the sample number. */

@@ -69,8 +69,11 @@ void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int 
     view_ray_vertices v;
     if (!view_ray_vertices_init(&v, pc, sky->observer, d))
         return; /* no air along the ray */
+    sobol_scramble scramble;
+    sobol_scramble_init(&scramble, rng_qmc_seed(seed, item), sobol_levels((uint64_t)paths));
     for (int p = 0; p < paths; p++) {
         rng r = rng_for_qmc(seed, item, (uint64_t)p, (uint64_t)paths);
+        rng_use_scramble(&r, &scramble);
         double own[FM_MAX_WAVELENGTHS] = {0}, *Lp = sum_y2 ? own : L;
         double weight[FM_MAX_WAVELENGTHS];
         vec3 x = view_ray_vertex(&v, pc, (p + rng_uniform(&r)) / paths, weight);
