@@ -55,18 +55,18 @@ static inline rng rng_for(uint64_t seed, uint64_t item, uint64_t sample)
     return r;
 }
 
-/* As rng_for, but the first draws are a quasi-Monte Carlo point: the samples 0 to samples - 1 of
- * one item together stratify each of those dimensions.  Samples take the points in a shuffled order
- * (sobol_shuffle): the caller's own use of the sample number (the hero wavelength cycles with it)
- * would otherwise meet the points' structure (urban sunset, sun 2: seed-to-seed RMS 4.5% with
- * random numbers, 6.4% with the points in order, 3.8% shuffled).  (Past 2^31 samples, plain random
- * numbers.) */
 /* The scramble seed of an item's points (rng_for_qmc), for sobol_scramble_init. */
 static inline uint64_t rng_qmc_seed(uint64_t seed, uint64_t item)
 {
     return mix64(seed ^ mix64(item ^ 0x2545F4914F6CDD1Dull));
 }
 
+/* As rng_for, but the first draws are a quasi-Monte Carlo point: the samples 0 to samples - 1 of
+ * one item together stratify each of those dimensions.  Samples take the points in a shuffled order
+ * (sobol_shuffle): the caller's own use of the sample number (the hero wavelength cycles with it)
+ * would otherwise meet the points' structure (urban sunset, sun 2: seed-to-seed RMS 4.5% with
+ * random numbers, 6.4% with the points in order, 3.8% shuffled).  (Past 2^31 samples, plain random
+ * numbers.) */
 static inline rng rng_for_qmc(uint64_t seed, uint64_t item, uint64_t sample, uint64_t samples)
 {
     rng r = rng_for(seed, item, sample);
