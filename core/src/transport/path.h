@@ -9,12 +9,13 @@
  * At every scattering vertex and at the ground, next-event estimation adds direct sunlight from the
  * precomputed disk-integrated transmittance table (sun_irradiance.h); directions sampled by the phase
  * function never count the sun, so it is never counted twice.  Ground: Lambertian, bounced with
- * cosine sampling and, while the sun is above the ground's horizon, the sun guide below (one-sample
- * MIS).  Russian roulette ends paths: every order of scattering is
- * included.  Scattering directions are drawn from the local phase function or, a fraction of the
- * time, from an aerosol phase function about the sun (the sun guide, one-sample MIS), so the next
- * vertex's direct sunlight through its aerosol forward peak is not left to chance.  Segments that would leave the atmosphere are optionally forced to collide (weight
- * 1 - exp(-majorant depth)), which keeps thin-air paths useful without bias.  A segment that enters
+ * cosine sampling and, while the sun is 10 degrees or more above the ground's horizon, the sun guide
+ * below (one-sample MIS).  Russian roulette ends paths: every order of scattering is included.
+ * Scattering directions are drawn from the local phase function or, a fraction of the time, from an
+ * aerosol phase function about the sun (the sun guide, one-sample MIS), so the next vertex's direct
+ * sunlight through its aerosol forward peak is not left to chance.  Segments that would leave the
+ * atmosphere are optionally forced to collide (weight 1 - exp(-majorant depth)), which keeps
+ * thin-air paths useful without bias.  A segment that enters
  * the Earth's umbra (every segment, at twilight) gets its next interaction's sunlight as the
  * expected value along it (sunlit_segment.h) and no point estimate at that interaction; Russian
  * roulette plays after that.  At twilight a third direction technique, the sky guide

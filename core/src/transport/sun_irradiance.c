@@ -198,7 +198,8 @@ static double interpolate(const float *v, const double w[4], const size_t idx[4]
 static void exp_of_depths(const float *v, const double w[4], const size_t idx[4], int K, double *out)
 {
     /* the corners' rows as separate streams and the cut-off as a select: vector lanes */
-    const float *restrict c0 = v + idx[0], *restrict c1 = v + idx[1], *restrict c2 = v + idx[2], *restrict c3 = v + idx[3];
+    const float *restrict c0 = v + idx[0], *restrict c1 = v + idx[1];
+    const float *restrict c2 = v + idx[2], *restrict c3 = v + idx[3];
     for (int k = 0; k < K; k++) {
         double d = w[0] * c0[k] + w[1] * c1[k] + w[2] * c2[k] + w[3] * c3[k];
         out[k] = d < MAX_DEPTH ? -d : -INFINITY;
