@@ -50,6 +50,14 @@ static inline vec3 frame_to_world(const frame *f, vec3 local)
     return v3_add(v3_add(v3_scale(f->t, local.x), v3_scale(f->b, local.y)), v3_scale(f->n, local.z));
 }
 
+/* A cosine-weighted direction about the frame's normal (pdf cos / pi) from u1, u2 uniform in [0, 1);
+ * u1 < 1, so it points strictly into the normal's hemisphere. */
+static inline vec3 frame_cosine_direction(const frame *f, double u1, double u2)
+{
+    double sr = sqrt(u1), phi = 2.0 * 3.14159265358979323846 * u2;
+    return v3_normalize(frame_to_world(f, v3(sr * cos(phi), sr * sin(phi), sqrt(1.0 - u1))));
+}
+
 /* Direction from elevation above the horizontal and azimuth from north toward east (radians):
  * +X east, +Y north, +Z up. */
 static inline vec3 direction_from_elevation_azimuth(double elevation, double azimuth)

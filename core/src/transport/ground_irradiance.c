@@ -54,8 +54,8 @@ static void build_blocks(void *ctx, int64_t begin, int64_t end, int thread)
         int offset = (int)(mix64(job->seed ^ (uint64_t)node) % (uint64_t)K);
         for (int p = first; p < last; p++) {
             rng r = rng_for_qmc(job->seed, ITEM_GROUND + (uint64_t)node, (uint64_t)p, (uint64_t)job->paths);
-            double u1 = rng_uniform(&r), u2 = rng_uniform(&r), sr = sqrt(u1), phi = 2.0 * FM_PI * u2;
-            vec3 d = v3_normalize(frame_to_world(&local, v3(sr * cos(phi), sr * sin(phi), sqrt(1.0 - u1))));
+            double u1 = rng_uniform(&r), u2 = rng_uniform(&r);
+            vec3 d = frame_cosine_direction(&local, u1, u2);
             path_trace(job->pc, origin, d, (p + offset) % K, &r, out);
         }
     }

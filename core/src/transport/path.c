@@ -179,10 +179,8 @@ static int ground_direction(const path_context *ctx, vec3 normal, int h, rng *r,
         d = sun_guide_direction(ctx, h, r);
     } else {
         double u1 = rng_uniform(r), u2 = rng_uniform(r);
-        double sr = sqrt(u1), phi = 2.0 * FM_PI * u2;
         frame f = frame_from_normal(normal);
-        /* u1 < 1, so the direction points strictly upward and leaves the ground */
-        d = v3_normalize(frame_to_world(&f, v3(sr * cos(phi), sr * sin(phi), sqrt(1.0 - u1))));
+        d = frame_cosine_direction(&f, u1, u2); /* strictly upward: it leaves the ground */
     }
     double cos_n = v3_dot(d, normal);
     if (!(cos_n > 0.0))

@@ -194,16 +194,22 @@ static double interpolate(const float *v, const double w[4], const size_t idx[4]
     return from_depth(interpolate_depth(v, w, idx, k));
 }
 
+/* interpolate_depth of every wavelength, the corners' rows read as separate streams so that the
+ * loop runs in vector lanes (one row's K values lie side by side) */
+static void interpolate_depths(const float *v, const double w[4], const size_t idx[4], int K, double *restrict d)
+{
+    const float *restrict c0 = v + idx[0], *restrict c1 = v + idx[1];
+    const float *restrict c2 = v + idx[2], *restrict c3 = v + idx[3];
+    for (int k = 0; k < K; k++)
+        d[k] = w[0] * c0[k] + w[1] * c1[k] + w[2] * c2[k] + w[3] * c3[k];
+}
+
 /* from_depth of every wavelength's interpolated depth, the exps in vector lanes (exp_array.h) */
 static void exp_of_depths(const float *v, const double w[4], const size_t idx[4], int K, double *out)
 {
-    /* the corners' rows as separate streams and the cut-off as a select: vector lanes */
-    const float *restrict c0 = v + idx[0], *restrict c1 = v + idx[1];
-    const float *restrict c2 = v + idx[2], *restrict c3 = v + idx[3];
-    for (int k = 0; k < K; k++) {
-        double d = w[0] * c0[k] + w[1] * c1[k] + w[2] * c2[k] + w[3] * c3[k];
-        out[k] = d < MAX_DEPTH ? -d : -INFINITY;
-    }
+    interpolate_depths(v, w, idx, K, out);
+    for (int k = 0; k < K; k++)
+        out[k] = out[k] < MAX_DEPTH ? -out[k] : -INFINITY;
     exp_array(out, out, K);
 }
 
@@ -238,13 +244,9 @@ int sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *a
             depth[k] = INFINITY;
         return 0;
     }
-    /* the corners' rows as separate streams and the cut-off as a select: the loop runs in vector lanes */
-    const float *restrict c0 = table->normal + idx[0], *restrict c1 = table->normal + idx[1];
-    const float *restrict c2 = table->normal + idx[2], *restrict c3 = table->normal + idx[3];
-    for (int k = 0; k < K; k++) {
-        double d = w[0] * c0[k] + w[1] * c1[k] + w[2] * c2[k] + w[3] * c3[k];
-        depth[k] = d < MAX_DEPTH ? d : INFINITY; /* as from_depth: 0 beyond MAX_DEPTH */
-    }
+    interpolate_depths(table->normal, w, idx, K, depth);
+    for (int k = 0; k < K; k++)
+        depth[k] = depth[k] < MAX_DEPTH ? depth[k] : INFINITY; /* as from_depth: 0 beyond MAX_DEPTH */
     return 1;
 }
 
