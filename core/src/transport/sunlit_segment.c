@@ -175,11 +175,12 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
         int ks[3], nk = K < 3 ? K : 3;
         for (int i = 0; i < nk; i++)
             ks[i] = K < 3 ? i : K * (i + 1) / 4;
-        double ts[3];
+        /* per cell end and wavelength: sigma_s Tbar, and the path's optical depth, whose exps are
+         * then taken all at once in vector lanes */
+        double ts[3], lit_scatter[PROXY_CELLS + 1][3] = {{0}}, path_t[PROXY_CELLS + 1][3] = {{0}};
         for (int j = 0; j <= p.cells; j++) {
             double t = lit_to_t(p.cell * j, u0, u1), rad = ray_segment_radius(seg, t);
             vec3 x = v3_madd(seg->origin, seg->dir, t);
-            p.h[j] = 0.0;
             sun_irradiance_lookup_some(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, nk, ks, ts);
             if (ts[0] + ts[nk - 1] + ts[nk / 2] == 0.0)
                 continue;
@@ -189,8 +190,15 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
                 double sigma = 0.0;
                 for (int c = 0; c < atm->scattering_count; c++)
                     sigma += atm->species[c].sigma_s[ks[i]] * n[c];
-                p.h[j] += sigma * exp(-atmosphere_optical_depth(atm, col, ks[i])) * ts[i];
+                lit_scatter[j][i] = sigma * ts[i];
+                path_t[j][i] = -atmosphere_optical_depth(atm, col, ks[i]);
             }
+        }
+        exp_array(&path_t[0][0], &path_t[0][0], 3 * (p.cells + 1));
+        for (int j = 0; j <= p.cells; j++) {
+            p.h[j] = 0.0;
+            for (int i = 0; i < nk; i++)
+                p.h[j] += lit_scatter[j][i] * path_t[j][i];
         }
         proxy_cells(&p);
         /* the angle to the sun is the same all along the segment: each species' phase once */
@@ -227,8 +235,7 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
     if (seg->hits_ground) {
         vec3 x = v3_madd(seg->origin, seg->dir, seg->t_end);
         double rad = v3_length(x), tbar[FM_MAX_WAVELENGTHS], thor[FM_MAX_WAVELENGTHS];
-        sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, atm->bottom_radius_m, v3_dot(x, ctx->sun_dir) / rad, tbar,
-                              thor);
+        sun_irradiance_lookup_ground(ctx->sun_table, atm, ctx->sun, v3_dot(x, ctx->sun_dir) / rad, tbar, thor);
         double any = 0.0;
         for (int k = 0; k < K; k++)
             any += thor[k];
