@@ -342,7 +342,7 @@ fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err
 
     if ((s = column_table_build(&sky->columns, &sky->atm, COLUMN_TABLE_R, COLUMN_TABLE_MU, params->threads, err)) ||
         (s = sun_irradiance_build(&sky->sun_table, &sky->atm, &sky->columns, &sky->sun, SUN_TABLE_R,
-                                  SUN_TABLE_MU, params->threads, err))) {
+                                  SUN_TABLE_MU, err))) {
         fm_sky_destroy(sky);
         return s;
     }

@@ -4,6 +4,7 @@
 
 #include "atmosphere/optical_depth.h"
 #include "base/rng.h"
+#include "base/threads.h"
 #include "base/units.h"
 #include "transport/free_flight.h"
 #include "transport/sun_irradiance.h"
@@ -141,7 +142,7 @@ static void sun_table_accuracy(void **state)
     for (int i = 0; i < 3000; i++) {
         double z = 100000.0 * pow(rng_uniform(&r), 2.0), rr = a->bottom_radius_m + z;
         double mu = -0.2 + 1.2 * pow(rng_uniform(&r), 2.0);
-        sun_irradiance_lookup(&sky->sun_table, a, &sky->sun, rr, mu, tab, NULL);
+        sun_irradiance_lookup(&sky->sun_table, a, &sky->sun, rr, mu, tab);
         sun_transmittance_direct(a, &sky->columns, &sky->sun, rr, mu, direct, NULL);
         for (int k = 0; k < a->grid.count; k++) {
             worst = fmax(worst, fabs(tab[k] - direct[k]));
@@ -151,6 +152,67 @@ static void sun_table_accuracy(void **state)
     }
     check_abs(worst, 0.0, 6e-3, "sun table: worst absolute transmittance error (twilight included)");
     check_abs(worst_day, 0.0, 1e-3, "sun table: worst relative error with the sun above 3 degrees");
+}
+
+static int ready_blocks(const sun_irradiance *t)
+{
+    int n = 0;
+    for (int i = 0; i < t->rows.count * t->blocks_per_row; i++)
+        n += atomic_load(&t->block_state[i]) != 0;
+    return n;
+}
+
+typedef struct lookup_job {
+    const fm_sky *sky;
+    const double *r, *mu;
+    double *out; /* [point][k] */
+} lookup_job;
+
+static void lookup_points(void *ctx, int64_t begin, int64_t end, int thread)
+{
+    lookup_job *job = ctx;
+    for (int64_t i = begin; i < end; i++)
+        sun_irradiance_lookup(&job->sky->sun_table, &job->sky->atm, &job->sky->sun, job->r[i], job->mu[i],
+                              &job->out[i * FM_MAX_WAVELENGTHS]);
+}
+
+/* The sun table computes a block of nodes when a lookup first reads it: a new sky has none, one
+ * lookup builds only the blocks around it, with the node's value exactly; lookups from two threads
+ * at once (racing for the same blocks) return the same bits as from one. */
+static void sun_table_builds_what_it_reads(void **state)
+{
+    fm_sky_params p = test_params(10.0, 0.0);
+    fm_sky *a, *b;
+    fm_error err;
+    assert_int_equal(fm_sky_create(&p, &a, &err), FM_OK);
+    assert_int_equal(fm_sky_create(&p, &b, &err), FM_OK);
+    const sun_irradiance *t = &a->sun_table;
+    assert_int_equal(ready_blocks(t), 0);
+    /* node 100 of row 20: the lookup there reads it and its neighbours (one or two blocks per row) */
+    int ir = 20, imu = 100;
+    double rr = table_rows_radius(&t->rows, &a->atm, ir), lo = t->mu_lo[ir], x = (double)imu / (t->n_mu - 1);
+    double mu = lo + (1.0 - lo) * x * x, tab[FM_MAX_WAVELENGTHS], direct[FM_MAX_WAVELENGTHS];
+    sun_irradiance_lookup(t, &a->atm, &a->sun, rr, mu, tab);
+    int built = ready_blocks(t);
+    print_message("one lookup built %d of %d blocks\n", built, t->rows.count * t->blocks_per_row);
+    assert_true(built >= 1 && built <= 4);
+    sun_transmittance_direct(&a->atm, &a->columns, &a->sun, rr, mu, direct, NULL);
+    for (int k = 0; k < a->atm.grid.count; k++)
+        check_rel(tab[k], direct[k], 1e-5, "a node's lookup against its direct value (float depths)");
+
+    enum { N = 20000 };
+    static double r[N], m[N], one[N * FM_MAX_WAVELENGTHS], two[N * FM_MAX_WAVELENGTHS];
+    rng g = rng_for(7, 8, 9);
+    for (int i = 0; i < N; i++) {
+        r[i] = a->atm.bottom_radius_m + 100000.0 * pow(rng_uniform(&g), 2.0);
+        m[i] = -0.2 + 1.2 * rng_uniform(&g);
+    }
+    lookup_job ja = {a, r, m, one}, jb = {b, r, m, two};
+    assert_int_equal(parallel_for(1, N, 64, lookup_points, &ja, NULL, NULL), FM_OK);
+    assert_int_equal(parallel_for(2, N, 1, lookup_points, &jb, NULL, NULL), FM_OK);
+    assert_int_equal(memcmp(one, two, sizeof one), 0);
+    fm_sky_destroy(a);
+    fm_sky_destroy(b);
 }
 
 /* Delta tracking's majorant bounds the extinction everywhere, for every wavelength. */
@@ -255,7 +317,7 @@ static void sun_table_across_a_layer_top(void **state)
     double tab[FM_MAX_WAVELENGTHS], direct[FM_MAX_WAVELENGTHS], worst = 0.0, worst_z = 0.0;
     for (double z = 1800.0; z <= 2300.0; z += 5.0) {
         double r = a->bottom_radius_m + z, mu_s = sin(2.0 * FM_DEG);
-        sun_irradiance_lookup(&urban->sun_table, a, &urban->sun, r, mu_s, tab, NULL);
+        sun_irradiance_lookup(&urban->sun_table, a, &urban->sun, r, mu_s, tab);
         sun_transmittance_direct(a, NULL, &urban->sun, r, mu_s, direct, NULL);
         for (int k = 0; k < a->grid.count; k++)
             if (direct[k] > 0.01 && fabs(tab[k] / direct[k] - 1.0) > worst) {
@@ -304,6 +366,7 @@ int main(void)
         cmocka_unit_test(quadrature_breaks_at_layer_edges),
         cmocka_unit_test(column_table_accuracy),
         cmocka_unit_test(sun_table_accuracy),
+        cmocka_unit_test(sun_table_builds_what_it_reads),
         cmocka_unit_test(majorants_bound_the_medium),
         cmocka_unit_test(majorant_depth_sums_the_shells),
         cmocka_unit_test(table_rows_hold_the_edges),

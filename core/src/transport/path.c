@@ -334,7 +334,7 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
             order++;
             if (!along && order >= ctx->min_order) {
                 double mu_s = v3_dot(x, ctx->sun_dir) / rad;
-                sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, rad, mu_s, tbar, NULL);
+                sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, rad, mu_s, tbar);
                 medium_phase(atm, n, v3_dot(d, ctx->sun_dir), phase, NULL);
                 double scale = W / average(q, K);
                 for (int k = 0; k < K; k++)
@@ -356,7 +356,7 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
             if (!along && order >= ctx->min_order) {
                 double mu_s = v3_dot(normal, ctx->sun_dir);
                 double *thor = phase; /* reuse: horizontal transmittance */
-                sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, atm->bottom_radius_m, mu_s, tbar, thor);
+                sun_irradiance_lookup_ground(ctx->sun_table, atm, ctx->sun, mu_s, tbar, thor);
                 double scale = W / average(q, K);
                 for (int k = 0; k < K; k++)
                     L[k] += scale * q[k] * w[k] * atm->ground_albedo[k] / FM_PI * E0[k] * thor[k];

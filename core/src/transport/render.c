@@ -153,7 +153,7 @@ static int rising_segments(const fm_sky *sky, const twilight_sampling *twilight)
     double r = v3_length(sky->observer), mu_s = v3_dot(sky->observer, sky->sun_dir) / r, T[FM_MAX_WAVELENGTHS];
     if (!(mu_s > 0.0 && asin(clamp_cosine(mu_s)) < RISING_SUN_DEG * FM_DEG))
         return 0; /* a higher sun, or night (no twilight sampling: a black sky) */
-    sun_irradiance_lookup(pc.sun_table, &sky->atm, pc.sun, r, mu_s, T, NULL);
+    sun_irradiance_lookup(pc.sun_table, &sky->atm, pc.sun, r, mu_s, T);
     return T[sky->atm.grid.count / 2] < RISING_BELOW;
 }
 

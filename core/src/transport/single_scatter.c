@@ -155,7 +155,7 @@ void single_scatter_ray_radiance(const single_scatter_ray *ray, const path_conte
         double rad = v3_length(x);
         double mu_s = v3_dot(x, ctx->sun_dir) / rad;
         double tbar[FM_MAX_WAVELENGTHS], thor[FM_MAX_WAVELENGTHS];
-        sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, atm->bottom_radius_m, mu_s, tbar, thor);
+        sun_irradiance_lookup_ground(ctx->sun_table, atm, ctx->sun, mu_s, tbar, thor);
         double diffuse[FM_MAX_WAVELENGTHS] = {0};
         if (ctx->ground_diffuse)
             ground_irradiance_lookup(ctx->ground_diffuse, mu_s, diffuse);

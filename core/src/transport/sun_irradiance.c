@@ -7,6 +7,7 @@
 #include "base/vec.h"
 
 #include <math.h>
+#include <sched.h>
 #include <stdlib.h>
 
 static double mu_low(const atmosphere *atm, const sun_disk *sun, double r)
@@ -87,57 +88,76 @@ static double from_depth(double d)
     return d >= MAX_DEPTH ? 0.0 : exp(-d);
 }
 
-typedef struct build_job {
-    sun_irradiance *table;
-    const atmosphere *atm;
-    const column_table *columns;
-    const sun_disk *sun;
-} build_job;
-
-static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
+/* Node imu of row ir (and its horizontal counterpart on the ground row). */
+static void build_node(const sun_irradiance *t, int ir, int imu)
 {
-    build_job *job = ctx;
-    sun_irradiance *t = job->table;
     double normal[FM_MAX_WAVELENGTHS], horizontal[FM_MAX_WAVELENGTHS];
-    for (int64_t i = begin; i < end; i++) {
-        int ir = (int)(i / t->n_mu), imu = (int)(i % t->n_mu);
-        double r = table_rows_radius(&t->rows, job->atm, ir);
-        double lo = t->mu_lo[ir];
-        double x = (double)imu / (t->n_mu - 1);
-        double mu_s = lo + (1.0 - lo) * x * x;
-        sun_transmittance_direct(job->atm, job->columns, job->sun, r, mu_s, normal, horizontal);
-        to_depths(normal, t->count);
+    double r = table_rows_radius(&t->rows, t->atm, ir);
+    double lo = t->mu_lo[ir];
+    double x = (double)imu / (t->n_mu - 1);
+    double mu_s = lo + (1.0 - lo) * x * x;
+    size_t i = (size_t)ir * t->n_mu + imu;
+    /* horizontal surfaces are on the ground: the first row only */
+    sun_transmittance_direct(t->atm, t->columns, t->sun, r, mu_s, normal, ir == 0 ? horizontal : NULL);
+    to_depths(normal, t->count);
+    for (int k = 0; k < t->count; k++)
+        t->normal[i * t->count + k] = (float)normal[k];
+    if (ir == 0) {
         to_depths(horizontal, t->count);
-        for (int k = 0; k < t->count; k++) {
-            t->normal[i * t->count + k] = (float)normal[k];
+        for (int k = 0; k < t->count; k++)
             t->horizontal[i * t->count + k] = (float)horizontal[k];
-        }
     }
 }
 
-fm_status sun_irradiance_build(sun_irradiance *table, const atmosphere *atm, const column_table *columns,
-                               const sun_disk *sun, int n_r, int n_mu, int threads, fm_error *err)
+enum { BLOCK_EMPTY, BLOCK_BUILDING, BLOCK_READY };
+
+/* Builds block b of row ir unless it is built, or waits while another thread builds it.  A node's
+ * values depend only on its place, so the table is the same whoever builds it, in any order. */
+static void build_block(const sun_irradiance *t, int ir, int b)
 {
-    table->n_mu = n_mu;
-    table->count = atm->grid.count;
-    table->normal = table->horizontal = NULL;
-    table->mu_lo = NULL;
+    atomic_uchar *state = &t->block_state[(size_t)ir * t->blocks_per_row + b];
+    unsigned char expected = BLOCK_EMPTY;
+    if (atomic_compare_exchange_strong_explicit(state, &expected, BLOCK_BUILDING, memory_order_acquire,
+                                                memory_order_acquire)) {
+        int end = (b + 1) * SUN_BLOCK < t->n_mu ? (b + 1) * SUN_BLOCK : t->n_mu;
+        for (int imu = b * SUN_BLOCK; imu < end; imu++)
+            build_node(t, ir, imu);
+        atomic_store_explicit(state, BLOCK_READY, memory_order_release);
+        return;
+    }
+    while (atomic_load_explicit(state, memory_order_acquire) != BLOCK_READY)
+        sched_yield();
+}
+
+/* Nodes im and im + 1 of row ir, built before they are read. */
+static void need_nodes(const sun_irradiance *t, int ir, int im)
+{
+    const atomic_uchar *row = &t->block_state[(size_t)ir * t->blocks_per_row];
+    for (int b = im / SUN_BLOCK; b <= (im + 1) / SUN_BLOCK; b++)
+        if (atomic_load_explicit(&row[b], memory_order_acquire) != BLOCK_READY)
+            build_block(t, ir, b);
+}
+
+fm_status sun_irradiance_build(sun_irradiance *table, const atmosphere *atm, const column_table *columns,
+                               const sun_disk *sun, int n_r, int n_mu, fm_error *err)
+{
+    *table = (sun_irradiance){.n_mu = n_mu, .count = atm->grid.count, .atm = atm, .columns = columns, .sun = sun};
     fm_status s = table_rows_init(&table->rows, atm, n_r, err);
     if (s)
         return s;
     int rows = table->rows.count;
     size_t n = (size_t)rows * (size_t)n_mu * (size_t)table->count;
+    table->blocks_per_row = (n_mu + SUN_BLOCK - 1) / SUN_BLOCK;
     table->normal = malloc(n * sizeof(float));
-    table->horizontal = malloc(n * sizeof(float));
+    table->horizontal = malloc((size_t)n_mu * (size_t)table->count * sizeof(float));
     table->mu_lo = malloc((size_t)rows * sizeof(double));
-    if (!table->normal || !table->horizontal || !table->mu_lo) {
+    table->block_state = calloc((size_t)rows * (size_t)table->blocks_per_row, sizeof(atomic_uchar));
+    if (!table->normal || !table->horizontal || !table->mu_lo || !table->block_state) {
         sun_irradiance_free(table);
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the sun irradiance table");
     }
     for (int i = 0; i < rows; i++)
         table->mu_lo[i] = mu_low(atm, sun, table_rows_radius(&table->rows, atm, i));
-    build_job job = {table, atm, columns, sun};
-    parallel_for(threads, (int64_t)rows * n_mu, 32, build_rows, &job, NULL, NULL);
     return FM_OK;
 }
 
@@ -146,8 +166,10 @@ void sun_irradiance_free(sun_irradiance *table)
     free(table->normal);
     free(table->horizontal);
     free(table->mu_lo);
+    free((void *)table->block_state);
     table->normal = table->horizontal = NULL;
     table->mu_lo = NULL;
+    table->block_state = NULL;
     table_rows_free(&table->rows);
 }
 
@@ -172,6 +194,8 @@ static int locate(const sun_irradiance *table, const atmosphere *atm, const sun_
         if (tm < 0.0)
             dark = 1;
         double wr = row == 0 ? 1.0 - tr : tr;
+        if (!dark)
+            need_nodes(table, ir + row, im);
         idx[2 * row] = ((size_t)(ir + row) * table->n_mu + im) * K;
         idx[2 * row + 1] = idx[2 * row] + K;
         if (tm < 0.0) {
@@ -214,23 +238,35 @@ static void exp_of_depths(const float *v, const double w[4], const size_t idx[4]
 }
 
 void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
-                           double mu_s, double *normal, double *horizontal)
+                           double mu_s, double *normal)
 {
     const int K = table->count;
     double w[4];
     size_t idx[4];
-    int dark = locate(table, atm, sun, r, mu_s, w, idx);
-    if (dark) {
-        for (int k = 0; k < K; k++) {
+    if (locate(table, atm, sun, r, mu_s, w, idx)) {
+        for (int k = 0; k < K; k++)
             normal[k] = 0.0;
-            if (horizontal)
-                horizontal[k] = 0.0;
-        }
         return;
     }
     exp_of_depths(table->normal, w, idx, K, normal);
-    if (horizontal)
-        exp_of_depths(table->horizontal, w, idx, K, horizontal);
+}
+
+void sun_irradiance_lookup_ground(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
+                                  double mu_s, double *normal, double *horizontal)
+{
+    const int K = table->count;
+    double w[4];
+    size_t idx[4];
+    if (locate(table, atm, sun, atm->bottom_radius_m, mu_s, w, idx)) {
+        for (int k = 0; k < K; k++)
+            normal[k] = horizontal[k] = 0.0;
+        return;
+    }
+    exp_of_depths(table->normal, w, idx, K, normal);
+    /* the ground is the first row (weights w[2], w[3] are 0 there), the horizontal table's only one */
+    double ground_w[4] = {w[0], w[1], 0.0, 0.0};
+    size_t ground_idx[4] = {idx[0], idx[1], idx[0], idx[1]};
+    exp_of_depths(table->horizontal, ground_w, ground_idx, K, horizontal);
 }
 
 int sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
