@@ -263,7 +263,7 @@ void options_print_usage(void)
           "  --half                 16-bit half-float EXR; refused (exit 2) when a value exceeds 65504,\n"
           "                         as the sun disk does: add --no-sun-disk\n"
           "  --compression METHOD   zip | piz (lossless) | dwaa (lossy, half precision, level 45; not with\n"
-          "                         the sun disk beyond 65504) (default zip)\n"
+          "                         the sun disk beyond 65504) (default piz)\n"
           "  --spectral FILE.exr    also write the spectral radiance (41 wavelengths, 380-780 nm) in the\n"
           "                         spectral OpenEXR layout of Fichet et al. 2021 (41 x the image memory)\n"
           "Colour (OpenColorIO; config $OCIO, else firmament's presets/ocio/config.ocio):\n"
@@ -539,7 +539,9 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     opt->half = 0;
     opt->spectral = NULL;
     opt->sun_disk_map = NULL;
-    opt->compression = FM_EXR_ZIP;
+    /* PIZ: a quarter smaller than ZIP level 1 on skies and faster to write (4096 x 2048 sun 30
+     * final: 30.7 vs 41.2 MB, 3.57 vs 3.78 s), as fast for Blender to load (0.37 vs 0.41 s) */
+    opt->compression = FM_EXR_PIZ;
     opt->exposure_ev = 0.0;
     opt->have_exposure = 0;
     opt->progress = PROGRESS_AUTO;
