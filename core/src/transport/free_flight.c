@@ -54,7 +54,7 @@ static void walk_pieces(const atmosphere *atm, const ray_segment *seg, double t0
             s_next = -sqrt(r_in * r_in - seg->p2); /* inbound: leave through the inner sphere */
             next_shell = shell - 1;
         } else {
-            s_next = sqrt(fmax(0.0, r_out * r_out - seg->p2)); /* outbound (or turning inside) */
+            s_next = safe_sqrt(r_out * r_out - seg->p2); /* outbound (or turning inside) */
             next_shell = shell + 1;
         }
         double t_next = s_next - seg->s0;

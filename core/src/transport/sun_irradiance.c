@@ -83,11 +83,6 @@ static void to_depths(double *t, int K)
         t[k] = dark[k] ? MAX_DEPTH : -t[k];
 }
 
-static double from_depth(double d)
-{
-    return d >= MAX_DEPTH ? 0.0 : exp(-d);
-}
-
 /* Node imu of row ir (and its horizontal counterpart on the ground row). */
 static void build_node(const sun_irradiance *t, int ir, int imu)
 {
@@ -213,11 +208,6 @@ static double interpolate_depth(const float *v, const double w[4], const size_t 
     return w[0] * v[idx[0] + k] + w[1] * v[idx[1] + k] + w[2] * v[idx[2] + k] + w[3] * v[idx[3] + k];
 }
 
-static double interpolate(const float *v, const double w[4], const size_t idx[4], int k)
-{
-    return from_depth(interpolate_depth(v, w, idx, k));
-}
-
 /* interpolate_depth of every wavelength, the corners' rows read as separate streams so that the
  * loop runs in vector lanes (one row's K values lie side by side) */
 static void interpolate_depths(const float *v, const double w[4], const size_t idx[4], int K, double *restrict d)
@@ -228,7 +218,8 @@ static void interpolate_depths(const float *v, const double w[4], const size_t i
         d[k] = w[0] * c0[k] + w[1] * c1[k] + w[2] * c2[k] + w[3] * c3[k];
 }
 
-/* from_depth of every wavelength's interpolated depth, the exps in vector lanes (exp_array.h) */
+/* exp(-depth) of every wavelength's interpolated depth, 0 beyond MAX_DEPTH, the exps in vector lanes
+ * (exp_array.h) */
 static void exp_of_depths(const float *v, const double w[4], const size_t idx[4], int K, double *out)
 {
     interpolate_depths(v, w, idx, K, out);
@@ -282,18 +273,21 @@ int sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *a
     }
     interpolate_depths(table->normal, w, idx, K, depth);
     for (int k = 0; k < K; k++)
-        depth[k] = depth[k] < MAX_DEPTH ? depth[k] : INFINITY; /* as from_depth: 0 beyond MAX_DEPTH */
+        depth[k] = depth[k] < MAX_DEPTH ? depth[k] : INFINITY; /* Tbar is 0 beyond MAX_DEPTH */
     return 1;
 }
 
-void sun_irradiance_lookup_some(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
-                                double mu_s, int n, const int *ks, double *normal)
+int sun_irradiance_lookup_some_depths(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
+                                      double r, double mu_s, int n, const int *ks, double *depth)
 {
     double w[4];
     size_t idx[4];
     int dark = locate(table, atm, sun, r, mu_s, w, idx);
-    for (int i = 0; i < n; i++)
-        normal[i] = dark ? 0.0 : interpolate(table->normal, w, idx, ks[i]);
+    for (int i = 0; i < n; i++) {
+        double d = dark ? INFINITY : interpolate_depth(table->normal, w, idx, ks[i]);
+        depth[i] = d < MAX_DEPTH ? d : INFINITY; /* Tbar is 0 beyond MAX_DEPTH */
+    }
+    return !dark;
 }
 
 int sun_in_umbra(const atmosphere *atm, const sun_disk *sun, double r, double mu_s)

@@ -65,9 +65,10 @@ void sun_irradiance_lookup_ground(const sun_irradiance *table, const atmosphere 
 int sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
                                  double mu_s, double *depth);
 
-/* The same for the n grid wavelengths ks[0..n-1] only (normal[i] for ks[i]). */
-void sun_irradiance_lookup_some(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
-                                double mu_s, int n, const int *ks, double *normal);
+/* The optical depths for the n grid wavelengths ks[0..n-1] only (depth[i] for ks[i]; infinite where
+ * Tbar is 0); returns 0 in the Earth's shadow. */
+int sun_irradiance_lookup_some_depths(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
+                                      double r, double mu_s, int n, const int *ks, double *depth);
 
 /* Whether the whole disk is below the horizon of radius r (the umbra): the table is 0 there, and
  * wherever this holds at the lower of the two table rows around r. */

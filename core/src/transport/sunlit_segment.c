@@ -77,8 +77,11 @@ void segment_columns_at(const segment_columns *sc, double t, double *col)
     const ray_segment *seg = sc->seg;
     double rad = ray_segment_radius(seg, t), mu = (t + seg->s0) / rad, here[FM_MAX_SPECIES];
     if (sc->ok && column_table_lookup(sc->ctx->columns, atm, rad, sc->reversed ? -mu : mu, here)) {
-        for (int c = 0; c < atm->species_count; c++)
-            col[c] = fmax(0.0, sc->reversed ? here[c] - sc->start[c] : sc->start[c] - here[c]);
+        /* a ternary, not fmax: glibc's fmax is a call per species (its NaN rules) */
+        for (int c = 0; c < atm->species_count; c++) {
+            double d = sc->reversed ? here[c] - sc->start[c] : sc->start[c] - here[c];
+            col[c] = d > 0.0 ? d : 0.0;
+        }
         return;
     }
     /* a ray grazing the ground, where the table's ground test and the segment's disagree */
@@ -175,14 +178,15 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
         int ks[3], nk = K < 3 ? K : 3;
         for (int i = 0; i < nk; i++)
             ks[i] = K < 3 ? i : K * (i + 1) / 4;
-        /* per cell end and wavelength: sigma_s Tbar, and the path's optical depth, whose exps are
-         * then taken all at once in vector lanes */
-        double ts[3], lit_scatter[PROXY_CELLS + 1][3] = {{0}}, path_t[PROXY_CELLS + 1][3] = {{0}};
+        /* per cell end and wavelength: sigma_s, and the optical depth from the sun to there and on
+         * to the segment's origin, whose exps are then taken all at once in vector lanes */
+        double ds[3], sigma_at[PROXY_CELLS + 1][3] = {{0}}, light[PROXY_CELLS + 1][3] = {{0}};
         for (int j = 0; j <= p.cells; j++) {
             double t = lit_to_t(p.cell * j, u0, u1), rad = ray_segment_radius(seg, t);
             vec3 x = v3_madd(seg->origin, seg->dir, t);
-            sun_irradiance_lookup_some(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, nk, ks, ts);
-            if (ts[0] + ts[nk - 1] + ts[nk / 2] == 0.0)
+            if (!sun_irradiance_lookup_some_depths(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad,
+                                                   nk, ks, ds) ||
+                (isinf(ds[0]) && isinf(ds[nk - 1]) && isinf(ds[nk / 2])))
                 continue;
             segment_columns_at(&sc, t, col);
             atmosphere_densities(atm, rad, n);
@@ -190,15 +194,15 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
                 double sigma = 0.0;
                 for (int c = 0; c < atm->scattering_count; c++)
                     sigma += atm->species[c].sigma_s[ks[i]] * n[c];
-                lit_scatter[j][i] = sigma * ts[i];
-                path_t[j][i] = -atmosphere_optical_depth(atm, col, ks[i]);
+                sigma_at[j][i] = sigma;
+                light[j][i] = -(ds[i] + atmosphere_optical_depth(atm, col, ks[i]));
             }
         }
-        exp_array(&path_t[0][0], &path_t[0][0], 3 * (p.cells + 1));
+        exp_array(&light[0][0], &light[0][0], 3 * (p.cells + 1));
         for (int j = 0; j <= p.cells; j++) {
             p.h[j] = 0.0;
             for (int i = 0; i < nk; i++)
-                p.h[j] += lit_scatter[j][i] * path_t[j][i];
+                p.h[j] += sigma_at[j][i] * light[j][i];
         }
         proxy_cells(&p);
         /* the angle to the sun is the same all along the segment: each species' phase once */
