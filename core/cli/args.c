@@ -540,7 +540,7 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     opt->spectral = NULL;
     opt->sun_disk_map = NULL;
     /* PIZ: a quarter smaller than ZIP level 1 on skies and faster to write (4096 x 2048 sun 30
-     * final: 30.7 vs 41.2 MB, 3.57 vs 3.78 s), as fast for Blender to load (0.37 vs 0.41 s) */
+     * final: 30.7 vs 41.2 MB, 3.56 vs 3.85 s), as fast for Blender to load (0.37 vs 0.41 s) */
     opt->compression = FM_EXR_PIZ;
     opt->exposure_ev = 0.0;
     opt->have_exposure = 0;
