@@ -75,6 +75,11 @@ void segment_columns_at(const segment_columns *sc, double t, double *col)
 {
     const atmosphere *atm = sc->ctx->atm;
     const ray_segment *seg = sc->seg;
+    if (t == 0.0) { /* the segment's origin (the proxy's first cell end) */
+        for (int c = 0; c < atm->species_count; c++)
+            col[c] = 0.0;
+        return;
+    }
     double rad = ray_segment_radius(seg, t), mu = (t + seg->s0) / rad, here[FM_MAX_SPECIES];
     if (sc->ok && column_table_lookup(sc->ctx->columns, atm, rad, sc->reversed ? -mu : mu, here)) {
         /* a ternary, not fmax: glibc's fmax is a call per species (its NaN rules) */
@@ -205,10 +210,10 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
                 p.h[j] += sigma_at[j][i] * light[j][i];
         }
         proxy_cells(&p);
-        /* the angle to the sun is the same all along the segment: each species' phase once */
+        /* the angle to the sun is the same all along the segment: each species' phase once, when
+         * a sample first meets the species (an aerosol layer is absent from most samples) */
         double phase[FM_MAX_SPECIES][FM_MAX_WAVELENGTHS];
-        for (int c = 0; c < atm->scattering_count; c++)
-            phase_evaluate_all(&atm->species[c].phase, K, cos_sun, phase[c]);
+        int have_phase[FM_MAX_SPECIES] = {0};
         for (int i = 0; i < SUN_SAMPLES; i++) {
             double density, l = proxy_sample(&p, (i + rng_uniform(r)) / SUN_SAMPLES, &density);
             double t = lit_to_t(l, u0, u1), rad = ray_segment_radius(seg, t);
@@ -223,6 +228,10 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
             for (int c = 0; c < atm->scattering_count; c++) {
                 if (n[c] == 0.0)
                     continue;
+                if (!have_phase[c]) {
+                    phase_evaluate_all(&atm->species[c].phase, K, cos_sun, phase[c]);
+                    have_phase[c] = 1;
+                }
                 for (int k = 0; k < K; k++)
                     scatter[k] += atm->species[c].sigma_s[k] * n[c] * phase[c][k];
             }
