@@ -68,12 +68,18 @@ int sobol_levels(uint64_t points)
 /* The nested uniform scramble of the top `levels` binary digits of x (the rest cleared): each digit
  * is flipped or not by a hash of the key, its level and the digits above it (its node in the binary
  * tree). */
+/* Whether the nested scramble of `key` flips the digit at `level` below the digits `prefix`. */
+static uint32_t node_flip(uint64_t key, int level, uint32_t prefix)
+{
+    return (uint32_t)(mix64(key ^ ((uint64_t)level << 32 | prefix)) >> 63);
+}
+
 static uint32_t nested_scramble(uint32_t x, int levels, uint64_t key)
 {
     uint32_t y = 0;
     for (int level = 0; level < levels; level++) {
         uint32_t prefix = level ? x >> (32 - level) : 0u;
-        uint32_t flip = (uint32_t)(mix64(key ^ ((uint64_t)level << 32 | prefix)) >> 63);
+        uint32_t flip = node_flip(key, level, prefix);
         y |= (((x >> (31 - level)) & 1u) ^ flip) << (31 - level);
     }
     return y;
@@ -115,10 +121,8 @@ void sobol_scramble_init(sobol_scramble *s, uint64_t seed, int levels)
             s->flips[d][w] = 0;
         for (int level = 0; level < s->levels; level++)
             for (uint32_t prefix = 0; prefix < 1u << level; prefix++) {
-                /* nested_scramble's flip of this node */
-                uint64_t flip = mix64(s->key[d] ^ ((uint64_t)level << 32 | prefix)) >> 63;
                 uint32_t node = 1u << level | prefix;
-                s->flips[d][node >> 6] |= flip << (node & 63);
+                s->flips[d][node >> 6] |= (uint64_t)node_flip(s->key[d], level, prefix) << (node & 63);
             }
     }
 }

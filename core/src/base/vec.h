@@ -2,6 +2,8 @@
 #ifndef FM_BASE_VEC_H
 #define FM_BASE_VEC_H
 
+#include "base/units.h"
+
 #include <math.h>
 
 typedef struct vec3 {
@@ -54,7 +56,7 @@ static inline vec3 frame_to_world(const frame *f, vec3 local)
  * u1 < 1, so it points strictly into the normal's hemisphere. */
 static inline vec3 frame_cosine_direction(const frame *f, double u1, double u2)
 {
-    double sr = sqrt(u1), phi = 2.0 * 3.14159265358979323846 * u2;
+    double sr = sqrt(u1), phi = 2.0 * FM_PI * u2;
     return v3_normalize(frame_to_world(f, v3(sr * cos(phi), sr * sin(phi), sqrt(1.0 - u1))));
 }
 

@@ -203,6 +203,9 @@ static int locate(const sun_irradiance *table, const atmosphere *atm, const sun_
     return dark;
 }
 
+/* A depth as lookups return it: infinite (Tbar 0) at MAX_DEPTH and beyond. */
+static double depth_or_dark(double d) { return d < MAX_DEPTH ? d : INFINITY; }
+
 static double interpolate_depth(const float *v, const double w[4], const size_t idx[4], int k)
 {
     return w[0] * v[idx[0] + k] + w[1] * v[idx[1] + k] + w[2] * v[idx[2] + k] + w[3] * v[idx[3] + k];
@@ -224,7 +227,7 @@ static void exp_of_depths(const float *v, const double w[4], const size_t idx[4]
 {
     interpolate_depths(v, w, idx, K, out);
     for (int k = 0; k < K; k++)
-        out[k] = out[k] < MAX_DEPTH ? -out[k] : -INFINITY;
+        out[k] = -depth_or_dark(out[k]);
     exp_array(out, out, K);
 }
 
@@ -273,7 +276,7 @@ int sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *a
     }
     interpolate_depths(table->normal, w, idx, K, depth);
     for (int k = 0; k < K; k++)
-        depth[k] = depth[k] < MAX_DEPTH ? depth[k] : INFINITY; /* Tbar is 0 beyond MAX_DEPTH */
+        depth[k] = depth_or_dark(depth[k]);
     return 1;
 }
 
@@ -283,10 +286,8 @@ int sun_irradiance_lookup_some_depths(const sun_irradiance *table, const atmosph
     double w[4];
     size_t idx[4];
     int dark = locate(table, atm, sun, r, mu_s, w, idx);
-    for (int i = 0; i < n; i++) {
-        double d = dark ? INFINITY : interpolate_depth(table->normal, w, idx, ks[i]);
-        depth[i] = d < MAX_DEPTH ? d : INFINITY; /* Tbar is 0 beyond MAX_DEPTH */
-    }
+    for (int i = 0; i < n; i++)
+        depth[i] = dark ? INFINITY : depth_or_dark(interpolate_depth(table->normal, w, idx, ks[i]));
     return !dark;
 }
 
