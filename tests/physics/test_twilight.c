@@ -11,7 +11,8 @@
  *    radiance at the zenith within the noise, and a far smaller noise; likewise by day on rising
  *    segments, for a low sun behind thick haze;
  *  - deep twilight's guided flights (shadow_flight.h) against delta tracking, which they replace:
- *    the same orders >= 2 in three directions within the noise, and less noise per path;
+ *    the same orders >= 2 in three directions within the noise, and less noise per path; its
+ *    light-led Russian roulette against the plain one, the same within the noise;
  *  - zenith luminance falls monotonically as the sun goes from +10 to -10 degrees, every one-degree
  *    step by more than four standard errors of the difference;
  *  - the horizontal illuminance of a clear evening against the AMS Glossary of Meteorology. */
@@ -23,6 +24,7 @@
 #include "phase/phase.h"
 #include "spectrum/spectral_grid.h"
 #include "transport/single_scatter.h"
+#include "transport/shadow_flight.h"
 #include "transport/sunlit_segment.h"
 #include "transport/twilight.h"
 
@@ -277,6 +279,49 @@ static void shadow_flights_match_delta_tracking(void **state)
     fm_sky_destroy(sky);
 }
 
+/* Sun 14 degrees down, rural: orders >= 2 with deep twilight's light-led roulette (path.c) against
+ * the plain roulette on the weight alone (everything else equal), in the three directions above.
+ * Within four combined standard errors in each: a roulette changes only the noise, and one whose
+ * survivors were weighted wrong would move the mean.  The light it is led by: above the observer,
+ * single scattering is darker than the second order in the shadow (measured at the ground: I 12
+ * times below the ambient; at sun -18 3700 times) and brighter in the sunlit air overhead (100 km:
+ * 26 times above it); the bounds are 5 and 10 times. */
+static void light_led_roulette_matches_the_plain_one(void **state)
+{
+    fm_sky_params p = fm_sky_params_default();
+    p.sun_elevation_deg = -14.0;
+    p.sun_azimuth_deg = 0.0;
+    fm_sky *sky = test_sky(&p);
+    int no_memory;
+    twilight_sampling *tw = twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, &no_memory);
+    assert_non_null(tw);
+    assert_true(tw->deep);
+    const shadow_flight_table *t = &tw->flights;
+    const double R = sky->atm.bottom_radius_m, mu_s = sin(t->sun0);
+    print_message("sun -14 above the observer: ground I %.3e ambient %.3e, 100 km I %.3e ambient %.3e\n",
+                  shadow_flight_light(t, R, mu_s), t->ambient[0], shadow_flight_light(t, R + 100e3, mu_s),
+                  t->ambient[SHADOW_FLIGHT_LEVELS - 1]);
+    assert_true(t->ambient[0] > 5.0 * shadow_flight_light(t, R, mu_s));
+    assert_true(shadow_flight_light(t, R + 100e3, mu_s) > 10.0 * t->ambient[SHADOW_FLIGHT_LEVELS - 1]);
+    path_context led = twilight_path_context(sky, tw, 2, 0), plain = led;
+    assert_true(led.light_led_roulette);
+    plain.light_led_roulette = 0;
+    led.skip_ground_first = plain.skip_ground_first = 1;
+    const double views[][2] = {{90.0, 0.0}, {10.0, 0.0}, {30.0, 180.0}};
+    const int n = 40000;
+    for (int i = 0; i < 3; i++) {
+        vec3 d = direction_from_elevation_azimuth(views[i][0] * FM_DEG, views[i][1] * FM_DEG);
+        estimator_pair e = compare_estimators(sky, &plain, n, &led, n, d, 50 + (uint64_t)i, 60 + (uint64_t)i);
+        print_message("sun -14, view (%g, %g): plain roulette %.5e +- %.2f%%, light-led %.5e +- %.2f%% (%+.2f%%, "
+                      "%+.1f sigma)\n",
+                      views[i][0], views[i][1], e.m_a, 100.0 * e.se_a / e.m_a, e.m_b, 100.0 * e.se_b / e.m_b,
+                      100.0 * (e.m_b / e.m_a - 1.0), e.z);
+        assert_true(fabs(e.z) < 4.0);
+    }
+    free(tw);
+    fm_sky_destroy(sky);
+}
+
 /* Horizontal illuminance (all of it scattered sunlight once the sun is down) of the default rural
  * sky against the American Meteorological Society's Glossary of Meteorology (entries "civil
  * twilight" and "astronomical twilight"): during a clear evening it falls to about 3.5-2 lux at sun
@@ -311,6 +356,7 @@ int main(void)
         cmocka_unit_test(along_segment_matches_point_estimate),
         cmocka_unit_test(rising_segments_match_point_estimate),
         cmocka_unit_test(shadow_flights_match_delta_tracking),
+        cmocka_unit_test(light_led_roulette_matches_the_plain_one),
         cmocka_unit_test(zenith_falls_monotonically),
         cmocka_unit_test(illuminance_against_the_ams_glossary),
     };

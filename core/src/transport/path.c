@@ -61,12 +61,12 @@ static double average(const double *q, int K)
  * standard deviation per multiple-scattering path 3.6 -> 1.4 for rural, 4.8 -> 1.9 for desert dust,
  * at 20-30 % more time per path.) */
 #define FM_ROULETTE_THRESHOLD 0.1
-static int roulette(double *W, const double *q, const double *w, int K, int order, rng *r)
+static int roulette(double *W, const double *q, const double *w, int K, int order, double lift, rng *r)
 {
     double avg = average(q, K), m = 0.0;
     for (int k = 0; k < K; k++)
         m = larger(m, q[k] * w[k]);
-    m *= *W / avg;
+    m *= *W / avg * lift;
     double survive = fmin(m / FM_ROULETTE_THRESHOLD, order > 8 ? 0.95 : 1.0);
     if (survive >= 1.0)
         return 1;
@@ -201,6 +201,22 @@ static int ground_direction(const path_context *ctx, vec3 normal, int h, rng *r,
     return 1;
 }
 
+/* Deep twilight's roulette (path_context.light_led_roulette): a guided flight that lands where the
+ * light is bright has a small weight, sigma_s T / pdf with the pdf proportional to that light
+ * (shadow_flight.h), and a roulette on the weight alone ended most such paths and multiplied the
+ * survivors' weight up to 50 or 200 times: at sun -18 the largest path estimates, up to 6000 times
+ * a node's mean, were of that kind, and a single map was 8% darker than the mean of many.  So the
+ * roulette plays after the flight, on the weight times the light at the new vertex relative to the
+ * light at the path's first point (orders 1 and 2 there: in the shadow, single scattering alone
+ * is 3700 times too dark), never below the plain roulette's.  Rural, 128 x 64 final, six seeds, the
+ * sky's relative standard deviation of one map (CPU time for the six): sun -10 2.75 -> 2.04%
+ * (55 -> 85 s), -14 8.9 -> 4.5% (47 -> 80 s), -18 20.5 -> 13.8% (38 -> 69 s). */
+static double light_lift(const path_context *ctx, vec3 x, double start_light)
+{
+    double r = v3_length(x), light = shadow_flight_light(ctx->shadow_flights, r, v3_dot(x, ctx->sun_dir) / r);
+    return light > start_light ? light / start_light : 1.0;
+}
+
 /* The path from origin along dir; with first_weight, it begins with a scattering at origin (arrived
  * along dir) whose spectral weights are first_weight. */
 static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L,
@@ -220,6 +236,14 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
     double W = 1.0;
     int order = 0, at_vertex = first_weight != NULL, vertices_done = 0;
     vec3 pos = origin, d = dir;
+    const int light_led = ctx->shadow_flights && ctx->light_led_roulette;
+    double start_light = 0.0;
+    if (light_led) {
+        double r0 = v3_length(origin);
+        start_light = shadow_flight_light_and_ambient(ctx->shadow_flights, r0, v3_dot(origin, ctx->sun_dir) / r0);
+        if (!(start_light > 0.0))
+            start_light = 1e-300;
+    }
 
     for (;;) {
         ray_segment seg;
@@ -256,10 +280,13 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
         }
         /* Russian roulette after each interaction, once the segment's sunlight is counted: a guided
          * direction of small weight has brought its light in before it plays */
-        if (vertices_done && !roulette(&W, q, w, K, order, r))
+        if (vertices_done && !light_led && !roulette(&W, q, w, K, order, 1.0, r))
             return;
         if (ctx->shadow_flights) {
             scattered = shadow_flight(ctx, ctx->shadow_flights, &seg, r, w, &t);
+            if (light_led && vertices_done &&
+                !roulette(&W, q, w, K, order, light_lift(ctx, v3_madd(seg.origin, seg.dir, scattered ? t : seg.t_end), start_light), r))
+                return;
             if (scattered) {
                 atmosphere_densities(atm, ray_segment_radius(&seg, t), n);
                 atmosphere_coefficients_from_densities(atm, n, sig_s, sig_t);

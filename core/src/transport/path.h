@@ -20,7 +20,8 @@
  * expected value along it (sunlit_segment.h) and no point estimate at that interaction; Russian
  * roulette plays after that.  At twilight a third direction technique, the sky guide
  * (sky_guide.h), joins the MIS; in deep twilight the next interaction along a segment is placed
- * toward the light instead of by delta tracking (shadow_flight.h).
+ * toward the light instead of by delta tracking (shadow_flight.h), and the roulette spares the
+ * paths that have reached brighter air than they started in.
  *
  * Orders: the order of a contribution is the number of interactions (air scattering or ground
  * reflection) on the path, including the vertex where the sun is connected.  Contributions outside
@@ -69,6 +70,10 @@ typedef struct path_context {
     /* Deep twilight: segments place their next interaction by shadow_flight (shadow_flight.h)
      * instead of delta tracking; NULL otherwise. */
     const struct shadow_flight_table *shadow_flights;
+    /* With shadow_flights: Russian roulette after each flight instead of before it, each path's
+     * survival raised by how much more light its new vertex receives than its first point did
+     * (shadow_flight_light against shadow_flight_light_and_ambient); see path.c. */
+    int light_led_roulette;
 } path_context;
 
 /* Adds one path's radiance estimate (W m^-2 sr^-1 nm^-1, per grid wavelength) to L. */

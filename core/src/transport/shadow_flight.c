@@ -68,6 +68,82 @@ static void build_points(void *ctx, int64_t begin, int64_t end, int thread)
     }
 }
 
+/* The level below radius r and the fraction *a of the way to the next, clamped to the table. */
+static int level_below(const shadow_flight_table *t, double r, double *a)
+{
+    double km = (r - t->bottom_radius) / FM_KM;
+    int i = 0;
+    while (i < SHADOW_FLIGHT_LEVELS - 2 && km > level_km[i + 1])
+        i++;
+    *a = fmin(fmax((km - level_km[i]) / (level_km[i + 1] - level_km[i]), 0.0), 1.0);
+    return i;
+}
+
+double shadow_flight_light(const shadow_flight_table *t, double r, double mu_s)
+{
+    double a;
+    int i = level_below(t, r, &a);
+    double s = (asin(clamp_cosine(mu_s)) - t->sun0) / t->sun_step;
+    s = fmin(fmax(s, 0.0), SHADOW_FLIGHT_SUNS - 1.0);
+    int j = (int)s < SHADOW_FLIGHT_SUNS - 1 ? (int)s : SHADOW_FLIGHT_SUNS - 2;
+    double b = s - j;
+    return (1.0 - a) * ((1.0 - b) * t->value[i][j] + b * t->value[i][j + 1]) +
+           a * ((1.0 - b) * t->value[i + 1][j] + b * t->value[i + 1][j + 1]);
+}
+
+#define AMBIENT_POINTS 48
+
+/* sigma_s T I at one wavelength, integrated along seg from its origin (trapezoids on points crowded
+ * at the origin, where a low point's air is densest). */
+static double light_along(const shadow_flight_table *t, const path_context *single, const ray_segment *seg, int kp)
+{
+    const atmosphere *atm = single->atm;
+    segment_columns sc;
+    segment_columns_init(&sc, single, seg);
+    double col[FM_MAX_SPECIES], n[FM_MAX_SPECIES], prev = 0.0, t_prev = 0.0, sum = 0.0;
+    for (int j = 0; j <= AMBIENT_POINTS; j++) {
+        double v = (double)j / AMBIENT_POINTS, tj = seg->t_end * v * v, rad = ray_segment_radius(seg, tj);
+        vec3 x = v3_madd(seg->origin, seg->dir, tj);
+        segment_columns_at(&sc, tj, col);
+        atmosphere_densities(atm, rad, n);
+        double sigma = 0.0;
+        for (int c = 0; c < atm->scattering_count; c++)
+            sigma += atm->species[c].sigma_s[kp] * n[c];
+        double g = sigma * exp(-atmosphere_optical_depth(atm, col, kp)) *
+                   shadow_flight_light(t, rad, v3_dot(x, single->sun_dir) / rad);
+        if (j > 0)
+            sum += 0.5 * (g + prev) * (tj - t_prev);
+        prev = g;
+        t_prev = tj;
+    }
+    return sum;
+}
+
+/* t->ambient from t->value (shadow_flight_table): one level per work item. */
+static void build_ambient(void *ctx, int64_t begin, int64_t end, int thread)
+{
+    build_job *job = ctx;
+    shadow_flight_table *t = job->t;
+    const int kp = job->single->atm->grid.count / 2;
+    for (int64_t i = begin; i < end; i++) {
+        double radius = fmin(t->bottom_radius + level_km[i] * FM_KM, job->top);
+        vec3 position = sun_frame_toward_sun(&job->observer, 0.0, radius);
+        sun_frame f = sun_frame_at(position, job->single->sun_dir);
+        double eh = -acos(fmin(1.0, t->bottom_radius / radius)), sum = 0.0;
+        for (int row = 0; row < ROWS_DOWN + ROWS_UP; row++) {
+            double e0 = row_elevation(row, eh), e1 = row_elevation(row + 1, eh), e = 0.5 * (e0 + e1);
+            double omega = (sin(e1) - sin(e0)) * FM_PI / HALF_COLS;
+            for (int c = 0; c < HALF_COLS; c++) {
+                ray_segment seg;
+                ray_segment_init(&seg, job->single->atm, position,
+                                 sun_frame_direction(&f, sin(e), FM_PI * (c + 0.5) / HALF_COLS));
+                sum += 2.0 * light_along(t, job->single, &seg, kp) * omega;
+            }
+        }
+        t->ambient[i] = sum / (4.0 * FM_PI);
+    }
+}
+
 int shadow_flight_build(shadow_flight_table *t, const path_context *single, vec3 observer, int threads)
 {
     const atmosphere *atm = single->atm;
@@ -77,25 +153,18 @@ int shadow_flight_build(shadow_flight_table *t, const path_context *single, vec3
     t->sun0 = asin(clamp_cosine(v3_dot(job.observer.up, single->sun_dir)));
     t->sun_step = 1.0 * FM_DEG;
     atomic_init(&job.no_memory, 0);
-    if (parallel_for(threads, (int64_t)SHADOW_FLIGHT_LEVELS * SHADOW_FLIGHT_SUNS, 1, build_points, &job, NULL, NULL))
+    if (parallel_for(threads, (int64_t)SHADOW_FLIGHT_LEVELS * SHADOW_FLIGHT_SUNS, 1, build_points, &job, NULL, NULL) ||
+        atomic_load(&job.no_memory) ||
+        parallel_for(threads, SHADOW_FLIGHT_LEVELS, 1, build_ambient, &job, NULL, NULL))
         return -1;
-    return atomic_load(&job.no_memory) ? -1 : 0;
+    return 0;
 }
 
-/* I at radius r and local sun cosine mu_s: bilinear, clamped to the table. */
-static double importance(const shadow_flight_table *t, double r, double mu_s)
+double shadow_flight_light_and_ambient(const shadow_flight_table *t, double r, double mu_s)
 {
-    double km = (r - t->bottom_radius) / FM_KM;
-    int i = 0;
-    while (i < SHADOW_FLIGHT_LEVELS - 2 && km > level_km[i + 1])
-        i++;
-    double a = fmin(fmax((km - level_km[i]) / (level_km[i + 1] - level_km[i]), 0.0), 1.0);
-    double s = (asin(clamp_cosine(mu_s)) - t->sun0) / t->sun_step;
-    s = fmin(fmax(s, 0.0), SHADOW_FLIGHT_SUNS - 1.0);
-    int j = (int)s < SHADOW_FLIGHT_SUNS - 1 ? (int)s : SHADOW_FLIGHT_SUNS - 2;
-    double b = s - j;
-    return (1.0 - a) * ((1.0 - b) * t->value[i][j] + b * t->value[i][j + 1]) +
-           a * ((1.0 - b) * t->value[i + 1][j] + b * t->value[i + 1][j + 1]);
+    double a;
+    int i = level_below(t, r, &a);
+    return shadow_flight_light(t, r, mu_s) + (1.0 - a) * t->ambient[i] + a * t->ambient[i + 1];
 }
 
 #define CELLS 24         /* of the piecewise-constant density */
@@ -145,7 +214,7 @@ int shadow_flight(const path_context *ctx, const shadow_flight_table *table, con
         for (int c = 0; c < atm->scattering_count; c++)
             sigma += atm->species[c].sigma_s[kp] * n[c];
         physical[j] = sigma * exp(-atmosphere_optical_depth(atm, col, kp));
-        guided[j] = physical[j] * importance(table, rad, v3_dot(x, ctx->sun_dir) / rad);
+        guided[j] = physical[j] * shadow_flight_light(table, rad, v3_dot(x, ctx->sun_dir) / rad);
     }
     double mass_g[CELLS], mass_p[CELLS], sum_g = 0.0, sum_p = 0.0;
     for (int j = 0; j < CELLS; j++) {

@@ -51,6 +51,7 @@ path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *t
     if (tw) {
         pc.sky_guide = &tw->guide;
         pc.shadow_flights = tw->deep ? &tw->flights : NULL;
+        pc.light_led_roulette = tw->deep;
         pc.sky_guide_fraction = SKY_GUIDE_FRACTION;
         /* every segment along its length: with guided directions of small weight, a point estimate
          * after Russian roulette would bring the noise back */
