@@ -239,6 +239,25 @@ static void rising_segments_match_point_estimate(void **state)
     fm_sky_destroy(sky);
 }
 
+/* The default rural sky with the sun sun_deg below the horizon at azimuth 0, in deep twilight, and
+ * its twilight sampling. */
+static twilight_sampling *deep_twilight(double sun_deg, fm_sky **sky)
+{
+    fm_sky_params p = fm_sky_params_default();
+    p.sun_elevation_deg = sun_deg;
+    p.sun_azimuth_deg = 0.0;
+    *sky = test_sky(&p);
+    int no_memory;
+    twilight_sampling *tw = twilight_sampling_create(*sky, SKY_GUIDE_MAX_OFFSETS, 2, &no_memory);
+    assert_non_null(tw);
+    assert_true(tw->deep);
+    return tw;
+}
+
+/* Deep twilight's comparisons look toward the zenith, 10 degrees up toward the sun and 30 degrees
+ * up away from it (elevation, azimuth in degrees). */
+static const double views[][2] = {{90.0, 0.0}, {10.0, 0.0}, {30.0, 180.0}};
+
 /* Sun 9 degrees down, rural: orders >= 2 with the guided flights against the same estimator with
  * delta tracking (everything else equal), toward the zenith, 10 degrees up toward the sun and 30
  * degrees up away from it.  Within four combined standard errors in each, and the guided flights'
@@ -246,18 +265,11 @@ static void rising_segments_match_point_estimate(void **state)
  * length, the ground's probability, a wavelength's transmittance) would move the mean by more. */
 static void shadow_flights_match_delta_tracking(void **state)
 {
-    fm_sky_params p = fm_sky_params_default();
-    p.sun_elevation_deg = -9.0;
-    p.sun_azimuth_deg = 0.0;
-    fm_sky *sky = test_sky(&p);
-    int no_memory;
-    twilight_sampling *tw = twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, &no_memory);
-    assert_non_null(tw);
-    assert_true(tw->deep);
+    fm_sky *sky;
+    twilight_sampling *tw = deep_twilight(-9.0, &sky);
     path_context guided = twilight_path_context(sky, tw, 2, 0), tracked = guided;
     tracked.shadow_flights = NULL;
     guided.skip_ground_first = tracked.skip_ground_first = 1;
-    const double views[][2] = {{90.0, 0.0}, {10.0, 0.0}, {30.0, 180.0}};
     const int n_tracked = 120000, n_guided = 60000;
     double var_tracked = 0.0, var_guided = 0.0;
     for (int i = 0; i < 3; i++) {
@@ -288,14 +300,8 @@ static void shadow_flights_match_delta_tracking(void **state)
  * 26 times above it); the bounds are 5 and 10 times. */
 static void light_led_roulette_matches_the_plain_one(void **state)
 {
-    fm_sky_params p = fm_sky_params_default();
-    p.sun_elevation_deg = -14.0;
-    p.sun_azimuth_deg = 0.0;
-    fm_sky *sky = test_sky(&p);
-    int no_memory;
-    twilight_sampling *tw = twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, &no_memory);
-    assert_non_null(tw);
-    assert_true(tw->deep);
+    fm_sky *sky;
+    twilight_sampling *tw = deep_twilight(-14.0, &sky);
     const shadow_flight_table *t = &tw->flights;
     const double R = sky->atm.bottom_radius_m, mu_s = sin(t->sun0);
     print_message("sun -14 above the observer: ground I %.3e ambient %.3e, 100 km I %.3e ambient %.3e\n",
@@ -307,7 +313,6 @@ static void light_led_roulette_matches_the_plain_one(void **state)
     assert_true(led.light_led_roulette);
     plain.light_led_roulette = 0;
     led.skip_ground_first = plain.skip_ground_first = 1;
-    const double views[][2] = {{90.0, 0.0}, {10.0, 0.0}, {30.0, 180.0}};
     const int n = 40000;
     for (int i = 0; i < 3; i++) {
         vec3 d = direction_from_elevation_azimuth(views[i][0] * FM_DEG, views[i][1] * FM_DEG);
