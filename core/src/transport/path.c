@@ -59,7 +59,8 @@ static double average(const double *q, int K)
  * a path sent into an unlikely direction by the sun guide (weight << 1) would otherwise come back
  * with weight 1 and undo the guide's gain.  (Measured at 550 nm, sun 30 deg, view 45 deg: relative
  * standard deviation per multiple-scattering path 3.6 -> 1.4 for rural, 4.8 -> 1.9 for desert dust,
- * at 20-30 % more time per path.) */
+ * at 20-30 % more time per path.)  The weight is multiplied by lift (1, or deep twilight's
+ * light_lift below) before the comparison. */
 #define FM_ROULETTE_THRESHOLD 0.1
 static int roulette(double *W, const double *q, const double *w, int K, int order, double lift, rng *r)
 {
@@ -206,7 +207,7 @@ static int ground_direction(const path_context *ctx, vec3 normal, int h, rng *r,
  * (shadow_flight.h), and a roulette on the weight alone ended most such paths and multiplied the
  * survivors' weight up to 50 or 200 times: at sun -18 the largest path estimates, up to 6000 times
  * a node's mean, were of that kind, and a single map was 8% darker than the mean of many.  So the
- * roulette plays after the flight, on the weight times the light at the new vertex relative to the
+ * roulette plays at the new vertex, on the weight times the light there relative to the
  * light at the path's first point (orders 1 and 2 there: in the shadow, single scattering alone
  * is 3700 times too dark), never below the plain roulette's.  Rural, 128 x 64 final, six seeds, the
  * sky's relative standard deviation of one map (CPU time for the six): sun -10 2.75 -> 2.04%
@@ -249,7 +250,7 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
         ray_segment seg;
         ray_segment_init(&seg, atm, pos, d);
         double t = 0.0, tau, umbra0, umbra1;
-        int scattered = 0, along = 0;
+        int scattered = 0, along = 0, late_roulette = 0;
         if (at_vertex) {
             /* the given first vertex: a scattering at the segment's origin */
             at_vertex = 0;
@@ -278,15 +279,14 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
             if (ctx->max_order > 0 && order + 1 >= ctx->max_order)
                 return;
         }
-        /* Russian roulette after each interaction, once the segment's sunlight is counted: a guided
-         * direction of small weight has brought its light in before it plays */
-        if (vertices_done && !light_led && !roulette(&W, q, w, K, order, 1.0, r))
+        /* Russian roulette once the light that the last direction found is counted: here when the
+         * segment's sunlight was counted along it, else at the next vertex, after its point estimate
+         * (late_roulette; sun 30, 256 x 128 final: desert dust 1.6 times the efficiency, README) */
+        late_roulette = vertices_done && (light_led || !along);
+        if (vertices_done && !late_roulette && !roulette(&W, q, w, K, order, 1.0, r))
             return;
         if (ctx->shadow_flights) {
             scattered = shadow_flight(ctx, ctx->shadow_flights, &seg, r, w, &t);
-            if (light_led && vertices_done &&
-                !roulette(&W, q, w, K, order, light_lift(ctx, v3_madd(seg.origin, seg.dir, scattered ? t : seg.t_end), start_light), r))
-                return;
             if (scattered) {
                 atmosphere_densities(atm, ray_segment_radius(&seg, t), n);
                 atmosphere_coefficients_from_densities(atm, n, sig_s, sig_t);
@@ -369,6 +369,8 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
             }
             if (ctx->max_order > 0 && order >= ctx->max_order)
                 return;
+            if (late_roulette && !roulette(&W, q, w, K, order, light_led ? light_lift(ctx, x, start_light) : 1.0, r))
+                return;
             vec3 nd = scatter_direction(ctx, x, n, sig_s, d, h, r, q, w);
             renormalise(q, K);
             pos = x;
@@ -389,6 +391,8 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
                     L[k] += scale * q[k] * w[k] * atm->ground_albedo[k] / FM_PI * E0[k] * thor[k];
             }
             if (ctx->max_order > 0 && order >= ctx->max_order)
+                return;
+            if (late_roulette && !roulette(&W, q, w, K, order, light_led ? light_lift(ctx, x, start_light) : 1.0, r))
                 return;
             double any = 0.0;
             for (int k = 0; k < K; k++)

@@ -10,7 +10,10 @@
  * precomputed disk-integrated transmittance table (sun_irradiance.h); directions sampled by the phase
  * function never count the sun, so it is never counted twice.  Ground: Lambertian, bounced with
  * cosine sampling and, while the sun is 10 degrees or more above the ground's horizon, the sun guide
- * below (one-sample MIS).  Russian roulette ends paths: every order of scattering is included.
+ * below (one-sample MIS).  Russian roulette ends paths: every order of scattering is included.  It
+ * plays once the light found by the last direction is counted: before the next flight when the
+ * segment's sunlight was counted along it, else at the next vertex after its point estimate (a
+ * sun-guided direction's small weight pays off there).
  * Scattering directions are drawn from the local phase function or, a fraction of the time, from an
  * aerosol phase function about the sun (the sun guide, one-sample MIS), so the next vertex's direct
  * sunlight through its aerosol forward peak is not left to chance.  Segments that would leave the
