@@ -73,8 +73,8 @@ typedef struct path_context {
     /* Deep twilight: segments place their next interaction by shadow_flight (shadow_flight.h)
      * instead of delta tracking; NULL otherwise. */
     const struct shadow_flight_table *shadow_flights;
-    /* With shadow_flights: Russian roulette after each flight instead of before it, each path's
-     * survival raised by how much more light its new vertex receives than its first point did
+    /* With shadow_flights: Russian roulette at each new vertex, not before the flight, each path's
+     * survival raised by how much more light that vertex receives than its first point did
      * (shadow_flight_light against shadow_flight_light_and_ambient); see path.c. */
     int light_led_roulette;
 } path_context;

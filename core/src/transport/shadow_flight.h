@@ -41,13 +41,6 @@ typedef struct shadow_flight_table {
     double ambient[SHADOW_FLIGHT_LEVELS]; /* I scattered once more, above the observer (below) */
 } shadow_flight_table;
 
-/* The light of orders 2 and up that a point in the shadow receives, which I leaves out: at sun -18
- * single scattering gives 6e-13 of daylight at the ground below the observer, I scattered once more
- * 2e-9.  `ambient` holds that second order above the observer, per level: the sphere average of the
- * integral of sigma_s T I along each direction (isotropic scattering, the same rows and columns as
- * I, 48 points per ray).  An estimate of the order of magnitude, for Russian roulette (path.h);
- * nothing is counted from it. */
-
 /* Builds I from single_scatter_radiance with `single` (orders 1..1) at points above and toward the
  * sun from `observer`, on `threads` threads.  Returns -1 when memory ran out, else 0. */
 int shadow_flight_build(shadow_flight_table *t, const struct path_context *single, vec3 observer, int threads);
@@ -56,7 +49,12 @@ int shadow_flight_build(shadow_flight_table *t, const struct path_context *singl
 double shadow_flight_light(const shadow_flight_table *t, double r, double mu_s);
 
 /* The light of orders 1 and 2 at radius r (m) and local sun cosine mu_s: I plus the ambient at that
- * altitude (tabulated above the observer, used wherever the point is). */
+ * altitude (tabulated above the observer, used wherever the point is).  The ambient is the light of
+ * order 2 that a point in the shadow receives, which I leaves out: at sun -18 single scattering gives
+ * 6e-13 of daylight at the ground below the observer, I scattered once more 2e-9.  Per level, the
+ * sphere average of the integral of sigma_s T I along each direction (isotropic scattering, the same
+ * rows and columns as I, 48 points per ray): an order of magnitude for Russian roulette (path.c),
+ * nothing is counted from it. */
 double shadow_flight_light_and_ambient(const shadow_flight_table *t, double r, double mu_s);
 
 /* The next interaction on seg: returns 1 for a scattering at *t_out, 0 for the ground (at seg's end),
