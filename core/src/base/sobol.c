@@ -65,15 +65,15 @@ int sobol_levels(uint64_t points)
     return levels;
 }
 
-/* The nested uniform scramble of the top `levels` binary digits of x (the rest cleared): each digit
- * is flipped or not by a hash of the key, its level and the digits above it (its node in the binary
- * tree). */
 /* Whether the nested scramble of `key` flips the digit at `level` below the digits `prefix`. */
 static uint32_t node_flip(uint64_t key, int level, uint32_t prefix)
 {
     return (uint32_t)(mix64(key ^ ((uint64_t)level << 32 | prefix)) >> 63);
 }
 
+/* The nested uniform scramble of the top `levels` binary digits of x (the rest cleared): each digit
+ * is flipped or not by a hash of the key, its level and the digits above it (its node in the binary
+ * tree). */
 static uint32_t nested_scramble(uint32_t x, int levels, uint64_t key)
 {
     uint32_t y = 0;

@@ -214,6 +214,8 @@ static int ground_direction(const path_context *ctx, vec3 normal, int h, rng *r,
  * (55 -> 85 s), -14 8.9 -> 4.5% (47 -> 80 s), -18 20.5 -> 13.8% (38 -> 69 s). */
 static double light_lift(const path_context *ctx, vec3 x, double start_light)
 {
+    if (!(start_light > 0.0))
+        return 1.0; /* not light-led: the plain roulette */
     double r = v3_length(x), light = shadow_flight_light(ctx->shadow_flights, r, v3_dot(x, ctx->sun_dir) / r);
     return light > start_light ? light / start_light : 1.0;
 }
@@ -238,7 +240,7 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
     int order = 0, at_vertex = first_weight != NULL, vertices_done = 0;
     vec3 pos = origin, d = dir;
     const int light_led = ctx->shadow_flights && ctx->light_led_roulette;
-    double start_light = 0.0;
+    double start_light = 0.0; /* light-led roulette: the light at the path's first point, > 0 */
     if (light_led) {
         double r0 = v3_length(origin);
         start_light = shadow_flight_light_and_ambient(ctx->shadow_flights, r0, v3_dot(origin, ctx->sun_dir) / r0);
@@ -369,7 +371,7 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
             }
             if (ctx->max_order > 0 && order >= ctx->max_order)
                 return;
-            if (late_roulette && !roulette(&W, q, w, K, order, light_led ? light_lift(ctx, x, start_light) : 1.0, r))
+            if (late_roulette && !roulette(&W, q, w, K, order, light_lift(ctx, x, start_light), r))
                 return;
             vec3 nd = scatter_direction(ctx, x, n, sig_s, d, h, r, q, w);
             renormalise(q, K);
@@ -392,7 +394,7 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
             }
             if (ctx->max_order > 0 && order >= ctx->max_order)
                 return;
-            if (late_roulette && !roulette(&W, q, w, K, order, light_led ? light_lift(ctx, x, start_light) : 1.0, r))
+            if (late_roulette && !roulette(&W, q, w, K, order, light_lift(ctx, x, start_light), r))
                 return;
             double any = 0.0;
             for (int k = 0; k < K; k++)

@@ -93,6 +93,17 @@ double shadow_flight_light(const shadow_flight_table *t, double r, double mu_s)
 
 #define AMBIENT_POINTS 48
 
+/* sigma_s T at wavelength k at radius r, T from a segment's origin through the columns col: the light
+ * scattered there out of a unit beam from the origin. */
+static double scattered_here(const atmosphere *atm, double r, const double *col, int k)
+{
+    double n[FM_MAX_SPECIES], sigma = 0.0;
+    atmosphere_densities(atm, r, n);
+    for (int c = 0; c < atm->scattering_count; c++)
+        sigma += atm->species[c].sigma_s[k] * n[c];
+    return sigma * exp(-atmosphere_optical_depth(atm, col, k));
+}
+
 /* sigma_s T I at one wavelength, integrated along seg from its origin (trapezoids on points crowded
  * at the origin, where a low point's air is densest). */
 static double light_along(const shadow_flight_table *t, const path_context *single, const ray_segment *seg, int kp)
@@ -100,17 +111,12 @@ static double light_along(const shadow_flight_table *t, const path_context *sing
     const atmosphere *atm = single->atm;
     segment_columns sc;
     segment_columns_init(&sc, single, seg);
-    double col[FM_MAX_SPECIES], n[FM_MAX_SPECIES], prev = 0.0, t_prev = 0.0, sum = 0.0;
+    double col[FM_MAX_SPECIES], prev = 0.0, t_prev = 0.0, sum = 0.0;
     for (int j = 0; j <= AMBIENT_POINTS; j++) {
         double v = (double)j / AMBIENT_POINTS, tj = seg->t_end * v * v, rad = ray_segment_radius(seg, tj);
         vec3 x = v3_madd(seg->origin, seg->dir, tj);
         segment_columns_at(&sc, tj, col);
-        atmosphere_densities(atm, rad, n);
-        double sigma = 0.0;
-        for (int c = 0; c < atm->scattering_count; c++)
-            sigma += atm->species[c].sigma_s[kp] * n[c];
-        double g = sigma * exp(-atmosphere_optical_depth(atm, col, kp)) *
-                   shadow_flight_light(t, rad, v3_dot(x, single->sun_dir) / rad);
+        double g = scattered_here(atm, rad, col, kp) * shadow_flight_light(t, rad, v3_dot(x, single->sun_dir) / rad);
         if (j > 0)
             sum += 0.5 * (g + prev) * (tj - t_prev);
         prev = g;
@@ -209,11 +215,7 @@ int shadow_flight(const path_context *ctx, const shadow_flight_table *table, con
         double rad = ray_segment_radius(seg, t[j]);
         vec3 x = v3_madd(seg->origin, seg->dir, t[j]);
         segment_columns_at(&sc, t[j], col);
-        atmosphere_densities(atm, rad, n);
-        double sigma = 0.0;
-        for (int c = 0; c < atm->scattering_count; c++)
-            sigma += atm->species[c].sigma_s[kp] * n[c];
-        physical[j] = sigma * exp(-atmosphere_optical_depth(atm, col, kp));
+        physical[j] = scattered_here(atm, rad, col, kp);
         guided[j] = physical[j] * shadow_flight_light(table, rad, v3_dot(x, ctx->sun_dir) / rad);
     }
     double mass_g[CELLS], mass_p[CELLS], sum_g = 0.0, sum_p = 0.0;
