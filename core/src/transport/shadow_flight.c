@@ -92,6 +92,10 @@ double shadow_flight_light(const shadow_flight_table *t, double r, double mu_s)
 }
 
 #define AMBIENT_POINTS 48
+/* The sky guide's order-2 light per direction (shadow_flight_order2): at 16 points its build takes
+ * 0.07 s of one core at final quality instead of 0.41 s at 48, and the maps are as noisy (sun -14
+ * and -18, twelve seeds each: 3.54 / 7.21% at 48, 3.54 / 7.28% at 16). */
+#define ORDER2_POINTS 16
 
 /* sigma_s T at wavelength k at radius r, T from a segment's origin through the columns col: the light
  * scattered there out of a unit beam from the origin. */
@@ -104,16 +108,17 @@ static double scattered_here(const atmosphere *atm, double r, const double *col,
     return sigma * exp(-atmosphere_optical_depth(atm, col, k));
 }
 
-/* sigma_s T I at one wavelength, integrated along seg from its origin (trapezoids on points crowded
- * at the origin, where a low point's air is densest). */
-static double light_along(const shadow_flight_table *t, const path_context *single, const ray_segment *seg, int kp)
+/* sigma_s T I at one wavelength, integrated along seg from its origin (trapezoids on `points` + 1
+ * points crowded at the origin, where a low point's air is densest). */
+static double light_along(const shadow_flight_table *t, const path_context *single, const ray_segment *seg, int kp,
+                          int points)
 {
     const atmosphere *atm = single->atm;
     segment_columns sc;
     segment_columns_init(&sc, single, seg);
     double col[FM_MAX_SPECIES], prev = 0.0, t_prev = 0.0, sum = 0.0;
-    for (int j = 0; j <= AMBIENT_POINTS; j++) {
-        double v = (double)j / AMBIENT_POINTS, tj = seg->t_end * v * v, rad = ray_segment_radius(seg, tj);
+    for (int j = 0; j <= points; j++) {
+        double v = (double)j / points, tj = seg->t_end * v * v, rad = ray_segment_radius(seg, tj);
         vec3 x = v3_madd(seg->origin, seg->dir, tj);
         segment_columns_at(&sc, tj, col);
         double g = scattered_here(atm, rad, col, kp) * shadow_flight_light(t, rad, v3_dot(x, single->sun_dir) / rad);
@@ -123,6 +128,15 @@ static double light_along(const shadow_flight_table *t, const path_context *sing
         t_prev = tj;
     }
     return sum;
+}
+
+double shadow_flight_order2(const shadow_flight_table *t, const path_context *single, vec3 origin, vec3 dir)
+{
+    ray_segment seg;
+    ray_segment_init(&seg, single->atm, origin, dir);
+    if (!(seg.t_end > 0.0))
+        return 0.0;
+    return light_along(t, single, &seg, single->atm->grid.count / 2, ORDER2_POINTS);
 }
 
 /* t->ambient from t->value (shadow_flight_table): one level per work item. */
@@ -143,7 +157,7 @@ static void build_ambient(void *ctx, int64_t begin, int64_t end, int thread)
                 ray_segment seg;
                 ray_segment_init(&seg, job->single->atm, position,
                                  sun_frame_direction(&f, sin(e), FM_PI * (c + 0.5) / HALF_COLS));
-                sum += 2.0 * light_along(t, job->single, &seg, kp) * omega;
+                sum += 2.0 * light_along(t, job->single, &seg, kp, AMBIENT_POINTS) * omega;
             }
         }
         t->ambient[i] = sum / (4.0 * FM_PI);

@@ -57,6 +57,11 @@ double shadow_flight_light(const shadow_flight_table *t, double r, double mu_s);
  * nothing is counted from it. */
 double shadow_flight_light_and_ambient(const shadow_flight_table *t, double r, double mu_s);
 
+/* The light of order 2 seen from origin along dir: I scattered once more along that ray (isotropic
+ * scattering, sigma_s T at the grid's middle wavelength, 16 points), in I's units.  For the sky
+ * guide (sky_guide.h): in the shadow it outweighs single scattering, which is all the guide had. */
+double shadow_flight_order2(const shadow_flight_table *t, const struct path_context *single, vec3 origin, vec3 dir);
+
 /* The next interaction on seg: returns 1 for a scattering at *t_out, 0 for the ground (at seg's end),
  * after multiplying w[k] by that event's f/p for every grid wavelength. */
 int shadow_flight(const struct path_context *ctx, const shadow_flight_table *table, const ray_segment *seg, rng *r,

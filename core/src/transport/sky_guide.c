@@ -4,6 +4,7 @@
 #include "base/units.h"
 #include "spectrum/spectral_grid.h"
 #include "transport/path.h"
+#include "transport/shadow_flight.h"
 #include "transport/single_scatter.h"
 #include "transport/sun_frame.h"
 
@@ -43,6 +44,7 @@ typedef struct build_job {
     const path_context *single;
     sun_frame observer;
     atomic_int no_memory;
+    const shadow_flight_table *flights; /* or NULL: single scattering alone */
 } build_job;
 
 /* Work item: one row of one level; fills the row's cell masses (luminance x solid angle). */
@@ -70,8 +72,11 @@ static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
         for (int c = 0; c < SKY_GUIDE_COLS / 2; c++) {
             double phi = 2.0 * FM_PI * (c + 0.5) / SKY_GUIDE_COLS;
             double L[FM_MAX_WAVELENGTHS] = {0};
-            single_scatter_ray_radiance(&ray, job->single, sun_frame_direction(&f, sin(e), phi), L);
+            vec3 d = sun_frame_direction(&f, sin(e), phi);
+            single_scatter_ray_radiance(&ray, job->single, d, L);
             double y = spectral_grid_luminance(&atm->grid, L);
+            if (job->flights)
+                y += shadow_flight_order2(job->flights, job->single, position, d);
             g->pdf[i][c] = g->pdf[i][SKY_GUIDE_COLS - 1 - c] = fmax(y, 0.0) * omega;
         }
         single_scatter_ray_free(&ray);
@@ -104,7 +109,8 @@ static int normalise_level(sky_guide_level *g)
     return 1;
 }
 
-int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int offsets, int threads)
+int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int offsets, int threads,
+                    const shadow_flight_table *flights)
 {
     const atmosphere *atm = single->atm;
     double r0 = v3_length(observer);
@@ -120,7 +126,7 @@ int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int
             for (int j = 0; j <= SKY_GUIDE_ROWS; j++)
                 l->edge_sin[j] = sin(row_elevation(j, eh));
         }
-    build_job job = {g, single, sun_frame_at(observer, single->sun_dir), 0};
+    build_job job = {g, single, sun_frame_at(observer, single->sun_dir), 0, flights};
     if (parallel_for(threads, (int64_t)g->levels * SKY_GUIDE_ROWS, 1, build_rows, &job, NULL, NULL) ||
         atomic_load(&job.no_memory))
         return -1;

@@ -9,7 +9,13 @@
  * grid of elevation (crowded at that altitude's horizon) x azimuth from the sun.  The atmosphere is
  * horizontally homogeneous, so a vertex near the observer sees nearly the sky of the level nearest
  * its altitude, laid out in its own frame (local horizontal, the sun's azimuth there); in deep
- * twilight there are levels farther toward the sun as well.  The density
+ * twilight there are levels farther toward the sun as well, and each cell's luminance adds the light
+ * of order 2 seen that way (shadow_flight.h): in the shadow a point receives far more of it than of
+ * single scattering (sun -18, at the ground: 3700 times), so a guide of single scattering alone
+ * sent the paths from the dark air toward the narrow band of sunlit air and left the rest of their
+ * light to the phase function (rural, 256 x 128 final, twelve seeds, the relative SD of one map:
+ * sun -10 2.15 -> 2.11%, -14 4.71 -> 3.54%, -18 12.7 -> 7.3%, in 5, 10 and 30% more time: paths
+ * that find light live longer).  The density
  * is the same for every wavelength; it enters the path's spectral MIS as a third technique beside
  * the phase function and the sun guide (one-sample MIS, balance heuristic).  Any density keeps
  * the estimator unbiased; this one puts the directions where the next order's sunlight is. */
@@ -20,6 +26,7 @@
 #include "firmament/firmament.h"
 
 struct path_context;
+struct shadow_flight_table;
 
 #define SKY_GUIDE_ALTITUDES 7
 #define SKY_GUIDE_MAX_OFFSETS 6
@@ -48,11 +55,13 @@ typedef struct sky_guide {
 /* Builds the guide from single_scatter_radiance with `single` at altitudes above `observer` (its
  * own altitude first) on `threads` threads; with offsets > 1 (at most SKY_GUIDE_MAX_OFFSETS), also
  * at those altitudes 2, 4, 6, 9 and 12 degrees of arc toward the sun, whose local sun stands that
- * much higher (deep twilight: the vertices that matter are there).  A vertex uses the offset whose
+ * much higher (deep twilight: the vertices that matter are there).  With flights (deep twilight),
+ * the light of order 2 from shadow_flight_order2 is added; NULL leaves it out.  A vertex uses the offset whose
  * local sun is nearest its own, then the altitude nearest its own among that offset's levels that
  * see light (a black level is left out).  Returns 0 when every level is black (the guide is then
  * unusable), -1 when memory ran out or its threads could not run, else 1. */
-int sky_guide_build(sky_guide *g, const struct path_context *single, vec3 observer, int offsets, int threads);
+int sky_guide_build(sky_guide *g, const struct path_context *single, vec3 observer, int offsets, int threads,
+                    const struct shadow_flight_table *flights);
 
 /* A direction at the vertex x (Earth-centred) from three uniform numbers, and the density of a
  * direction d there (per steradian). */

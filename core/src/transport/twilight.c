@@ -31,15 +31,17 @@ twilight_sampling *twilight_sampling_create(const fm_sky *sky, int guide_offsets
     path_context single = sky_path_context(sky, 1, 1);
     double sun_elevation = asin(clamp_cosine(v3_dot(v3_normalize(sky->observer), sky->sun_dir)));
     tw->deep = sun_elevation < DEEP_TWILIGHT_DEG * FM_DEG;
-    int built = sky_guide_build(&tw->guide, &single, sky->observer, tw->deep ? guide_offsets : 1, threads);
-    if (built <= 0) {
-        free(tw); /* a black sky (deep night): nothing to guide toward */
-        *no_memory = built < 0;
-        return NULL;
-    }
+    /* the flights' table first: in deep twilight the sky guide adds the light of order 2 from it */
     if (tw->deep && shadow_flight_build(&tw->flights, &single, sky->observer, threads)) {
         free(tw);
         *no_memory = 1;
+        return NULL;
+    }
+    int built = sky_guide_build(&tw->guide, &single, sky->observer, tw->deep ? guide_offsets : 1, threads,
+                                tw->deep ? &tw->flights : NULL);
+    if (built <= 0) {
+        free(tw); /* a black sky (deep night): nothing to guide toward */
+        *no_memory = built < 0;
         return NULL;
     }
     return tw;
