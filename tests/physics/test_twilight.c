@@ -260,6 +260,29 @@ static twilight_sampling *deep_twilight(double sun_deg, fm_sky **sky)
  * up away from it (elevation, azimuth in degrees). */
 static const double views[][2] = {{90.0, 0.0}, {10.0, 0.0}, {30.0, 180.0}};
 
+/* One estimator a against another b (n_a and n_b paths, the streams of items item + i and item + 10
+ * + i) at sun sun_deg in the three views, each named for the messages: asserts every difference
+ * within four combined standard errors and returns b's relative variance per path over a's, both
+ * summed over the views relative to a's means. */
+static double compare_in_views(const fm_sky *sky, double sun_deg, const char *name_a, const path_context *a, int n_a,
+                               const char *name_b, const path_context *b, int n_b, uint64_t item)
+{
+    double var_a = 0.0, var_b = 0.0;
+    for (int i = 0; i < 3; i++) {
+        vec3 d = direction_from_elevation_azimuth(views[i][0] * FM_DEG, views[i][1] * FM_DEG);
+        estimator_pair e = compare_estimators(sky, a, n_a, b, n_b, d, item + (uint64_t)i, item + 10 + (uint64_t)i);
+        var_a += e.se_a * e.se_a * n_a / (e.m_a * e.m_a);
+        var_b += e.se_b * e.se_b * n_b / (e.m_a * e.m_a);
+        print_message("sun %g, view (%g, %g): %s %.5e +- %.2f%%, %s %.5e +- %.2f%% (%+.2f%%, %+.1f sigma)\n", sun_deg,
+                      views[i][0], views[i][1], name_a, e.m_a, 100.0 * e.se_a / e.m_a, name_b, e.m_b,
+                      100.0 * e.se_b / e.m_b, 100.0 * (e.m_b / e.m_a - 1.0), e.z);
+        assert_true(fabs(e.z) < 4.0);
+    }
+    print_message("relative noise per path: %s %.2f, %s %.2f\n", name_a, sqrt(var_a / 3.0), name_b,
+                  sqrt(var_b / 3.0));
+    return var_b / var_a;
+}
+
 /* Sun 9 degrees down, rural: orders >= 2 with the guided flights against the same estimator with
  * delta tracking (everything else equal), toward the zenith, 10 degrees up toward the sun and 30
  * degrees up away from it.  Within four combined standard errors in each, and the guided flights'
@@ -272,23 +295,8 @@ static void shadow_flights_match_delta_tracking(void **state)
     path_context guided = twilight_path_context(sky, tw, 2, 0), tracked = guided;
     tracked.shadow_flights = NULL;
     guided.skip_ground_first = tracked.skip_ground_first = 1;
-    const int n_tracked = 120000, n_guided = 60000;
-    double var_tracked = 0.0, var_guided = 0.0;
-    for (int i = 0; i < 3; i++) {
-        vec3 d = direction_from_elevation_azimuth(views[i][0] * FM_DEG, views[i][1] * FM_DEG);
-        estimator_pair e = compare_estimators(sky, &tracked, n_tracked, &guided, n_guided, d, 10 + (uint64_t)i,
-                                              20 + (uint64_t)i);
-        var_tracked += e.se_a * e.se_a * n_tracked / (e.m_a * e.m_a);
-        var_guided += e.se_b * e.se_b * n_guided / (e.m_a * e.m_a);
-        print_message("sun -9, view (%g, %g): delta tracking %.5e +- %.2f%%, guided flights %.5e +- %.2f%% (%+.2f%%, "
-                      "%+.1f sigma)\n",
-                      views[i][0], views[i][1], e.m_a, 100.0 * e.se_a / e.m_a, e.m_b, 100.0 * e.se_b / e.m_b,
-                      100.0 * (e.m_b / e.m_a - 1.0), e.z);
-        assert_true(fabs(e.z) < 4.0);
-    }
-    print_message("relative noise per path: delta tracking %.2f, guided flights %.2f\n", sqrt(var_tracked / 3.0),
-                  sqrt(var_guided / 3.0));
-    assert_true(var_guided < var_tracked);
+    assert_true(compare_in_views(sky, -9.0, "delta tracking", &tracked, 120000, "guided flights", &guided, 60000, 10) <
+                1.0);
     free(tw);
     fm_sky_destroy(sky);
 }
@@ -315,16 +323,7 @@ static void light_led_roulette_matches_the_plain_one(void **state)
     assert_true(led.light_led_roulette);
     plain.light_led_roulette = 0;
     led.skip_ground_first = plain.skip_ground_first = 1;
-    const int n = 40000;
-    for (int i = 0; i < 3; i++) {
-        vec3 d = direction_from_elevation_azimuth(views[i][0] * FM_DEG, views[i][1] * FM_DEG);
-        estimator_pair e = compare_estimators(sky, &plain, n, &led, n, d, 50 + (uint64_t)i, 60 + (uint64_t)i);
-        print_message("sun -14, view (%g, %g): plain roulette %.5e +- %.2f%%, light-led %.5e +- %.2f%% (%+.2f%%, "
-                      "%+.1f sigma)\n",
-                      views[i][0], views[i][1], e.m_a, 100.0 * e.se_a / e.m_a, e.m_b, 100.0 * e.se_b / e.m_b,
-                      100.0 * (e.m_b / e.m_a - 1.0), e.z);
-        assert_true(fabs(e.z) < 4.0);
-    }
+    compare_in_views(sky, -14.0, "plain roulette", &plain, 40000, "light-led", &led, 40000, 50);
     free(tw);
     fm_sky_destroy(sky);
 }
@@ -346,22 +345,8 @@ static void order2_guide_matches_single_scattering_guide(void **state)
     assert_int_equal(sky_guide_build(&single_only->guide, &single, sky->observer, SKY_GUIDE_MAX_OFFSETS, 2, NULL), 1);
     path_context a = twilight_path_context(sky, single_only, 2, 0), b = twilight_path_context(sky, tw, 2, 0);
     a.skip_ground_first = b.skip_ground_first = 1;
-    const int n = 40000;
-    double var_a = 0.0, var_b = 0.0;
-    for (int i = 0; i < 3; i++) {
-        vec3 d = direction_from_elevation_azimuth(views[i][0] * FM_DEG, views[i][1] * FM_DEG);
-        estimator_pair e = compare_estimators(sky, &a, n, &b, n, d, 70 + (uint64_t)i, 80 + (uint64_t)i);
-        var_a += e.se_a * e.se_a * n / (e.m_a * e.m_a);
-        var_b += e.se_b * e.se_b * n / (e.m_a * e.m_a);
-        print_message("sun -18, view (%g, %g): single-scattering guide %.5e +- %.2f%%, with order 2 %.5e +- %.2f%% "
-                      "(%+.2f%%, %+.1f sigma)\n",
-                      views[i][0], views[i][1], e.m_a, 100.0 * e.se_a / e.m_a, e.m_b, 100.0 * e.se_b / e.m_b,
-                      100.0 * (e.m_b / e.m_a - 1.0), e.z);
-        assert_true(fabs(e.z) < 4.0);
-    }
-    print_message("relative noise per path: single-scattering guide %.2f, with order 2 %.2f\n", sqrt(var_a / 3.0),
-                  sqrt(var_b / 3.0));
-    assert_true(var_b < var_a);
+    assert_true(compare_in_views(sky, -18.0, "single-scattering guide", &a, 40000, "with order 2", &b, 40000, 70) <
+                1.0);
     free(single_only);
     free(tw);
     fm_sky_destroy(sky);
