@@ -14,8 +14,8 @@
  * single scattering (sun -18, at the ground: 3700 times), so a guide of single scattering alone
  * sent the paths from the dark air toward the narrow band of sunlit air and left the rest of their
  * light to the phase function (rural, 256 x 128 final, twelve seeds, the relative SD of one map:
- * sun -10 2.15 -> 2.11%, -14 4.71 -> 3.54%, -18 12.7 -> 7.3%, in 5, 10 and 30% more time: paths
- * that find light live longer).  The density
+ * sun -10 2.15 -> 2.04%, -14 4.71 -> 3.54%, -18 12.7 -> 7.3%; 1024 x 512 final in 10, 20 and 30%
+ * more time: paths that find light live longer).  The density
  * is the same for every wavelength; it enters the path's spectral MIS as a third technique beside
  * the phase function and the sun guide (one-sample MIS, balance heuristic).  Any density keeps
  * the estimator unbiased; this one puts the directions where the next order's sunlight is. */
