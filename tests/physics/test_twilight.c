@@ -14,7 +14,8 @@
  *    the same orders >= 2 in three directions within the noise, and less noise per path; its
  *    light-led Russian roulette against the plain one, the same within the noise; the sky guide
  *    with its light of order 2 against a guide of single scattering alone, the same within the
- *    noise and less noise per path;
+ *    noise and less noise per path; the first vertices placed partly by the light against those
+ *    placed by scattering x transmittance alone, the same within the noise;
  *  - zenith luminance falls monotonically as the sun goes from +10 to -10 degrees, every one-degree
  *    step by more than four standard errors of the difference;
  *  - the horizontal illuminance of a clear evening against the AMS Glossary of Meteorology. */
@@ -352,6 +353,24 @@ static void order2_guide_matches_single_scattering_guide(void **state)
     fm_sky_destroy(sky);
 }
 
+/* Sun 14 degrees down, rural: orders >= 2 with half the first vertices placed along the view ray by
+ * the light there (view_ray_vertices.h, as rendered) against all of them by scattering x
+ * transmittance alone (everything else equal), in the three directions above: within four combined
+ * standard errors in each.  A vertex whose weight disagreed with its density would move the mean;
+ * the gain is time, not noise per path. */
+static void light_led_first_vertices_match_plain_ones(void **state)
+{
+    fm_sky *sky;
+    twilight_sampling *tw = deep_twilight(-14.0, &sky);
+    path_context led = twilight_path_context(sky, tw, 2, 0), plain = led;
+    assert_true(led.first_vertex_light_share > 0.0);
+    plain.first_vertex_light_share = 0.0;
+    led.skip_ground_first = plain.skip_ground_first = 1;
+    compare_in_views(sky, -14.0, "first vertices by scattering", &plain, 30000, "half by the light", &led, 30000, 90);
+    free(tw);
+    fm_sky_destroy(sky);
+}
+
 /* Horizontal illuminance (all of it scattered sunlight once the sun is down) of the default rural
  * sky against the American Meteorological Society's Glossary of Meteorology (entries "civil
  * twilight" and "astronomical twilight"): during a clear evening it falls to about 3.5-2 lux at sun
@@ -388,6 +407,7 @@ int main(void)
         cmocka_unit_test(shadow_flights_match_delta_tracking),
         cmocka_unit_test(order2_guide_matches_single_scattering_guide),
         cmocka_unit_test(light_led_roulette_matches_the_plain_one),
+        cmocka_unit_test(light_led_first_vertices_match_plain_ones),
         cmocka_unit_test(zenith_falls_monotonically),
         cmocka_unit_test(illuminance_against_the_ams_glossary),
     };

@@ -77,6 +77,9 @@ typedef struct path_context {
      * survival raised by how much more light that vertex receives than its first point did
      * (shadow_flight_light against shadow_flight_light_and_ambient); see path.c. */
     int light_led_roulette;
+    /* With shadow_flights: the share of a table node's first vertices placed along the view ray by
+     * scattering x transmittance x the light there (view_ray_vertices.h); 0 by day. */
+    double first_vertex_light_share;
 } path_context;
 
 /* Adds one path's radiance estimate (W m^-2 sr^-1 nm^-1, per grid wavelength) to L. */

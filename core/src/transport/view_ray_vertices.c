@@ -2,6 +2,7 @@
 
 #include "atmosphere/optical_depth.h"
 #include "base/vec.h"
+#include "transport/shadow_flight.h"
 
 #include <math.h>
 
@@ -63,6 +64,8 @@ int view_ray_vertices_init(view_ray_vertices *v, const path_context *ctx, vec3 o
         return 0;
     const int ks[3] = {K / 4, K / 2, (3 * K) / 4};
     double mass[VIEW_RAY_CELLS], total = 0.0, f[FM_MAX_WAVELENGTHS];
+    double lit[VIEW_RAY_CELLS], total_lit = 0.0; /* mass x the light at the cell's middle */
+    const double share = ctx->shadow_flights ? ctx->first_vertex_light_share : 0.0;
     const int S = ctx->atm->species_count;
     for (int j = 0; j <= VIEW_RAY_CELLS; j++) {
         double u = (double)j / VIEW_RAY_CELLS;
@@ -82,12 +85,20 @@ int view_ray_vertices_init(view_ray_vertices *v, const path_context *ctx, vec3 o
         scattered_fraction(v, ctx, mid, col, f);
         mass[j] = (f[ks[0]] + f[ks[1]] + f[ks[2]]) * (v->edge[j + 1] - v->edge[j]);
         total += mass[j];
+        if (share > 0.0) {
+            vec3 x = v3_madd(v->seg.origin, v->seg.dir, mid);
+            double r = v3_length(x);
+            lit[j] = mass[j] * shadow_flight_light_and_ambient(ctx->shadow_flights, r, v3_dot(x, ctx->sun_dir) / r);
+            total_lit += lit[j];
+        }
     }
     const double spread = ctx->sky_guide ? SPREAD_TWILIGHT : SPREAD_DAY;
     v->cdf[0] = 0.0;
     for (int j = 0; j < VIEW_RAY_CELLS; j++) {
         double length = (v->edge[j + 1] - v->edge[j]) / v->seg.t_end;
         double p = total > 0.0 ? (1.0 - spread) * mass[j] / total + spread * length : length;
+        if (total > 0.0 && total_lit > 0.0)
+            p = (1.0 - spread) * ((1.0 - share) * mass[j] / total + share * lit[j] / total_lit) + spread * length;
         v->cdf[j + 1] = v->cdf[j] + p;
     }
     return 1;

@@ -7,7 +7,10 @@
  * vertex at t from a piecewise-constant density over 64 cells along the ray (crowded at the
  * observer), proportional to sigma_s T at three wavelengths (a share of it spread by length so
  * that it is positive everywhere: 1/25 by day, 1/6 at twilight), with its uniform number
- * stratified over the N paths: (p + u) / N.
+ * stratified over the N paths: (p + u) / N.  In deep twilight (path_context's
+ * first_vertex_light_share) part of the rest is sigma_s T times the light of orders 1 and 2 at the
+ * cell's middle (shadow_flight_light_and_ambient), which climbs with altitude far faster than the
+ * air thins.
  * The vertex's spectral weight is sigma_s,k(t) T_k(0, t) / pdf(t); the density is the same for
  * every wavelength.  T comes from the species' columns along the ray, summed cell by cell by
  * quadrature once per ray and completed within the vertex's cell: the column table's difference
