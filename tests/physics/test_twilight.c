@@ -257,6 +257,15 @@ static twilight_sampling *deep_twilight(double sun_deg, fm_sky **sky)
     return tw;
 }
 
+/* Orders >= 2 as the fast path's table nodes take them with tw's sampling (a path whose first
+ * interaction is the ground is left to single scattering's table). */
+static path_context node_context(const fm_sky *sky, const twilight_sampling *tw)
+{
+    path_context pc = twilight_path_context(sky, tw, 2, 0);
+    pc.skip_ground_first = 1;
+    return pc;
+}
+
 /* Deep twilight's comparisons look toward the zenith, 10 degrees up toward the sun and 30 degrees
  * up away from it (elevation, azimuth in degrees). */
 static const double views[][2] = {{90.0, 0.0}, {10.0, 0.0}, {30.0, 180.0}};
@@ -293,9 +302,8 @@ static void shadow_flights_match_delta_tracking(void **state)
 {
     fm_sky *sky;
     twilight_sampling *tw = deep_twilight(-9.0, &sky);
-    path_context guided = twilight_path_context(sky, tw, 2, 0), tracked = guided;
+    path_context guided = node_context(sky, tw), tracked = guided;
     tracked.shadow_flights = NULL;
-    guided.skip_ground_first = tracked.skip_ground_first = 1;
     assert_true(compare_in_views(sky, -9.0, "delta tracking", &tracked, 120000, "guided flights", &guided, 60000, 10) <
                 1.0);
     free(tw);
@@ -320,10 +328,9 @@ static void light_led_roulette_matches_the_plain_one(void **state)
                   t->ambient[SHADOW_FLIGHT_LEVELS - 1]);
     assert_true(t->ambient[0] > 5.0 * shadow_flight_light(t, R, mu_s));
     assert_true(shadow_flight_light(t, R + 100e3, mu_s) > 10.0 * t->ambient[SHADOW_FLIGHT_LEVELS - 1]);
-    path_context led = twilight_path_context(sky, tw, 2, 0), plain = led;
+    path_context led = node_context(sky, tw), plain = led;
     assert_true(led.light_led_roulette);
     plain.light_led_roulette = 0;
-    led.skip_ground_first = plain.skip_ground_first = 1;
     compare_in_views(sky, -14.0, "plain roulette", &plain, 40000, "light-led", &led, 40000, 50);
     free(tw);
     fm_sky_destroy(sky);
@@ -344,8 +351,7 @@ static void order2_guide_matches_single_scattering_guide(void **state)
     *single_only = *tw;
     path_context single = sky_path_context(sky, 1, 1);
     assert_int_equal(sky_guide_build(&single_only->guide, &single, sky->observer, SKY_GUIDE_MAX_OFFSETS, 2, NULL), 1);
-    path_context a = twilight_path_context(sky, single_only, 2, 0), b = twilight_path_context(sky, tw, 2, 0);
-    a.skip_ground_first = b.skip_ground_first = 1;
+    path_context a = node_context(sky, single_only), b = node_context(sky, tw);
     assert_true(compare_in_views(sky, -18.0, "single-scattering guide", &a, 40000, "with order 2", &b, 40000, 70) <
                 1.0);
     free(single_only);
@@ -362,10 +368,9 @@ static void light_led_first_vertices_match_plain_ones(void **state)
 {
     fm_sky *sky;
     twilight_sampling *tw = deep_twilight(-14.0, &sky);
-    path_context led = twilight_path_context(sky, tw, 2, 0), plain = led;
+    path_context led = node_context(sky, tw), plain = led;
     assert_true(led.first_vertex_light_share > 0.0);
     plain.first_vertex_light_share = 0.0;
-    led.skip_ground_first = plain.skip_ground_first = 1;
     compare_in_views(sky, -14.0, "first vertices by scattering", &plain, 30000, "half by the light", &led, 30000, 90);
     free(tw);
     fm_sky_destroy(sky);
