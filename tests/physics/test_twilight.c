@@ -340,8 +340,9 @@ static void light_led_roulette_matches_the_plain_one(void **state)
  * light of order 2, sky_guide.h) against the same renderer with a guide of single scattering alone,
  * in the three directions above.  Within four combined standard errors in each (a density changes
  * only the noise; one whose pdf disagreed with its samples would move the mean), and the noise per
- * path lower in the three together (these streams: 14.1 for single scattering alone, 5.6 with the
- * order 2; four other sets: 8.5-10.0 and 5.6-7.4). */
+ * path lower in the three together (these streams, with the first vertices led by the light: 21.7
+ * for single scattering alone, 7.4 with the order 2; before that change 14.1 and 5.6, and four
+ * other sets 8.5-10.0 and 5.6-7.4). */
 static void order2_guide_matches_single_scattering_guide(void **state)
 {
     fm_sky *sky;
