@@ -113,7 +113,7 @@ static double luminance(const fm_sky *sky, const double *L)
 static double multiple_scattering(const fm_sky *sky, const path_context *pc, vec3 d, int N, uint64_t item, double *se)
 {
     double L[FM_MAX_WAVELENGTHS] = {0}, sum_y2 = 0.0;
-    twilight_node_paths(sky, pc, d, N, 17, item, 0, L, &sum_y2);
+    twilight_node_paths(sky, pc, d, N, 17, item, 0, L, &sum_y2, NULL);
     double mean = luminance(sky, L) / N;
     *se = sqrt(fmax(0.0, sum_y2 / N - mean * mean) / N);
     return mean;

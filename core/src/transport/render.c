@@ -75,6 +75,7 @@ typedef struct render_job {
     int rising_segments;  /* the table's paths: SEGMENT_SUNLIGHT_RISING (rising_segments) */
     double *ms_y, *ms_var; /* per node of ms: the luminance estimate and its variance (sky_grid_fit) */
     double *ms_spectral;   /* per node of ms: the estimate at every grid wavelength, [node][K] */
+    double *ms_shape;      /* per node of ms: its view ray's light_integral (twilight_node_paths) */
 } render_job;
 
 /* Spectral radiance (K values) -> C image channels: XYZ (colour, C = 3), else the K values
@@ -172,7 +173,8 @@ static void ms_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         vec3 d = view_direction(sky, e, phi);
         int offset = (int)(mix64(job->seed ^ (uint64_t)i) % (uint64_t)K);
         double sum_y2 = 0.0, n = job->q.ms_paths;
-        twilight_node_paths(sky, &pc, d, job->q.ms_paths, job->seed, ITEM_MS_NODE + (uint64_t)i, offset, L, &sum_y2);
+        twilight_node_paths(sky, &pc, d, job->q.ms_paths, job->seed, ITEM_MS_NODE + (uint64_t)i, offset, L, &sum_y2,
+                            &job->ms_shape[i]);
         for (int k = 0; k < K; k++)
             L[k] /= n;
         double y = spectral_grid_luminance(&sky->atm.grid, L);
@@ -668,7 +670,8 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
             sky_grid_init(&job.ms, horizon, q->ms_rows_sky, q->ms_rows_ground, q->ms_cols, job.channels, 0) ||
             !(job.ms_y = malloc((size_t)sky_grid_nodes(&job.ms) * sizeof(double))) ||
             !(job.ms_var = malloc((size_t)sky_grid_nodes(&job.ms) * sizeof(double))) ||
-            !(job.ms_spectral = malloc((size_t)sky_grid_nodes(&job.ms) * atm->grid.count * sizeof(double)))) {
+            !(job.ms_spectral = malloc((size_t)sky_grid_nodes(&job.ms) * atm->grid.count * sizeof(double))) ||
+            !(job.ms_shape = malloc((size_t)sky_grid_nodes(&job.ms) * sizeof(double)))) {
             s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the radiance tables");
             goto done;
         }
@@ -705,8 +708,10 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
             atomic_load(&job.no_memory))
             s = FM_ERR_OUT_OF_MEMORY;
         /* the table's noise averaged over many nodes where a smooth fit is expected to be closer to
-         * the truth than the nodes themselves (sky_grid_fit.h) */
-        if (!s && !(s = sky_grid_fit(&job.ms, asin(clamp_cosine(sky->sun_dir.z)), job.ms_y, job.ms_var, NULL))) {
+         * the truth than the nodes themselves (sky_grid_fit.h); in deep twilight divided by the
+         * nodes' shapes first (0 otherwise, and then left out) */
+        if (!s && !(s = sky_grid_fit(&job.ms, asin(clamp_cosine(sky->sun_dir.z)), job.ms_y, job.ms_var, job.ms_shape,
+                                     NULL))) {
             sky_grid_average_poles(&job.ms);
             s = parallel_for(params->threads, H, 4, equirect ? fast_rows : fast_rows_camera, &job, params->cancel, &ppx);
         }
@@ -734,6 +739,7 @@ done:
     free(job.ms_y);
     free(job.ms_var);
     free(job.ms_spectral);
+    free(job.ms_shape);
     ground_irradiance_free(&job.ground);
     if (s) {
         fm_image_destroy(job.img);

@@ -21,6 +21,9 @@ static const double aureole_width_deg[AUREOLE_TERMS] = {3.0, 8.0, 20.0};
 /* Rows whose fitted luminance falls below this share of their mean somewhere keep their nodes. */
 #define ROW_RANGE 0.15
 
+/* With a shape, the sky's rows less than this far above the horizon keep their nodes (sky_grid_fit.h). */
+#define HORIZON_KEPT_DEG 0.8
+
 typedef double node_array[FIT_MAX][FIT_MAX]; /* [row][column] of one domain */
 typedef double row_matrix[FIT_MAX][FIT_MAX]; /* [row][row] */
 
@@ -399,8 +402,10 @@ static int rows_within_range(const fit_work *w, int *pass)
     return passing;
 }
 
+/* Fits the domain's w->rows rows from first_row; with shape (per node, > 0), the nodes divided by it
+ * and the fit multiplied back. */
 static void fit_domain(fit_work *w, sky_grid *g, int first_row, double sun_elevation, const double *y,
-                       const double *var, sky_grid_fit_choice *ch)
+                       const double *var, const double *shape, sky_grid_fit_choice *ch)
 {
     const int R = w->rows, C = w->cols, K = g->channels;
     *ch = (sky_grid_fit_choice){-1, 0, 0.0, 0.0};
@@ -411,8 +416,9 @@ static void fit_domain(fit_work *w, sky_grid *g, int first_row, double sun_eleva
             int i = (first_row + r) * C + j;
             if (!isfinite(y[i]) || !isfinite(var[i]))
                 return; /* no usable estimate */
-            w->y[r][j] = y[i];
-            w->var[r][j] = var[i];
+            double s = shape ? shape[i] : 1.0;
+            w->y[r][j] = y[i] / s;
+            w->var[r][j] = var[i] / (s * s);
             double e, phi;
             sky_grid_node_angles(g, i, &e, &phi);
             double gamma = acos(clamp_cosine(v3_dot(direction_from_elevation_azimuth(e, phi), sun)));
@@ -458,17 +464,37 @@ static void fit_domain(fit_work *w, sky_grid *g, int first_row, double sun_eleva
     *ch = (sky_grid_fit_choice){highest, best.terms, ch->risk_raw, best.risk};
     for (int k = 0; k < K; k++) {
         for (int r = 0; r < R; r++)
-            for (int j = 0; j < C; j++)
-                w->in[r][j] = g->values[((size_t)(first_row + r) * C + j) * K + k];
+            for (int j = 0; j < C; j++) {
+                int i = (first_row + r) * C + j;
+                w->in[r][j] = g->values[(size_t)i * K + k] / (shape ? shape[i] : 1.0);
+            }
         fit_nodes(w, best.terms, w->in, NULL, NULL);
         for (int r = 0; r < R; r++)
-            for (int j = 0; j < C && pass[r]; j++)
-                g->values[((size_t)(first_row + r) * C + j) * K + k] = (float)fmax(0.0, w->fit[r][j]);
+            for (int j = 0; j < C && pass[r]; j++) {
+                int i = (first_row + r) * C + j;
+                g->values[(size_t)i * K + k] = (float)fmax(0.0, w->fit[r][j] * (shape ? shape[i] : 1.0));
+            }
     }
 }
 
+/* The sky rows fitted with a shape: from the first at least HORIZON_KEPT_DEG above the horizon
+ * (the rows below keep their nodes), or -1 when a node's shape is not positive. */
+static int first_shaped_row(const sky_grid *g, const double *shape)
+{
+    int first = 0;
+    for (int i = 0; i < g->rows_sky * g->cols; i++) {
+        if (!(shape[i] > 0.0 && isfinite(shape[i])))
+            return -1;
+        double e, phi;
+        sky_grid_node_angles(g, i, &e, &phi);
+        if (e - g->horizon_elevation < HORIZON_KEPT_DEG * FM_DEG)
+            first = i / g->cols + 1;
+    }
+    return first;
+}
+
 fm_status sky_grid_fit(sky_grid *g, double sun_elevation, const double *y, const double *var_y,
-                       sky_grid_fit_choice choice[2])
+                       const double *shape, sky_grid_fit_choice choice[2])
 {
     const int C = g->cols;
     sky_grid_fit_choice own[2];
@@ -490,10 +516,15 @@ fm_status sky_grid_fit(sky_grid *g, double sun_elevation, const double *y, const
             w->norm[m] += w->t[j] * w->cs[m][j] * w->cs[m][j];
         }
     }
-    w->rows = g->rows_sky;
-    fit_domain(w, g, 0, sun_elevation, y, var_y, &ch[0]);
+    int first = shape ? first_shaped_row(g, shape) : 0;
+    if (first < 0 || g->rows_sky - first < 3) {
+        first = 0;
+        shape = NULL;
+    }
+    w->rows = g->rows_sky - first;
+    fit_domain(w, g, first, sun_elevation, y, var_y, shape, &ch[0]);
     w->rows = g->rows_ground;
-    fit_domain(w, g, g->rows_sky, sun_elevation, y, var_y, &ch[1]);
+    fit_domain(w, g, g->rows_sky, sun_elevation, y, var_y, NULL, &ch[1]);
     free(w);
     return FM_OK;
 }

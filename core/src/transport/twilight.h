@@ -36,8 +36,9 @@ path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *t
  * (view_ray_vertices.h) and, with twilight sampling (pc carries a guide), the guide's directions
  * after them.  sum_y2, if not NULL, receives the sum over paths of the squared
  * luminance-weighted estimate (CIE Y, or the one value of a monochromatic sky), for a standard
- * error. */
+ * error; shape, if not NULL, the view ray's light_integral (view_ray_vertices.h: > 0 in deep
+ * twilight, else 0). */
 void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
-                         uint64_t item, int offset, double *L, double *sum_y2);
+                         uint64_t item, int offset, double *L, double *sum_y2, double *shape);
 
 #endif

@@ -92,6 +92,7 @@ int view_ray_vertices_init(view_ray_vertices *v, const path_context *ctx, vec3 o
             total_lit += lit[j];
         }
     }
+    v->light_integral = total_lit;
     const double spread = ctx->sky_guide ? SPREAD_TWILIGHT : SPREAD_DAY;
     v->cdf[0] = 0.0;
     for (int j = 0; j < VIEW_RAY_CELLS; j++) {

@@ -32,6 +32,10 @@ typedef struct view_ray_vertices {
     double edge[VIEW_RAY_CELLS + 1]; /* cell edges, distances along the ray (m) */
     double column[VIEW_RAY_CELLS + 1][FM_MAX_SPECIES]; /* species columns from the origin to each edge */
     double cdf[VIEW_RAY_CELLS + 1];
+    /* In deep twilight, sum over the cells of sigma_s T (three wavelengths) x the light of orders 1
+     * and 2 at the cell's middle x its length: up to a constant, the ray's radiance of orders 2
+     * and 3 were that light isotropic (the table's fit divides by it, sky_grid_fit.h); else 0. */
+    double light_integral;
 } view_ray_vertices;
 
 /* Sets up the density for the ray from origin along dir; 0 when the ray crosses no air. */
