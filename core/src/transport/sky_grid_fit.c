@@ -21,8 +21,8 @@ static const double aureole_width_deg[AUREOLE_TERMS] = {3.0, 8.0, 20.0};
 /* Rows whose fitted luminance falls below this share of their mean somewhere keep their nodes. */
 #define ROW_RANGE 0.15
 
-/* With a shape, the sky's rows less than this far above the horizon keep their nodes (sky_grid_fit.h). */
-#define HORIZON_KEPT_DEG 0.8
+/* With a shape, the sky's rows less than this far above the horizon take the plain fit (sky_grid_fit.h). */
+#define HORIZON_PLAIN_DEG 0.8
 
 typedef double node_array[FIT_MAX][FIT_MAX]; /* [row][column] of one domain */
 typedef double row_matrix[FIT_MAX][FIT_MAX]; /* [row][row] */
@@ -402,10 +402,11 @@ static int rows_within_range(const fit_work *w, int *pass)
     return passing;
 }
 
-/* Fits the domain's w->rows rows from first_row; with shape (per node, > 0), the nodes divided by it
+/* Fits the w->rows rows from first_row of the values src (laid out as g->values; may be g->values)
+ * and writes the first `written` of them to g; with shape (per node, > 0), the nodes divided by it
  * and the fit multiplied back. */
-static void fit_domain(fit_work *w, sky_grid *g, int first_row, double sun_elevation, const double *y,
-                       const double *var, const double *shape, sky_grid_fit_choice *ch)
+static void fit_domain(fit_work *w, sky_grid *g, const float *src, int first_row, int written, double sun_elevation,
+                       const double *y, const double *var, const double *shape, sky_grid_fit_choice *ch)
 {
     const int R = w->rows, C = w->cols, K = g->channels;
     *ch = (sky_grid_fit_choice){-1, 0, 0.0, 0.0};
@@ -466,10 +467,10 @@ static void fit_domain(fit_work *w, sky_grid *g, int first_row, double sun_eleva
         for (int r = 0; r < R; r++)
             for (int j = 0; j < C; j++) {
                 int i = (first_row + r) * C + j;
-                w->in[r][j] = g->values[(size_t)i * K + k] / (shape ? shape[i] : 1.0);
+                w->in[r][j] = src[(size_t)i * K + k] / (shape ? shape[i] : 1.0);
             }
         fit_nodes(w, best.terms, w->in, NULL, NULL);
-        for (int r = 0; r < R; r++)
+        for (int r = 0; r < written; r++)
             for (int j = 0; j < C && pass[r]; j++) {
                 int i = (first_row + r) * C + j;
                 g->values[(size_t)i * K + k] = (float)fmax(0.0, w->fit[r][j] * (shape ? shape[i] : 1.0));
@@ -477,8 +478,8 @@ static void fit_domain(fit_work *w, sky_grid *g, int first_row, double sun_eleva
     }
 }
 
-/* The sky rows fitted with a shape: from the first at least HORIZON_KEPT_DEG above the horizon
- * (the rows below keep their nodes), or -1 when a node's shape is not positive. */
+/* The sky rows fitted with a shape: from the first at least HORIZON_PLAIN_DEG above the horizon
+ * (the rows below take the plain fit), or -1 when a node's shape is not positive. */
 static int first_shaped_row(const sky_grid *g, const double *shape)
 {
     int first = 0;
@@ -487,7 +488,7 @@ static int first_shaped_row(const sky_grid *g, const double *shape)
             return -1;
         double e, phi;
         sky_grid_node_angles(g, i, &e, &phi);
-        if (e - g->horizon_elevation < HORIZON_KEPT_DEG * FM_DEG)
+        if (e - g->horizon_elevation < HORIZON_PLAIN_DEG * FM_DEG)
             first = i / g->cols + 1;
     }
     return first;
@@ -516,15 +517,30 @@ fm_status sky_grid_fit(sky_grid *g, double sun_elevation, const double *y, const
             w->norm[m] += w->t[j] * w->cs[m][j] * w->cs[m][j];
         }
     }
-    int first = shape ? first_shaped_row(g, shape) : 0;
-    if (first < 0 || g->rows_sky - first < 3) {
-        first = 0;
-        shape = NULL;
+    const int R = g->rows_sky, first = shape ? first_shaped_row(g, shape) : -1;
+    if (first > 0 && R - first >= 3) {
+        /* the horizon's rows from the plain fit of the whole sky, the rest through the shape, both
+         * from the raw nodes */
+        size_t count = (size_t)R * C * g->channels;
+        float *raw = malloc(count * sizeof(float));
+        if (!raw) {
+            free(w);
+            return FM_ERR_OUT_OF_MEMORY;
+        }
+        for (size_t n = 0; n < count; n++)
+            raw[n] = g->values[n];
+        sky_grid_fit_choice plain;
+        w->rows = R;
+        fit_domain(w, g, raw, 0, first, sun_elevation, y, var_y, NULL, &plain);
+        w->rows = R - first;
+        fit_domain(w, g, raw, first, R - first, sun_elevation, y, var_y, shape, &ch[0]);
+        free(raw);
+    } else {
+        w->rows = R;
+        fit_domain(w, g, g->values, 0, R, sun_elevation, y, var_y, first == 0 ? shape : NULL, &ch[0]);
     }
-    w->rows = g->rows_sky - first;
-    fit_domain(w, g, first, sun_elevation, y, var_y, shape, &ch[0]);
     w->rows = g->rows_ground;
-    fit_domain(w, g, g->rows_sky, sun_elevation, y, var_y, NULL, &ch[1]);
+    fit_domain(w, g, g->values, g->rows_sky, g->rows_ground, sun_elevation, y, var_y, NULL, &ch[1]);
     free(w);
     return FM_OK;
 }

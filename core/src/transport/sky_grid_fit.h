@@ -39,14 +39,14 @@
  * where the nodes span 23 (rural, sun -18; -10: 4.8 and 13), so every row passes the range check
  * and the fit averages many more nodes (sun -18, twelve seeds, the rows fitted: nodes
  * of 11-21% relative noise come out at 4-13%, against 6-24% fitted as they are).  The rows within
- * 0.8 degrees of the horizon keep their nodes (final quality: 0 and 0.25 degrees, preview 0 and
- * 0.74): the ratio doubles there (the shape leaves out the higher orders, which weigh most in the
- * dense air that those rays alone cross), and fitting through that knee biased the next rows by
- * 4-6%.  With them kept, the fit's mean over twelve
- * seeds stays within 1.3% of the raw nodes' mean in every block of rows and columns, sun -8 to
- * -18 (at the twilight arch's peak, 5-12 degrees up toward the sun, 0.7-1.2% low); the preview's
- * coarser rows leave more (sun -14: the row 3 degrees up toward the sun 4.8% high, the next two 3%
- * low), against a noise that the shape takes from 8.1 to 6.5%. */
+ * 0.8 degrees of the horizon (final quality: 0 and 0.25 degrees, preview 0 and 0.74) take the
+ * plain fit of the whole sky instead (raw where their range is too wide): the ratio doubles there
+ * (the shape leaves out the higher orders, which weigh most in the dense air that those rays alone
+ * cross), and fitting through that knee biased the next rows by 4-6%.  Without them, the fit's
+ * mean over twelve seeds stays within 1.3% of the raw nodes' mean in every block of rows and
+ * columns, sun -8 to -18 (at the twilight arch's peak, 5-12 degrees up toward the sun, 0.7-1.2%
+ * low); the preview's coarser rows leave more (sun -14: the row 3 degrees up toward the sun 4.8%
+ * high, the next two 3% low), against a noise that the shape takes from 8.1 to 6.5%. */
 #ifndef FM_TRANSPORT_SKY_GRID_FIT_H
 #define FM_TRANSPORT_SKY_GRID_FIT_H
 
