@@ -63,6 +63,23 @@ static void noisy_table(sky_grid *g, double rel_sigma, uint64_t seed, double *y,
     }
 }
 
+/* Fills the one-channel g and y, var with truth + Gaussian noise of relative sigma rel_sigma;
+ * returns the sky nodes' summed squared relative error. */
+static double noisy_truth(sky_grid *g, const double *truth, double rel_sigma, uint64_t seed, double *y, double *var)
+{
+    double raw2 = 0.0;
+    for (int i = 0; i < NODES; i++) {
+        rng r = rng_for(seed, (uint64_t)i, 0);
+        double sigma = rel_sigma * truth[i];
+        y[i] = truth[i] + sigma * gauss(&r);
+        var[i] = sigma * sigma;
+        g->values[i] = (float)y[i];
+        if (i < ROWS_SKY * COLS)
+            raw2 += (y[i] / truth[i] - 1.0) * (y[i] / truth[i] - 1.0);
+    }
+    return raw2;
+}
+
 /* 8% noise per node (the sunset's at final quality): over 100 tables the fit's RMS relative error
  * is below a third of the raw nodes' (the field has about 3 x 5 significant coefficients per
  * domain, against 320 sky nodes), every channel takes the same fit, and its mean over the tables,
@@ -187,15 +204,7 @@ static void aureole_fitted(void **state)
     double raw2 = 0.0, fit2 = 0.0;
     const int tables = 20, sky_nodes = ROWS_SKY * COLS;
     for (int t = 0; t < tables; t++) {
-        for (int i = 0; i < NODES; i++) {
-            rng r = rng_for(900 + t, (uint64_t)i, 0);
-            double sigma = 0.03 * truth[i];
-            y[i] = truth[i] + sigma * gauss(&r);
-            var[i] = sigma * sigma;
-            g.values[i] = (float)y[i];
-            if (i < sky_nodes)
-                raw2 += (y[i] / truth[i] - 1.0) * (y[i] / truth[i] - 1.0);
-        }
+        raw2 += noisy_truth(&g, truth, 0.03, 900 + t, y, var);
         sky_grid_fit_choice choice[2];
         assert_int_equal(sky_grid_fit(&g, sun, y, var, NULL, choice), FM_OK);
         assert_int_equal(choice[0].aureole_terms, 3);
@@ -272,15 +281,7 @@ static void wide_rows_fitted_through_their_shape(void **state)
     assert_true(kept >= 1 && kept <= 3);
     double raw2 = 0.0, fit2 = 0.0;
     for (int t = 0; t < tables; t++) {
-        for (int i = 0; i < NODES; i++) {
-            rng r = rng_for(700 + t, (uint64_t)i, 0);
-            double sigma = 0.2 * truth[i];
-            y[i] = truth[i] + sigma * gauss(&r);
-            var[i] = sigma * sigma;
-            g.values[i] = (float)y[i];
-            if (i < sky_nodes)
-                raw2 += (y[i] / truth[i] - 1.0) * (y[i] / truth[i] - 1.0);
-        }
+        raw2 += noisy_truth(&g, truth, 0.2, 700 + t, y, var);
         assert_int_equal(sky_grid_fit(&g, SUN, y, var, NULL, NULL), FM_OK);
         copy_values(&g, plain, NODES);
         for (int i = 0; i < NODES; i++)
