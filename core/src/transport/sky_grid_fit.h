@@ -63,10 +63,11 @@ typedef struct sky_grid_fit_choice {
 
 /* Replaces each domain's values (every channel) by the fit chosen from y and var_y: per node
  * (row-major, sky rows first) the luminance estimate and its variance; sun_elevation (rad) places
- * the aureole terms (the relative azimuth 0 is the sun's).  shape, if not NULL and positive at every
- * sky node, is the sky's shape (above); otherwise it is left out.  Values are kept >= 0.  choice, if not
- * NULL, receives the sky's [0] and the ground's [1] choice.  A grid beyond 64 rows per domain or
- * 64 columns keeps its nodes.  Returns FM_OK or FM_ERR_OUT_OF_MEMORY. */
+ * the aureole terms (the relative azimuth 0 is the sun's).  shape, if not NULL and positive at
+ * every sky node, is the sky's shape (above); otherwise it is left out.  Values are kept >= 0.
+ * choice, if not NULL, receives the sky's [0] (with a shape, that of the rows fitted through it)
+ * and the ground's [1] choice.  A grid beyond 64 rows per domain or 64 columns keeps its nodes.
+ * Returns FM_OK or FM_ERR_OUT_OF_MEMORY. */
 fm_status sky_grid_fit(sky_grid *g, double sun_elevation, const double *y, const double *var_y,
                        const double *shape, sky_grid_fit_choice choice[2]);
 
