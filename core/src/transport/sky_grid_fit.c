@@ -402,11 +402,11 @@ static int rows_within_range(const fit_work *w, int *pass)
     return passing;
 }
 
-/* Fits the w->rows rows from first_row of the values src (laid out as g->values; may be g->values)
- * and writes the first `written` of them to g; with shape (per node, > 0), the nodes divided by it
- * and the fit multiplied back. */
-static void fit_domain(fit_work *w, sky_grid *g, const float *src, int first_row, int written, double sun_elevation,
-                       const double *y, const double *var, const double *shape, sky_grid_fit_choice *ch)
+/* Fits the w->rows rows of g from first_row and writes the first `written` of them (each channel
+ * is read whole before it is written); with shape (per node, > 0), the nodes divided by it and the
+ * fit multiplied back. */
+static void fit_domain(fit_work *w, sky_grid *g, int first_row, int written, double sun_elevation, const double *y,
+                       const double *var, const double *shape, sky_grid_fit_choice *ch)
 {
     const int R = w->rows, C = w->cols, K = g->channels;
     *ch = (sky_grid_fit_choice){-1, 0, 0.0, 0.0};
@@ -467,7 +467,7 @@ static void fit_domain(fit_work *w, sky_grid *g, const float *src, int first_row
         for (int r = 0; r < R; r++)
             for (int j = 0; j < C; j++) {
                 int i = (first_row + r) * C + j;
-                w->in[r][j] = src[(size_t)i * K + k] / (shape ? shape[i] : 1.0);
+                w->in[r][j] = g->values[(size_t)i * K + k] / (shape ? shape[i] : 1.0);
             }
         fit_nodes(w, best.terms, w->in, NULL, NULL);
         for (int r = 0; r < written; r++)
@@ -519,28 +519,19 @@ fm_status sky_grid_fit(sky_grid *g, double sun_elevation, const double *y, const
     }
     const int R = g->rows_sky, first = shape ? first_shaped_row(g, shape) : -1;
     if (first > 0 && R - first >= 3) {
-        /* the horizon's rows from the plain fit of the whole sky, the rest through the shape, both
-         * from the raw nodes */
-        size_t count = (size_t)R * C * g->channels;
-        float *raw = malloc(count * sizeof(float));
-        if (!raw) {
-            free(w);
-            return FM_ERR_OUT_OF_MEMORY;
-        }
-        for (size_t n = 0; n < count; n++)
-            raw[n] = g->values[n];
+        /* the horizon's rows from the plain fit of the whole sky, which writes only them, then the
+         * rest, still raw, through the shape */
         sky_grid_fit_choice plain;
         w->rows = R;
-        fit_domain(w, g, raw, 0, first, sun_elevation, y, var_y, NULL, &plain);
+        fit_domain(w, g, 0, first, sun_elevation, y, var_y, NULL, &plain);
         w->rows = R - first;
-        fit_domain(w, g, raw, first, R - first, sun_elevation, y, var_y, shape, &ch[0]);
-        free(raw);
+        fit_domain(w, g, first, R - first, sun_elevation, y, var_y, shape, &ch[0]);
     } else {
         w->rows = R;
-        fit_domain(w, g, g->values, 0, R, sun_elevation, y, var_y, first == 0 ? shape : NULL, &ch[0]);
+        fit_domain(w, g, 0, R, sun_elevation, y, var_y, first == 0 ? shape : NULL, &ch[0]);
     }
     w->rows = g->rows_ground;
-    fit_domain(w, g, g->values, g->rows_sky, g->rows_ground, sun_elevation, y, var_y, NULL, &ch[1]);
+    fit_domain(w, g, g->rows_sky, g->rows_ground, sun_elevation, y, var_y, NULL, &ch[1]);
     free(w);
     return FM_OK;
 }

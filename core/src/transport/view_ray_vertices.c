@@ -97,9 +97,11 @@ int view_ray_vertices_init(view_ray_vertices *v, const path_context *ctx, vec3 o
     v->cdf[0] = 0.0;
     for (int j = 0; j < VIEW_RAY_CELLS; j++) {
         double length = (v->edge[j + 1] - v->edge[j]) / v->seg.t_end;
-        double p = total > 0.0 ? (1.0 - spread) * mass[j] / total + spread * length : length;
+        double p = length;
         if (total > 0.0 && total_lit > 0.0)
             p = (1.0 - spread) * ((1.0 - share) * mass[j] / total + share * lit[j] / total_lit) + spread * length;
+        else if (total > 0.0)
+            p = (1.0 - spread) * mass[j] / total + spread * length;
         v->cdf[j + 1] = v->cdf[j] + p;
     }
     return 1;
