@@ -112,10 +112,11 @@ static double luminance(const fm_sky *sky, const double *L)
  * radiance and its standard error. */
 static double multiple_scattering(const fm_sky *sky, const path_context *pc, vec3 d, int N, uint64_t item, double *se)
 {
-    double L[FM_MAX_WAVELENGTHS] = {0}, sum_y2 = 0.0;
-    twilight_node_paths(sky, pc, d, N, 17, item, 0, L, &sum_y2, NULL);
+    double L[FM_MAX_WAVELENGTHS] = {0};
+    node_moments m = {0};
+    twilight_node_paths(sky, pc, d, N, 17, item, 0, L, &m, NULL);
     double mean = luminance(sky, L) / N;
-    *se = sqrt(fmax(0.0, sum_y2 / N - mean * mean) / N);
+    *se = sqrt(fmax(0.0, m.yy / N - mean * mean) / N);
     return mean;
 }
 

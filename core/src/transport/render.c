@@ -76,6 +76,8 @@ typedef struct render_job {
     double *ms_y, *ms_var; /* per node of ms: the luminance estimate and its variance (sky_grid_fit) */
     double *ms_spectral;   /* per node of ms: the estimate at every grid wavelength, [node][K] */
     double *ms_shape;      /* per node of ms: its view ray's light_integral (twilight_node_paths) */
+    double *ms_ratio[2], *ms_ratio_var[2]; /* twilight, colour: per node of ms, X / Y and Z / Y and their
+                                            * variances (sky_grid_fit_chroma); else NULL */
 } render_job;
 
 /* Spectral radiance (K values) -> C image channels: XYZ (colour, C = 3), else the K values
@@ -172,14 +174,17 @@ static void ms_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         sky_grid_node_angles(&job->ms, (int)i, &e, &phi);
         vec3 d = view_direction(sky, e, phi);
         int offset = (int)(mix64(job->seed ^ (uint64_t)i) % (uint64_t)K);
-        double sum_y2 = 0.0, n = job->q.ms_paths;
-        twilight_node_paths(sky, &pc, d, job->q.ms_paths, job->seed, ITEM_MS_NODE + (uint64_t)i, offset, L, &sum_y2,
+        double n = job->q.ms_paths;
+        node_moments m = {0};
+        twilight_node_paths(sky, &pc, d, job->q.ms_paths, job->seed, ITEM_MS_NODE + (uint64_t)i, offset, L, &m,
                             &job->ms_shape[i]);
         for (int k = 0; k < K; k++)
             L[k] /= n;
         double y = spectral_grid_luminance(&sky->atm.grid, L);
         job->ms_y[i] = y;
-        job->ms_var[i] = n > 1.0 ? fmax(0.0, sum_y2 / n - y * y) / (n - 1.0) : 0.0;
+        job->ms_var[i] = n > 1.0 ? fmax(0.0, m.yy / n - y * y) / (n - 1.0) : 0.0;
+        for (int c = 0; c < 2 && job->ms_ratio[0]; c++)
+            node_moments_ratio(&m, 2 * c, &job->ms_ratio[c][i], &job->ms_ratio_var[c][i]);
         for (int k = 0; k < K; k++)
             job->ms_spectral[i * K + k] = L[k];
         to_channels(&sky->atm, job->channels, L, &job->ms.values[i * job->channels]);
@@ -675,6 +680,12 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
             s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the radiance tables");
             goto done;
         }
+        for (int c = 0; c < 2 && job.twilight && job.channels == 3; c++)
+            if (!(job.ms_ratio[c] = malloc((size_t)sky_grid_nodes(&job.ms) * sizeof(double))) ||
+                !(job.ms_ratio_var[c] = malloc((size_t)sky_grid_nodes(&job.ms) * sizeof(double)))) {
+                s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the radiance tables");
+                goto done;
+            }
         report(params, 0.0, "ground irradiance");
         path_context all = twilight_path_context(sky, job.twilight, 1, 0);
         /* The ground's diffuse light: every segment's sunlight along its length (sunlit_segment.h),
@@ -709,9 +720,13 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
             s = FM_ERR_OUT_OF_MEMORY;
         /* the table's noise averaged over many nodes where a smooth fit is expected to be closer to
          * the truth than the nodes themselves (sky_grid_fit.h); in deep twilight divided by the
-         * nodes' shapes first (0 otherwise, and then left out) */
-        if (!s && !(s = sky_grid_fit(&job.ms, asin(clamp_cosine(sky->sun_dir.z)), job.ms_y, job.ms_var, job.ms_shape,
-                                     NULL))) {
+         * nodes' shapes first (0 otherwise, and then left out); at twilight the colour then through
+         * its ratios to the luminance */
+        double sun_elevation = asin(clamp_cosine(sky->sun_dir.z));
+        if (!s && !(s = sky_grid_fit(&job.ms, sun_elevation, job.ms_y, job.ms_var, job.ms_shape, NULL)) &&
+            !(s = job.ms_ratio[0] ? sky_grid_fit_chroma(&job.ms, sun_elevation, (const double *const *)job.ms_ratio,
+                                                        (const double *const *)job.ms_ratio_var)
+                                  : FM_OK)) {
             sky_grid_average_poles(&job.ms);
             s = parallel_for(params->threads, H, 4, equirect ? fast_rows : fast_rows_camera, &job, params->cancel, &ppx);
         }
@@ -740,6 +755,10 @@ done:
     free(job.ms_var);
     free(job.ms_spectral);
     free(job.ms_shape);
+    for (int c = 0; c < 2; c++) {
+        free(job.ms_ratio[c]);
+        free(job.ms_ratio_var[c]);
+    }
     ground_irradiance_free(&job.ground);
     if (s) {
         fm_image_destroy(job.img);

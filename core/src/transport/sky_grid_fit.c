@@ -30,6 +30,7 @@ typedef double row_matrix[FIT_MAX][FIT_MAX]; /* [row][row] */
 /* One domain's data and scratch space. */
 typedef struct fit_work {
     int rows, cols;
+    int band; /* the rows are a band below the pole (the horizon's): the cosines need not vanish at the last */
     double cs[FIT_MAX][FIT_MAX]; /* cos(m phi_j) */
     double t[FIT_MAX];           /* trapezoid weights of the columns */
     double norm[FIT_MAX];        /* sum_j t_j cos^2(m phi_j) */
@@ -91,7 +92,8 @@ static double row_mean(const fit_work *w, const double *row)
  * sum of squared third differences over the rows (its null space the quadratics, so that a row's
  * curvature toward the horizon is not flattened: with second differences the unit test's field
  * kept a bias of 1.6% at its worst node, with third 0.9%), B = 1 or, for the azimuthal cosines, 1 - u
- * (they vanish at the pole, u = 1).  S[r][q] = b_r X[r][q], X = A^-1 diag(b omega).  0 if A is not
+ * (they vanish at the pole, u = 1; not in a band of rows below it).  Fewer than 4 rows have no
+ * third difference: each row then keeps its own coefficients.  S[r][q] = b_r X[r][q], X = A^-1 diag(b omega).  0 if A is not
  * positive definite. */
 static int build_smoother(fit_work *w, int azimuthal, double lambda, row_matrix S)
 {
@@ -99,7 +101,7 @@ static int build_smoother(fit_work *w, int azimuthal, double lambda, row_matrix 
     double b[FIT_MAX], x[FIT_MAX], e[FIT_MAX];
     row_matrix A = {{0}};
     for (int r = 0; r < R; r++) {
-        b[r] = azimuthal ? 1.0 - (double)r / (R - 1) : 1.0;
+        b[r] = azimuthal && !w->band ? 1.0 - (double)r / (R - 1) : 1.0;
         A[r][r] = b[r] * b[r] * w->omega[r];
     }
     for (int r = 0; r + 3 < R; r++) { /* (c_r - 3 c_r+1 + 3 c_r+2 - c_r+3)^2 */
@@ -402,21 +404,22 @@ static int rows_within_range(const fit_work *w, int *pass)
     return passing;
 }
 
-/* Fits the w->rows rows of g from first_row and writes the first `written` of them (each channel
- * is read whole before it is written); with shape (per node, > 0), the nodes divided by it and the
- * fit multiplied back. */
-static void fit_domain(fit_work *w, sky_grid *g, int first_row, int written, double sun_elevation, const double *y,
-                       const double *var, const double *shape, sky_grid_fit_choice *ch)
+/* Chooses the fit of the w->rows rows of g from first_row for the values y (per node, with their
+ * variances var; with shape, per node > 0, y divided by it): leaves the model in w->option, the fit
+ * of y in w->fit, the rows within range in pass, and returns the choice (azimuth_modes -1: the
+ * nodes stay raw). */
+static sky_grid_fit_choice choose_domain(fit_work *w, const sky_grid *g, int first_row, double sun_elevation,
+                                         const double *y, const double *var, const double *shape, int *pass)
 {
-    const int R = w->rows, C = w->cols, K = g->channels;
-    *ch = (sky_grid_fit_choice){-1, 0, 0.0, 0.0};
+    const int R = w->rows, C = w->cols;
+    sky_grid_fit_choice ch = {-1, 0, 0.0, 0.0};
     const vec3 sun = direction_from_elevation_azimuth(sun_elevation, 0.0); /* relative azimuth 0 */
     double a0_max = 0.0, a0[FIT_MAX];
     for (int r = 0; r < R; r++) {
         for (int j = 0; j < C; j++) {
             int i = (first_row + r) * C + j;
             if (!isfinite(y[i]) || !isfinite(var[i]))
-                return; /* no usable estimate */
+                return ch; /* no usable estimate */
             double s = shape ? shape[i] : 1.0;
             w->y[r][j] = y[i] / s;
             w->var[r][j] = var[i] / (s * s);
@@ -430,7 +433,7 @@ static void fit_domain(fit_work *w, sky_grid *g, int first_row, int written, dou
         a0_max = fmax(a0_max, fabs(a0[r]));
     }
     if (!(a0_max > 0.0))
-        return; /* no light (the ground seen from the ground) */
+        return ch; /* no light (the ground seen from the ground) */
     for (int r = 0; r < R; r++) {
         double level = fmax(fabs(a0[r]), 1e-3 * a0_max); /* relative error, bounded weights */
         w->omega[r] = 1.0 / (level * level);
@@ -439,8 +442,8 @@ static void fit_domain(fit_work *w, sky_grid *g, int first_row, int written, dou
     }
     for (int r = 0; r < R; r++)
         for (int j = 0; j < C; j++)
-            ch->risk_raw += w->weight[r][j] * w->var[r][j];
-    ch->risk_fit = ch->risk_raw;
+            ch.risk_raw += w->weight[r][j] * w->var[r][j];
+    ch.risk_fit = ch.risk_raw;
     for (int r = 0; r < R; r++) /* the variances of the cosines' row coefficients */
         for (int m = 0; m < C; m++) {
             double v = 0.0;
@@ -451,25 +454,35 @@ static void fit_domain(fit_work *w, sky_grid *g, int first_row, int written, dou
             w->coef_var[r][m] = v;
         }
     if (!build_bank(w))
-        return;
+        return ch;
     model best = choose(w);
-    if (!(best.risk < ch->risk_raw) || !fit_nodes(w, best.terms, w->y, NULL, NULL))
-        return;
-    int pass[FIT_MAX];
-    if (!rows_within_range(w, pass))
-        return;
+    if (!(best.risk < ch.risk_raw) || !fit_nodes(w, best.terms, w->y, NULL, NULL) || !rows_within_range(w, pass))
+        return ch;
     int highest = -1;
     for (int m = 0; m < C; m++)
         if (w->option[m] != DROPPED)
             highest = m;
-    *ch = (sky_grid_fit_choice){highest, best.terms, ch->risk_raw, best.risk};
+    return (sky_grid_fit_choice){highest, best.terms, ch.risk_raw, best.risk};
+}
+
+/* Fits the w->rows rows of g from first_row and writes the first `written` of them (each channel
+ * is read whole before it is written); with shape (per node, > 0), the nodes divided by it and the
+ * fit multiplied back. */
+static void fit_domain(fit_work *w, sky_grid *g, int first_row, int written, double sun_elevation, const double *y,
+                       const double *var, const double *shape, sky_grid_fit_choice *ch)
+{
+    const int R = w->rows, C = w->cols, K = g->channels;
+    int pass[FIT_MAX];
+    *ch = choose_domain(w, g, first_row, sun_elevation, y, var, shape, pass);
+    if (ch->azimuth_modes < 0)
+        return;
     for (int k = 0; k < K; k++) {
         for (int r = 0; r < R; r++)
             for (int j = 0; j < C; j++) {
                 int i = (first_row + r) * C + j;
                 w->in[r][j] = g->values[(size_t)i * K + k] / (shape ? shape[i] : 1.0);
             }
-        fit_nodes(w, best.terms, w->in, NULL, NULL);
+        fit_nodes(w, ch->aureole_terms, w->in, NULL, NULL);
         for (int r = 0; r < written; r++)
             for (int j = 0; j < C && pass[r]; j++) {
                 int i = (first_row + r) * C + j;
@@ -478,36 +491,37 @@ static void fit_domain(fit_work *w, sky_grid *g, int first_row, int written, dou
     }
 }
 
+/* The sky rows less than HORIZON_PLAIN_DEG above the horizon. */
+static int horizon_rows(const sky_grid *g)
+{
+    int rows = 0;
+    for (int r = 0; r < g->rows_sky; r++) {
+        double e, phi;
+        sky_grid_node_angles(g, r * g->cols, &e, &phi);
+        if (e - g->horizon_elevation < HORIZON_PLAIN_DEG * FM_DEG)
+            rows = r + 1;
+    }
+    return rows;
+}
+
 /* The sky rows fitted with a shape: from the first at least HORIZON_PLAIN_DEG above the horizon
  * (the rows below take the plain fit), or -1 when a node's shape is not positive. */
 static int first_shaped_row(const sky_grid *g, const double *shape)
 {
-    int first = 0;
-    for (int i = 0; i < g->rows_sky * g->cols; i++) {
+    for (int i = 0; i < g->rows_sky * g->cols; i++)
         if (!(shape[i] > 0.0 && isfinite(shape[i])))
             return -1;
-        double e, phi;
-        sky_grid_node_angles(g, i, &e, &phi);
-        if (e - g->horizon_elevation < HORIZON_PLAIN_DEG * FM_DEG)
-            first = i / g->cols + 1;
-    }
-    return first;
+    return horizon_rows(g);
 }
 
-fm_status sky_grid_fit(sky_grid *g, double sun_elevation, const double *y, const double *var_y,
-                       const double *shape, sky_grid_fit_choice choice[2])
+/* The columns' cosines and trapezoid weights; NULL when out of memory. */
+static fit_work *fit_work_new(int C)
 {
-    const int C = g->cols;
-    sky_grid_fit_choice own[2];
-    sky_grid_fit_choice *ch = choice ? choice : own;
-    ch[0] = ch[1] = (sky_grid_fit_choice){-1, 0, 0.0, 0.0};
-    if (C < 2 || C > FIT_MAX || g->rows_sky < 3 || g->rows_sky > FIT_MAX || g->rows_ground < 3 ||
-        g->rows_ground > FIT_MAX)
-        return FM_OK; /* beyond the fit's arrays: the raw nodes */
     fit_work *w = malloc(sizeof *w);
     if (!w)
-        return FM_ERR_OUT_OF_MEMORY;
+        return NULL;
     w->cols = C;
+    w->band = 0;
     for (int j = 0; j < C; j++)
         w->t[j] = j == 0 || j == C - 1 ? 0.5 : 1.0;
     for (int m = 0; m < C; m++) {
@@ -517,6 +531,28 @@ fm_status sky_grid_fit(sky_grid *g, double sun_elevation, const double *y, const
             w->norm[m] += w->t[j] * w->cs[m][j] * w->cs[m][j];
         }
     }
+    return w;
+}
+
+/* Whether the grid fits the fit's arrays. */
+static int fits_arrays(const sky_grid *g)
+{
+    return g->cols >= 2 && g->cols <= FIT_MAX && g->rows_sky >= 3 && g->rows_sky <= FIT_MAX && g->rows_ground >= 3 &&
+           g->rows_ground <= FIT_MAX;
+}
+
+fm_status sky_grid_fit(sky_grid *g, double sun_elevation, const double *y, const double *var_y,
+                       const double *shape, sky_grid_fit_choice choice[2])
+{
+    const int C = g->cols;
+    sky_grid_fit_choice own[2];
+    sky_grid_fit_choice *ch = choice ? choice : own;
+    ch[0] = ch[1] = (sky_grid_fit_choice){-1, 0, 0.0, 0.0};
+    if (!fits_arrays(g))
+        return FM_OK; /* beyond the fit's arrays: the raw nodes */
+    fit_work *w = fit_work_new(C);
+    if (!w)
+        return FM_ERR_OUT_OF_MEMORY;
     const int R = g->rows_sky, first = shape ? first_shaped_row(g, shape) : -1;
     if (first > 0 && R - first >= 3) {
         /* the horizon's rows from the plain fit of the whole sky, which writes only them, then the
@@ -532,6 +568,48 @@ fm_status sky_grid_fit(sky_grid *g, double sun_elevation, const double *y, const
     }
     w->rows = g->rows_ground;
     fit_domain(w, g, g->rows_sky, g->rows_ground, sun_elevation, y, var_y, NULL, &ch[1]);
+    free(w);
+    return FM_OK;
+}
+
+/* The chromatic ratio c (0: X / Y, 1: Z / Y) of the rows [first_row, first_row + w->rows): Y times
+ * its fit, where one is chosen. */
+static void fit_ratio(fit_work *w, sky_grid *g, int first_row, double sun_elevation, const double *ratio,
+                      const double *ratio_var, int c)
+{
+    int pass[FIT_MAX];
+    if (choose_domain(w, g, first_row, sun_elevation, ratio, ratio_var, NULL, pass).azimuth_modes < 0)
+        return;
+    for (int r = 0; r < w->rows; r++)
+        for (int j = 0; j < w->cols && pass[r]; j++) {
+            float *v = &g->values[(size_t)((first_row + r) * w->cols + j) * 3];
+            v[2 * c] = (float)fmax(0.0, w->fit[r][j] * v[1]);
+        }
+}
+
+fm_status sky_grid_fit_chroma(sky_grid *g, double sun_elevation, const double *const ratio[2],
+                              const double *const ratio_var[2])
+{
+    if (g->channels != 3 || !fits_arrays(g))
+        return FM_OK;
+    fit_work *w = fit_work_new(g->cols);
+    if (!w)
+        return FM_ERR_OUT_OF_MEMORY;
+    const int horizon = horizon_rows(g);
+    for (int c = 0; c < 2; c++) {
+        /* the horizon's band on its own (it alone holds the sharp change of colour at the horizon,
+         * which fitted through the rows above biased them), the sky above it, the ground */
+        w->band = 1;
+        w->rows = horizon;
+        if (horizon > 0)
+            fit_ratio(w, g, 0, sun_elevation, ratio[c], ratio_var[c], c);
+        w->band = 0;
+        w->rows = g->rows_sky - horizon;
+        if (w->rows >= 3)
+            fit_ratio(w, g, horizon, sun_elevation, ratio[c], ratio_var[c], c);
+        w->rows = g->rows_ground;
+        fit_ratio(w, g, g->rows_sky, sun_elevation, ratio[c], ratio_var[c], c);
+    }
     free(w);
     return FM_OK;
 }

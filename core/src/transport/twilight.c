@@ -70,7 +70,7 @@ path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *t
 }
 
 void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
-                         uint64_t item, int offset, double *L, double *sum_y2, double *shape)
+                         uint64_t item, int offset, double *L, node_moments *m, double *shape)
 {
     const int K = sky->atm.grid.count;
     /* First vertices stratified along the view ray (view_ray_vertices.h), by day too: against delta
@@ -88,15 +88,42 @@ void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int 
     for (int p = 0; p < paths; p++) {
         rng r = rng_for_qmc(seed, item, (uint64_t)p, (uint64_t)paths);
         rng_use_scramble(&r, &scramble);
-        double own[FM_MAX_WAVELENGTHS] = {0}, *Lp = sum_y2 ? own : L;
+        double own[FM_MAX_WAVELENGTHS] = {0}, *Lp = m ? own : L;
         double weight[FM_MAX_WAVELENGTHS];
         vec3 x = view_ray_vertex(&v, pc, (p + rng_uniform(&r)) / paths, weight);
         path_trace_from(pc, x, d, weight, (p + offset) % K, &r, Lp);
-        if (sum_y2) {
+        if (m) {
             for (int k = 0; k < K; k++)
                 L[k] += own[k];
             double y = spectral_grid_luminance(&sky->atm.grid, own);
-            *sum_y2 += y * y;
+            m->yy += y * y;
+            if (sky->atm.grid.colour) {
+                double xyz[3], *batch = m->batch_xyz[(int)((int64_t)p * NODE_BATCHES / paths)];
+                spectral_grid_to_xyz(&sky->atm.grid, own, xyz);
+                for (int c = 0; c < 3; c++)
+                    batch[c] += xyz[c];
+            }
         }
     }
+}
+
+void node_moments_ratio(const node_moments *m, int c, double *ratio, double *var)
+{
+    double total[3] = {0.0, 0.0, 0.0}, deleted[NODE_BATCHES], mean = 0.0;
+    for (int b = 0; b < NODE_BATCHES; b++)
+        for (int q = 0; q < 3; q++)
+            total[q] += m->batch_xyz[b][q];
+    *ratio = *var = NAN;
+    for (int b = 0; b < NODE_BATCHES; b++) {
+        double y = total[1] - m->batch_xyz[b][1];
+        if (!(y > 0.0))
+            return;
+        deleted[b] = (total[c] - m->batch_xyz[b][c]) / y;
+        mean += deleted[b] / NODE_BATCHES;
+    }
+    double sum2 = 0.0;
+    for (int b = 0; b < NODE_BATCHES; b++)
+        sum2 += (deleted[b] - mean) * (deleted[b] - mean);
+    *ratio = total[c] / total[1];
+    *var = sum2 * (NODE_BATCHES - 1.0) / NODE_BATCHES;
 }

@@ -34,11 +34,23 @@ path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *t
 /* The fast path's estimate of orders >= 2 toward d at one table node: adds the sum of `paths` path
  * estimates (K values) to L, their first vertices stratified along the view ray
  * (view_ray_vertices.h) and, with twilight sampling (pc carries a guide), the guide's directions
- * after them.  sum_y2, if not NULL, receives the sum over paths of the squared
- * luminance-weighted estimate (CIE Y, or the one value of a monochromatic sky), for a standard
- * error; shape, if not NULL, the view ray's light_integral (view_ray_vertices.h: > 0 in deep
+ * after them.  m, if not NULL, receives their moments (node_moments), for standard errors; shape, if not NULL, the view ray's light_integral (view_ray_vertices.h: > 0 in deep
  * twilight, else 0). */
+#define NODE_BATCHES 16
+
+/* What the standard errors of a node's estimate need: the sum over its paths of the squared
+ * luminance (CIE Y, or the one value of a monochromatic sky), and, for colour skies, the sums of
+ * CIE X, Y, Z over each of NODE_BATCHES batches of consecutive paths (0 for monochromatic skies). */
+typedef struct node_moments {
+    double yy;
+    double batch_xyz[NODE_BATCHES][3];
+} node_moments;
+
 void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
-                         uint64_t item, int offset, double *L, double *sum_y2, double *shape);
+                         uint64_t item, int offset, double *L, node_moments *m, double *shape);
+
+/* The node's ratio of means X / Y (c = 0) or Z / Y (c = 2) and its variance by the jackknife over
+ * the batches (deleting one at a time); NAN for both when a batch's deletion leaves no light. */
+void node_moments_ratio(const node_moments *m, int c, double *ratio, double *var);
 
 #endif
