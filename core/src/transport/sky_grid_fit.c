@@ -21,8 +21,9 @@ static const double aureole_width_deg[AUREOLE_TERMS] = {3.0, 8.0, 20.0};
 /* Rows whose fitted luminance falls below this share of their mean somewhere keep their nodes. */
 #define ROW_RANGE 0.15
 
-/* With a shape, the sky's rows less than this far above the horizon take the plain fit (sky_grid_fit.h). */
-#define HORIZON_PLAIN_DEG 0.8
+/* The sky's rows less than this far above the horizon are fitted as a band of their own, across the
+ * azimuth only (sky_grid_fit.h). */
+#define HORIZON_BAND_DEG 1.5
 
 typedef double node_array[FIT_MAX][FIT_MAX]; /* [row][column] of one domain */
 typedef double row_matrix[FIT_MAX][FIT_MAX]; /* [row][row] */
@@ -491,21 +492,21 @@ static void fit_domain(fit_work *w, sky_grid *g, int first_row, int written, dou
     }
 }
 
-/* The sky rows less than HORIZON_PLAIN_DEG above the horizon. */
+/* The sky rows less than HORIZON_BAND_DEG above the horizon. */
 static int horizon_rows(const sky_grid *g)
 {
     int rows = 0;
     for (int r = 0; r < g->rows_sky; r++) {
         double e, phi;
         sky_grid_node_angles(g, r * g->cols, &e, &phi);
-        if (e - g->horizon_elevation < HORIZON_PLAIN_DEG * FM_DEG)
+        if (e - g->horizon_elevation < HORIZON_BAND_DEG * FM_DEG)
             rows = r + 1;
     }
     return rows;
 }
 
-/* The sky rows fitted with a shape: from the first at least HORIZON_PLAIN_DEG above the horizon
- * (the rows below take the plain fit), or -1 when a node's shape is not positive. */
+/* The first sky row above the horizon's band (horizon_rows), or -1 when a node's shape is not
+ * positive. */
 static int first_shaped_row(const sky_grid *g, const double *shape)
 {
     for (int i = 0; i < g->rows_sky * g->cols; i++)
@@ -555,11 +556,12 @@ fm_status sky_grid_fit(sky_grid *g, double sun_elevation, const double *y, const
         return FM_ERR_OUT_OF_MEMORY;
     const int R = g->rows_sky, first = shape ? first_shaped_row(g, shape) : -1;
     if (first > 0 && R - first >= 3) {
-        /* the horizon's rows from the plain fit of the whole sky, which writes only them, then the
-         * rest, still raw, through the shape */
-        sky_grid_fit_choice plain;
-        w->rows = R;
-        fit_domain(w, g, 0, first, sun_elevation, y, var_y, NULL, &plain);
+        /* the horizon's band on its own, then the rows above it, both through the shape */
+        sky_grid_fit_choice band;
+        w->band = 1;
+        w->rows = first;
+        fit_domain(w, g, 0, first, sun_elevation, y, var_y, shape, &band);
+        w->band = 0;
         w->rows = R - first;
         fit_domain(w, g, first, R - first, sun_elevation, y, var_y, shape, &ch[0]);
     } else {

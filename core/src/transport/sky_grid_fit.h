@@ -39,14 +39,20 @@
  * where the nodes span 23 (rural, sun -18; -10: 4.8 and 13), so every row passes the range check
  * and the fit averages many more nodes (sun -18, twelve seeds, the rows fitted: nodes
  * of 11-21% relative noise come out at 4-13%, against 6-24% fitted as they are).  The rows within
- * 0.8 degrees of the horizon (final quality: 0 and 0.25 degrees, preview 0 and 0.74) take the
- * plain fit of the whole sky instead (raw where their range is too wide): the ratio doubles there
- * (the shape leaves out the higher orders, which weigh most in the dense air that those rays alone
- * cross), and fitting through that knee biased the next rows by 4-6%.  Without them, the fit's
- * mean over twelve seeds stays within 1.3% of the raw nodes' mean in every block of rows and
- * columns, sun -8 to -18 (at the twilight arch's peak, 5-12 degrees up toward the sun, 0.7-1.2%
- * low); the preview's coarser rows leave more (sun -14: the row 3 degrees up toward the sun 4.8%
- * high, the next two 3% low), against a noise that the shape takes from 8.1 to 6.5%. */
+ * 1.5 degrees of the horizon (final quality: 0, 0.25 and 1 degree, preview 0 and 0.74) are fitted
+ * through the shape as a band of their own, across the azimuth only (a row's cosines kept as they
+ * are, only the highest dropped): the ratio doubles there (the shape leaves out the higher orders,
+ * which weigh most in the dense air that those rays alone cross), and fitting through that knee
+ * biased the rows above.  Sun -18, 24 seeds, the fit's mean against the raw nodes' mean in blocks
+ * of rows x columns, worst block: rows 1-4 degrees up, 36-60 degrees from the sun, +7.9% (z 6.5)
+ * when the rows within 0.8 degrees took the plain fit of the whole sky and the rest the shaped
+ * fit, +1.8% with the band; the band's rows 0.5-4.5% either way (z up to 3.3), against the
+ * noise of 38% (69% before) at the horizon away from the sun and 10-22% elsewhere in the band.
+ * Over twelve seeds the fit's mean stays within 1.3% of the raw nodes' mean in every block of
+ * rows x thirds of the azimuth, sun -8 to -18 (at the twilight arch's peak, 5-12 degrees up toward
+ * the sun, 0.7-1.2% low); the preview's coarser rows leave more (sun -14: the row 3 degrees up
+ * toward the sun 4.8% high, the next two 3% low), against a noise that the shape takes from 8.1 to
+ * 6.5%. */
 #ifndef FM_TRANSPORT_SKY_GRID_FIT_H
 #define FM_TRANSPORT_SKY_GRID_FIT_H
 
@@ -73,9 +79,8 @@ fm_status sky_grid_fit(sky_grid *g, double sun_elevation, const double *y, const
 
 /* Colour at twilight.  A colour table (3 channels, CIE XYZ) fitted by sky_grid_fit keeps its Y; X
  * and Z become Y times a fit of the nodes' own ratios X / Y and Z / Y (ratio[0], ratio[1], per
- * node, with their variances), each chosen as above, for the horizon's rows (those within 0.8
- * degrees: fitted across the azimuth only, a row at a time), the sky above them and the ground
- * separately.  One fit for X, Y and Z averages the colour as little as the luminance, while the
+ * node, with their variances), each chosen as above, for the horizon's band (above), the sky above
+ * it and the ground separately.  One fit for X, Y and Z averages the colour as little as the luminance, while the
  * ratios vary more slowly and are less noisy, since a path's X, Y and Z move together: rural sun
  * -18, one node's X / Y is 4-7% noisy (10% at the horizon) where its Y is 16-40%.  Yet the colour
  * of a twilight map, whose R = 3.24 X - 1.54 Y - 0.50 Z is a small difference of large terms, is
