@@ -95,14 +95,14 @@ void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int 
         if (m) {
             for (int k = 0; k < K; k++)
                 L[k] += own[k];
-            double y = spectral_grid_luminance(&sky->atm.grid, own);
-            m->yy += y * y;
+            double xyz[3] = {0.0, own[0], 0.0}; /* Y: the luminance, or a monochromatic sky's value */
             if (sky->atm.grid.colour) {
-                double xyz[3], *batch = m->batch_xyz[(int)((int64_t)p * NODE_BATCHES / paths)];
+                double *batch = m->batch_xyz[(int)((int64_t)p * NODE_BATCHES / paths)];
                 spectral_grid_to_xyz(&sky->atm.grid, own, xyz);
                 for (int c = 0; c < 3; c++)
                     batch[c] += xyz[c];
             }
+            m->yy += xyz[1] * xyz[1];
         }
     }
 }
