@@ -94,8 +94,8 @@ static double row_mean(const fit_work *w, const double *row)
  * curvature toward the horizon is not flattened: with second differences the unit test's field
  * kept a bias of 1.6% at its worst node, with third 0.9%), B = 1 or, for the azimuthal cosines, 1 - u
  * (they vanish at the pole, u = 1; not in a band of rows below it).  Fewer than 4 rows have no
- * third difference: each row then keeps its own coefficients.  S[r][q] = b_r X[r][q], X = A^-1 diag(b omega).  0 if A is not
- * positive definite. */
+ * third difference: each row then keeps its own coefficients.  S[r][q] = b_r X[r][q],
+ * X = A^-1 diag(b omega).  0 if A is not positive definite. */
 static int build_smoother(fit_work *w, int azimuthal, double lambda, row_matrix S)
 {
     const int R = w->rows;
@@ -466,10 +466,9 @@ static sky_grid_fit_choice choose_domain(fit_work *w, const sky_grid *g, int fir
     return (sky_grid_fit_choice){highest, best.terms, ch.risk_raw, best.risk};
 }
 
-/* Fits the w->rows rows of g from first_row and writes the first `written` of them (each channel
- * is read whole before it is written); with shape (per node, > 0), the nodes divided by it and the
- * fit multiplied back. */
-static void fit_domain(fit_work *w, sky_grid *g, int first_row, int written, double sun_elevation, const double *y,
+/* Fits the w->rows rows of g from first_row; with shape (per node, > 0), the nodes divided by it and
+ * the fit multiplied back. */
+static void fit_domain(fit_work *w, sky_grid *g, int first_row, double sun_elevation, const double *y,
                        const double *var, const double *shape, sky_grid_fit_choice *ch)
 {
     const int R = w->rows, C = w->cols, K = g->channels;
@@ -484,7 +483,7 @@ static void fit_domain(fit_work *w, sky_grid *g, int first_row, int written, dou
                 w->in[r][j] = g->values[(size_t)i * K + k] / (shape ? shape[i] : 1.0);
             }
         fit_nodes(w, ch->aureole_terms, w->in, NULL, NULL);
-        for (int r = 0; r < written; r++)
+        for (int r = 0; r < R; r++)
             for (int j = 0; j < C && pass[r]; j++) {
                 int i = (first_row + r) * C + j;
                 g->values[(size_t)i * K + k] = (float)fmax(0.0, w->fit[r][j] * (shape ? shape[i] : 1.0));
@@ -560,16 +559,16 @@ fm_status sky_grid_fit(sky_grid *g, double sun_elevation, const double *y, const
         sky_grid_fit_choice band;
         w->band = 1;
         w->rows = first;
-        fit_domain(w, g, 0, first, sun_elevation, y, var_y, shape, &band);
+        fit_domain(w, g, 0, sun_elevation, y, var_y, shape, &band);
         w->band = 0;
         w->rows = R - first;
-        fit_domain(w, g, first, R - first, sun_elevation, y, var_y, shape, &ch[0]);
+        fit_domain(w, g, first, sun_elevation, y, var_y, shape, &ch[0]);
     } else {
         w->rows = R;
-        fit_domain(w, g, 0, R, sun_elevation, y, var_y, first == 0 ? shape : NULL, &ch[0]);
+        fit_domain(w, g, 0, sun_elevation, y, var_y, first == 0 ? shape : NULL, &ch[0]);
     }
     w->rows = g->rows_ground;
-    fit_domain(w, g, g->rows_sky, g->rows_ground, sun_elevation, y, var_y, NULL, &ch[1]);
+    fit_domain(w, g, g->rows_sky, sun_elevation, y, var_y, NULL, &ch[1]);
     free(w);
     return FM_OK;
 }
