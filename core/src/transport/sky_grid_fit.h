@@ -71,20 +71,21 @@ typedef struct sky_grid_fit_choice {
  * (row-major, sky rows first) the luminance estimate and its variance; sun_elevation (rad) places
  * the aureole terms (the relative azimuth 0 is the sun's).  shape, if not NULL and positive at
  * every sky node, is the sky's shape (above); otherwise it is left out.  Values are kept >= 0.
- * choice, if not NULL, receives the sky's [0] (with a shape, that of the rows fitted through it)
- * and the ground's [1] choice.  A grid beyond 64 rows per domain or 64 columns keeps its nodes.
+ * choice, if not NULL, receives the sky's [0] (with a shape, that of the rows above the horizon's
+ * band) and the ground's [1] choice.  A grid beyond 64 rows per domain or 64 columns keeps its nodes.
  * Returns FM_OK or FM_ERR_OUT_OF_MEMORY. */
 fm_status sky_grid_fit(sky_grid *g, double sun_elevation, const double *y, const double *var_y,
                        const double *shape, sky_grid_fit_choice choice[2]);
 
 /* Colour at twilight.  A colour table (3 channels, CIE XYZ) fitted by sky_grid_fit keeps its Y; X
  * and Z become Y times a fit of the nodes' own ratios X / Y and Z / Y (ratio[0], ratio[1], per
- * node, with their variances), each chosen as above, for the horizon's band (above), the sky above
- * it and the ground separately.  One fit for X, Y and Z averages the colour as little as the luminance, while the
- * ratios vary more slowly and are less noisy, since a path's X, Y and Z move together: rural sun
- * -18, one node's X / Y is 4-7% noisy (10% at the horizon) where its Y is 16-40%.  Yet the colour
- * of a twilight map, whose R = 3.24 X - 1.54 Y - 0.50 Z is a small difference of large terms, is
- * noisier than its luminance (R / G 13% at sun -18, against 5%).  The ratios' variances come from
+ * node, with their variances), each chosen as above, for the horizon's band (above), the sky
+ * above it and the ground separately.  One fit for X, Y and Z averages the colour as little as the
+ * luminance, while the ratios vary more slowly and are less noisy, since a path's X, Y and Z move
+ * together: rural sun -18, one node's X / Y is 4-7% noisy (10% at the horizon) where its Y is
+ * 16-40%.  Yet the colour of a twilight map, whose R = 3.24 X - 1.54 Y - 0.50 Z is a small
+ * difference of large terms, was noisier than its luminance (one map's R / G 13.3% at sun -18,
+ * against 5%; with the ratios' fit 7.6%; B / G 5.7 -> 3.5%).  The ratios' variances come from
  * the jackknife over batches of a node's paths: to first order (the delta method) they came out 1.3
  * to 2.2 times too small at sun -18, which let the fit keep every cosine.  A node's ratio of means
  * is biased by its covariance with Y, at -18 below 0.3% of the ratio above the horizon's rows.
