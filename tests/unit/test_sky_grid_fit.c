@@ -349,6 +349,7 @@ static void colour_fitted_through_ratios(void **state)
     assert_int_equal(sky_grid_init(&g, -1e-4, ROWS_SKY, ROWS_GROUND, COLS, CHANNELS, 0), FM_OK);
     static double ratio[2][NODES], var[2][NODES], mean_error[2][NODES], mean_square[2][NODES];
     static float y_before[NODES];
+    const double *const ratios[2] = {ratio[0], ratio[1]}, *const variances[2] = {var[0], var[1]};
     const int tables = 100;
     double raw2 = 0.0, fit2 = 0.0;
     for (int t = 0; t < tables; t++) {
@@ -364,9 +365,7 @@ static void colour_fitted_through_ratios(void **state)
                 raw2 += (ratio[c][i] / truth - 1.0) * (ratio[c][i] / truth - 1.0);
             }
         }
-        assert_int_equal(sky_grid_fit_chroma(&g, SUN, (const double *const[2]){ratio[0], ratio[1]},
-                                             (const double *const[2]){var[0], var[1]}),
-                         FM_OK);
+        assert_int_equal(sky_grid_fit_chroma(&g, SUN, ratios, variances), FM_OK);
         for (int i = 0; i < NODES; i++) {
             assert_true(g.values[i * CHANNELS + 1] == y_before[i]);
             for (int c = 0; c < 2; c++) {
@@ -397,9 +396,7 @@ static void colour_fitted_through_ratios(void **state)
     ratio[1][ROWS_SKY * COLS + 5] = NAN;
     static float before[NODES * CHANNELS];
     copy_values(&g, before, NODES * CHANNELS);
-    assert_int_equal(sky_grid_fit_chroma(&g, SUN, (const double *const[2]){ratio[0], ratio[1]},
-                                         (const double *const[2]){var[0], var[1]}),
-                     FM_OK);
+    assert_int_equal(sky_grid_fit_chroma(&g, SUN, ratios, variances), FM_OK);
     for (int i = ROWS_SKY * COLS * CHANNELS; i < NODES * CHANNELS; i += CHANNELS)
         assert_true(g.values[i + 2] == before[i + 2]);
     sky_grid_free(&g);
@@ -408,9 +405,7 @@ static void colour_fitted_through_ratios(void **state)
     assert_int_equal(sky_grid_init(&g, -1e-4, ROWS_SKY, ROWS_GROUND, COLS, 1, 0), FM_OK);
     for (int i = 0; i < NODES; i++)
         g.values[i] = before[i] = (float)field(&g, i);
-    assert_int_equal(sky_grid_fit_chroma(&g, SUN, (const double *const[2]){ratio[0], ratio[1]},
-                                         (const double *const[2]){var[0], var[1]}),
-                     FM_OK);
+    assert_int_equal(sky_grid_fit_chroma(&g, SUN, ratios, variances), FM_OK);
     check_unchanged(&g, before, NODES);
     sky_grid_free(&g);
 }

@@ -31,11 +31,6 @@ twilight_sampling *twilight_sampling_create(const fm_sky *sky, int guide_offsets
 /* sky_path_context with, when tw is not NULL, the twilight sampling. */
 path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *tw, int min_order, int max_order);
 
-/* The fast path's estimate of orders >= 2 toward d at one table node: adds the sum of `paths` path
- * estimates (K values) to L, their first vertices stratified along the view ray
- * (view_ray_vertices.h) and, with twilight sampling (pc carries a guide), the guide's directions
- * after them.  m, if not NULL, receives their moments (node_moments), for standard errors; shape, if not NULL, the view ray's light_integral (view_ray_vertices.h: > 0 in deep
- * twilight, else 0). */
 #define NODE_BATCHES 16
 
 /* What the standard errors of a node's estimate need: the sum over its paths of the squared
@@ -46,6 +41,11 @@ typedef struct node_moments {
     double batch_xyz[NODE_BATCHES][3];
 } node_moments;
 
+/* The fast path's estimate of orders >= 2 toward d at one table node: adds the sum of `paths` path
+ * estimates (K values) to L, their first vertices stratified along the view ray
+ * (view_ray_vertices.h) and, with twilight sampling (pc carries a guide), the guide's directions
+ * after them.  m, if not NULL, receives their moments, for standard errors; shape, if not NULL,
+ * the view ray's light_integral (view_ray_vertices.h: > 0 in deep twilight, else 0). */
 void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
                          uint64_t item, int offset, double *L, node_moments *m, double *shape);
 
