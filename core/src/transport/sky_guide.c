@@ -117,14 +117,16 @@ int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int
     g->levels = 0;
     g->offsets = offsets < 1 ? 1 : (offsets > SKY_GUIDE_MAX_OFFSETS ? SKY_GUIDE_MAX_OFFSETS : offsets);
     g->sun0 = asin(clamp_cosine(v3_dot(observer, single->sun_dir) / r0));
+    g->bottom_radius = atm->bottom_radius_m;
+    g->align_horizons = 1;
     for (int o = 0; o < g->offsets; o++)
         for (int i = 0; i < SKY_GUIDE_ALTITUDES && r0 + level_km[i] * FM_KM < atm->top_radius_m; i++) {
             sky_guide_level *l = &g->level[g->levels++];
             l->radius = r0 + level_km[i] * FM_KM;
             l->offset = o;
-            double eh = -acos(fmin(1.0, atm->bottom_radius_m / l->radius));
+            l->horizon = -acos(fmin(1.0, atm->bottom_radius_m / l->radius));
             for (int j = 0; j <= SKY_GUIDE_ROWS; j++)
-                l->edge_sin[j] = sin(row_elevation(j, eh));
+                l->edge_sin[j] = sin(row_elevation(j, l->horizon));
         }
     build_job job = {g, single, sun_frame_at(observer, single->sun_dir), 0, flights};
     if (parallel_for(threads, (int64_t)g->levels * SKY_GUIDE_ROWS, 1, build_rows, &job, NULL, NULL) ||
@@ -158,6 +160,20 @@ static const sky_guide_level *level_for(const sky_guide *g, vec3 x, vec3 sun_dir
     return &g->level[best];
 }
 
+/* The elevation (rad) of the horizon of a vertex at radius r, as the level's sky is laid over it
+ * (sky_guide.h: lined up with the level's, unless align_horizons is 0). */
+static double vertex_horizon(const sky_guide *g, const sky_guide_level *l, double r)
+{
+    return g->align_horizons ? -acos(fmin(1.0, g->bottom_radius / r)) : l->horizon;
+}
+
+/* The slope d(e_level) / de of the map from the elevations of a vertex whose horizon is at eh to the
+ * level's, linear between the horizons and the zenith (above) or the nadir. */
+static double level_slope(const sky_guide_level *l, double eh, int above)
+{
+    return above ? (0.5 * FM_PI - l->horizon) / (0.5 * FM_PI - eh) : (0.5 * FM_PI + l->horizon) / (0.5 * FM_PI + eh);
+}
+
 vec3 sky_guide_sample(const sky_guide *g, vec3 x, vec3 sun_dir, double u1, double u2, double u3)
 {
     const sky_guide_level *l = level_for(g, x, sun_dir);
@@ -168,22 +184,29 @@ vec3 sky_guide_sample(const sky_guide *g, vec3 x, vec3 sun_dir, double u1, doubl
     while (c > 0 && !(l->cdf_col[i][c + 1] > l->cdf_col[i][c]))
         c--;
     double v = (u2 - l->cdf_col[i][c]) / (l->cdf_col[i][c + 1] - l->cdf_col[i][c]);
-    double sin_e = l->edge_sin[i] + (l->edge_sin[i + 1] - l->edge_sin[i]) * u3;
+    double sin_level = l->edge_sin[i] + (l->edge_sin[i + 1] - l->edge_sin[i]) * u3;
     double phi = 2.0 * FM_PI * (c + fmin(fmax(v, 0.0), 1.0)) / SKY_GUIDE_COLS;
+    double e_level = asin(clamp_cosine(sin_level)), eh = vertex_horizon(g, l, v3_length(x));
+    double slope = level_slope(l, eh, e_level >= l->horizon);
+    double e = fmin(fmax(eh + (e_level - l->horizon) / slope, -0.5 * FM_PI), 0.5 * FM_PI);
     sun_frame f = sun_frame_at(x, sun_dir);
-    return sun_frame_direction(&f, sin_e, phi);
+    return sun_frame_direction(&f, sin(e), phi);
 }
 
 double sky_guide_pdf(const sky_guide *g, vec3 x, vec3 sun_dir, vec3 d)
 {
     const sky_guide_level *l = level_for(g, x, sun_dir);
     sun_frame f = sun_frame_at(x, sun_dir);
-    double sin_e = clamp_cosine(v3_dot(d, f.up));
+    double e = asin(clamp_cosine(v3_dot(d, f.up))), eh = vertex_horizon(g, l, v3_length(x));
     double phi = atan2(v3_dot(d, f.side), v3_dot(d, f.sun_h));
     if (phi < 0.0)
         phi += 2.0 * FM_PI;
-    int i = find_bin(l->edge_sin, SKY_GUIDE_ROWS, sin_e);
+    double slope = level_slope(l, eh, e >= eh);
+    double e_level = l->horizon + (e - eh) * slope;
+    /* per steradian of the vertex's sky: d(sin e_level) / d(sin e) */
+    double cos_e = cos(e), jacobian = cos_e > 1e-9 ? cos(e_level) * slope / cos_e : slope * slope;
+    int i = find_bin(l->edge_sin, SKY_GUIDE_ROWS, sin(e_level));
     int c = (int)(phi / (2.0 * FM_PI) * SKY_GUIDE_COLS);
     c = c < 0 ? 0 : (c >= SKY_GUIDE_COLS ? SKY_GUIDE_COLS - 1 : c);
-    return l->pdf[i][c];
+    return l->pdf[i][c] * jacobian;
 }
