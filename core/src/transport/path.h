@@ -80,6 +80,9 @@ typedef struct path_context {
     /* With shadow_flights: the share of a table node's first vertices placed along the view ray by
      * scattering x transmittance x the light there (view_ray_vertices.h); 0 by day. */
     double first_vertex_light_share;
+    /* With shadow_flights: paths whose weight has grown far past 1 are split into copies that share
+     * it (path.c); 0 leaves them whole. */
+    int split_heavy_paths;
 } path_context;
 
 /* Adds one path's radiance estimate (W m^-2 sr^-1 nm^-1, per grid wavelength) to L. */

@@ -60,6 +60,7 @@ path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *t
         pc.sky_guide = &tw->guide;
         pc.shadow_flights = tw->deep ? &tw->flights : NULL;
         pc.light_led_roulette = tw->deep;
+        pc.split_heavy_paths = tw->deep;
         pc.first_vertex_light_share = tw->deep ? FIRST_VERTEX_LIGHT_SHARE : 0.0;
         pc.sky_guide_fraction = SKY_GUIDE_FRACTION;
         /* every segment along its length: with guided directions of small weight, a point estimate
