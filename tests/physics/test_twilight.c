@@ -353,8 +353,9 @@ static void light_led_roulette_matches_the_plain_one(void **state)
  * light of order 2, sky_guide.h) against the same renderer with a guide of single scattering alone,
  * in the three directions above.  Within four combined standard errors in each (a density changes
  * only the noise; one whose pdf disagreed with its samples would move the mean), and the noise per
- * path lower in the three together (these streams, with the guide's horizons lined up and the
- * light-led roulette's floor: 24.3 for single scattering alone, 4.3 with the order 2; with the
+ * path lower in the three together (these streams, with heavy paths split: 6.00 for single
+ * scattering alone, 3.56 with the order 2; with the guide's horizons lined up and the light-led
+ * roulette's floor, before the splitting: 24.3 and 4.3; with the
  * first vertices led by the light, before those two, 21.7 and 7.4; before that change 14.1 and
  * 5.6, and four other sets 8.5-10.0 and 5.6-7.4). */
 static void order2_guide_matches_single_scattering_guide(void **state)
@@ -448,8 +449,8 @@ static void guide_density_matches_its_samples(void **state)
 /* Sun 18 degrees down, rural: orders >= 2 with the sky guide's levels laid over a vertex's sky with
  * the horizons lined up (sky_guide.h, as rendered) against by elevation alone, in the three
  * directions above: within four combined standard errors in each, and less noise per path in the
- * three together (these streams: 5.89 by elevation, 3.81 lined up; before the light-led
- * roulette's floor (path.c) 5.84 / 4.00, and five other sets 5.13 / 5.78, 5.37 / 5.00, 4.64 /
+ * three together (these streams: 5.44 by elevation, 3.71 lined up; before the split of heavy
+ * paths (path.c) 5.89 / 3.81, before the light-led roulette's floor 5.84 / 4.00, and five other sets 5.13 / 5.78, 5.37 / 5.00, 4.64 /
  * 4.27, 12.3 / 4.92 and 4.95 / 3.90: the tail that the alignment cuts is rare paths of great
  * weight, which one set of 40000 may or may not meet). */
 static void aligned_guide_matches_unaligned(void **state)
