@@ -205,16 +205,6 @@ static int ground_direction(const path_context *ctx, vec3 normal, int h, rng *r,
     return 1;
 }
 
-/* Deep twilight's roulette (path_context.light_led_roulette): a guided flight that lands where the
- * light is bright has a small weight, sigma_s T / pdf with the pdf proportional to that light
- * (shadow_flight.h), and a roulette on the weight alone ended most such paths and multiplied the
- * survivors' weight up to 50 or 200 times: at sun -18 the largest path estimates, up to 6000 times
- * a node's mean, were of that kind, and a single map was 8% darker than the mean of many.  So the
- * roulette plays at the new vertex, on the weight times the light there relative to the
- * light at the path's first point (orders 1 and 2 there: in the shadow, single scattering alone
- * is 3700 times too dark), never below the plain roulette's.  Rural, 128 x 64 final, six seeds, the
- * sky's relative standard deviation of one map (CPU time for the six): sun -10 2.75 -> 2.04%
- * (55 -> 85 s), -14 8.9 -> 4.5% (47 -> 80 s), -18 20.5 -> 13.8% (38 -> 69 s). */
 /* The light-led roulette keeps at least a tenth of the paths at each vertex.  The light at a vertex
  * in the shadow says little of what its path will find: a path that began high up in the light
  * (first vertices follow it, view_ray_vertices.h), with a small weight, and then flew into the
@@ -225,6 +215,16 @@ static int ground_direction(const path_context *ctx, vec3 normal, int h, rng *r,
  * -10 1.26 -> 1.25%, in the same time (a floor of 0.3: -18 3.26 / 3.28% in 4% more). */
 #define LIGHT_LED_MIN_SURVIVAL 0.1
 
+/* Deep twilight's roulette (path_context.light_led_roulette): a guided flight that lands where the
+ * light is bright has a small weight, sigma_s T / pdf with the pdf proportional to that light
+ * (shadow_flight.h), and a roulette on the weight alone ended most such paths and multiplied the
+ * survivors' weight up to 50 or 200 times: at sun -18 the largest path estimates, up to 6000 times
+ * a node's mean, were of that kind, and a single map was 8% darker than the mean of many.  So the
+ * roulette plays at the new vertex, on the weight times the light there relative to the
+ * light at the path's first point (orders 1 and 2 there: in the shadow, single scattering alone
+ * is 3700 times too dark), never below the plain roulette's.  Rural, 128 x 64 final, six seeds, the
+ * sky's relative standard deviation of one map (CPU time for the six): sun -10 2.75 -> 2.04%
+ * (55 -> 85 s), -14 8.9 -> 4.5% (47 -> 80 s), -18 20.5 -> 13.8% (38 -> 69 s). */
 static double light_lift(const path_context *ctx, vec3 x, double start_light)
 {
     if (!(start_light > 0.0))

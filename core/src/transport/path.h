@@ -23,8 +23,9 @@
  * expected value along it (sunlit_segment.h) and no point estimate at that interaction; Russian
  * roulette plays after that.  At twilight a third direction technique, the sky guide
  * (sky_guide.h), joins the MIS; in deep twilight the next interaction along a segment is placed
- * toward the light instead of by delta tracking (shadow_flight.h), and the roulette spares the
- * paths that have reached brighter air than they started in.
+ * toward the light instead of by delta tracking (shadow_flight.h), the roulette spares the paths
+ * that have reached brighter air than they started in, and a path whose weight has grown heavy is
+ * split into copies that share it.
  *
  * Orders: the order of a contribution is the number of interactions (air scattering or ground
  * reflection) on the path, including the vertex where the sun is connected.  Contributions outside

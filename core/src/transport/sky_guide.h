@@ -30,7 +30,8 @@
  * the sun.  So elevations are stretched linearly from the vertex's horizon to the level's, between
  * the horizon and the zenith and between the nadir and the horizon (rural, 256 x 128 final, twelve
  * seeds, the relative SD of one map: sun -18 4.75 -> 3.53% (seeds 13-24 4.93 -> 3.72%), -14
- * 2.73 -> 2.01%, -10 1.32 -> 1.26%, -4 0.68 -> 0.67%, in the same time). */
+ * 2.73 -> 2.01%, -10 1.32 -> 1.26%, -4 0.68 -> 0.67%; a 1024 x 512 final map at -18 5.80 ->
+ * 5.95 s). */
 #ifndef FM_TRANSPORT_SKY_GUIDE_H
 #define FM_TRANSPORT_SKY_GUIDE_H
 
