@@ -54,6 +54,15 @@ static double average(const double *q, int K)
     return s / K;
 }
 
+/* The largest of a path's spectral weights q_k w_k (times W / average(q), its scale). */
+static double largest_weight(const double *q, const double *w, int K)
+{
+    double m = 0.0;
+    for (int k = 0; k < K; k++)
+        m = larger(m, q[k] * w[k]);
+    return m;
+}
+
 /* Russian roulette on the largest spectral weight; returns 0 if the path dies.  Paths play only once
  * their weight falls below FM_ROULETTE_THRESHOLD, and survivors are raised to that weight, not to 1:
  * a path sent into an unlikely direction by the sun guide (weight << 1) would otherwise come back
@@ -66,10 +75,7 @@ static double average(const double *q, int K)
 static int roulette(double *W, const double *q, const double *w, int K, int order, double lift, double min_survive,
                     rng *r)
 {
-    double avg = average(q, K), m = 0.0;
-    for (int k = 0; k < K; k++)
-        m = larger(m, q[k] * w[k]);
-    m *= *W / avg * lift;
+    double m = largest_weight(q, w, K) * (*W / average(q, K) * lift);
     double survive = fmin(m / FM_ROULETTE_THRESHOLD, order > 8 ? 0.95 : 1.0);
     survive = survive > min_survive ? survive : min_survive;
     if (survive >= 1.0)
@@ -261,10 +267,7 @@ typedef struct path_resume {
 /* How many copies a path of weight W q w (as roulette weighs it) splits into: 1 for none. */
 static int split_copies(double W, const double *q, const double *w, int K, int splits_left)
 {
-    double avg = average(q, K), m = 0.0;
-    for (int k = 0; k < K; k++)
-        m = larger(m, q[k] * w[k]);
-    m *= W / avg;
+    double m = largest_weight(q, w, K) * (W / average(q, K));
     if (!(m > SPLIT_WEIGHT) || splits_left <= 0)
         return 1;
     int copies = m < SPLIT_COPIES * SPLIT_WEIGHT ? (int)ceil(m / SPLIT_WEIGHT) : SPLIT_COPIES;
