@@ -189,6 +189,16 @@ PY
     python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["sun"]["elevation_deg"] == 12 and d["sun"]["azimuth_deg"] == 100 and d["solar_position"]["used_for"] == "earth_sun_distance" and d["parameters"]["refraction"] == "off", d' "$work/out/given.json" &&
     ok || fail "--sun-elevation overrides --time"
 
+# deep twilight's final maps take more paths per multiple-scattering node (render.c: 1x at sun -11
+# deg, 4x at -18), the preview its own; the sidecar and the EXR say how many (2048 x 1/64 = 32)
+for c in "-18 final 128" "-14.5 final 80" "-8 final 32" "-18 preview 8"; do
+    set -- $c
+    "$FM" render --width 16 --quality "$2" --sun-elevation "$1" --sample-scale 0.015625 --progress none -o "$work/out/tw.exr" &&
+        python3 -c 'import json,sys; p=json.load(open(sys.argv[1]))["parameters"]; assert p["paths_per_node"] == int(sys.argv[2]), p' \
+            "$work/out/tw.json" "$3" && "$FM" info "$work/out/tw.exr" | grep -q "paths_per_node (int): $3\$" &&
+        ok || fail "paths per node at sun $1, $2 quality: $(grep paths_per_node "$work/out/tw.json")"
+done
+
 # a time series: numbered maps and sidecars, each with its own time and sun; a night frame is reported
 rm -rf "$work/out" && mkdir -p "$work/out"
 "$FM" "${r[@]}" --date 2023-06-21 --utc-offset +02:00 --latitude 48.8566 --longitude 2.3522 --time-start 00:30 --time-end 12:30 \

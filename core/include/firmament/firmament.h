@@ -341,6 +341,9 @@ typedef struct fm_image {
                            * value, left in XYZ by fm_image_to_rec709; else NULL */
     fm_camera camera;     /* the camera that made it (read back from firmament's attributes; equirect
                            * for other files) */
+    int paths_per_node;   /* preview and final renders: the multiple-scattering table's paths per
+                           * node (the quality's, x the sample scale, more in deep twilight at final
+                           * quality); else 0 */
     /* FM_IMAGE_RGB only (set by fm_image_to_colorspace): the OpenColorIO colour space, its CIE xy
      * chromaticities R, G, B, W (XYZ spaces: R (1,0), G (0,1), B (0,0), W (1/3,1/3)) and the
      * matrix from its values to CIE XYZ (rows X, Y, Z). */

@@ -68,6 +68,7 @@ fm_status fm_image_spectral_to_xyz(const fm_image *s, fm_image **out, fm_error *
         integrate_plane(s, s->sun_disk, x->sun_disk, n);
     for (int c = 0; c < 3; c++)
         x->sun_direction[c] = s->sun_direction[c];
+    x->paths_per_node = s->paths_per_node;
     *out = x;
     return FM_OK;
 }

@@ -209,6 +209,8 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
     else
         add_string(m, "parameters", "seed", m->seed_text);
     add_double(m, "parameters", "sample_scale", params->sample_scale);
+    if (img->paths_per_node > 0)
+        add_int(m, "parameters", "paths_per_node", img->paths_per_node);
     add_string(m, "parameters", "biome", m->composition.biome);
     add_double(m, "parameters", "turbidity", sp->turbidity);
     if (sp->aod550 > 0.0)
