@@ -275,7 +275,7 @@ void options_print_usage(void)
           "                         (default: the sky's log-average luminance above the horizon -> 0.18)\n"
           "Quality:\n"
           "  --quality LEVEL        preview | final | reference (default final); final takes up to 4x\n"
-          "                         its paths in deep twilight (sun -11 to -18 deg and below)\n"
+          "                         its paths in deep twilight (sun -11 to -21 deg, most at -18)\n"
           "  --samples N            reference quality: paths per pixel (default 256; slow by design,\n"
           "                         about 3 us of one core per colour path)\n"
           "  --sample-scale X       multiply every sample count of the quality level, (0, 1024]\n"

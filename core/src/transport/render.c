@@ -41,20 +41,25 @@ quality_settings render_quality_settings(fm_quality quality, double scale)
 }
 
 /* Deep twilight's final maps: more paths per multiple-scattering node as the sun sinks, from 1 at
- * sun -11 degrees to 4 times at -18 and below (linear in between), since less and less of the sky's
- * light is found per path.  Rural, 256 x 128 final, the relative SD of one map over twelve seeds:
- * sun -12 1.27 -> 1.10%, -14 1.63 -> 1.11%, -18 2.51 -> 1.39% (R / G 5.57 -> 3.09%; the horizon's
- * first 2 degrees, the stretch that showed, 4.5-5.3 -> 2.1-3.2%); a 1024 x 512 final map at -18
- * 7.7 -> 29.6 s on two cores.  The preview keeps its paths: it is there to be quick. */
+ * sun -11 degrees to 4 times at -18 (linear in between), since less and less of the sky's light is
+ * found per path.  Rural, 256 x 128 final, the relative SD of one map over twelve seeds: sun -12
+ * 1.27 -> 1.10%, -14 1.63 -> 1.11%, -18 2.51 -> 1.39% (R / G 5.57 -> 3.09%; the horizon's first 2
+ * degrees, the stretch that showed, 4.5-5.3 -> 2.1-3.2%); a 1024 x 512 final map at -18 7.7 ->
+ * 29.6 s on two cores.  Below -18, night by definition (the scattered sunlight fainter than the
+ * night sky's own light, which is not modelled), back to 1 by -21: a night's time series need not
+ * spend 4 times on maps that tend to black.  The preview keeps its paths: it is there to be quick. */
 #define MORE_PATHS_FROM_DEG -11.0
 #define MORE_PATHS_FULL_DEG -18.0
+#define MORE_PATHS_UNTIL_DEG -21.0
 #define MORE_PATHS_MAX 4.0
 static double twilight_path_scale(fm_quality quality, double sun_elevation_deg)
 {
-    if (quality != FM_QUALITY_FINAL || !(sun_elevation_deg < MORE_PATHS_FROM_DEG))
+    const double e = sun_elevation_deg;
+    if (quality != FM_QUALITY_FINAL || !(e < MORE_PATHS_FROM_DEG && e > MORE_PATHS_UNTIL_DEG))
         return 1.0;
-    double f = (MORE_PATHS_FROM_DEG - sun_elevation_deg) / (MORE_PATHS_FROM_DEG - MORE_PATHS_FULL_DEG);
-    return 1.0 + (MORE_PATHS_MAX - 1.0) * fmin(f, 1.0);
+    double f = e > MORE_PATHS_FULL_DEG ? (MORE_PATHS_FROM_DEG - e) / (MORE_PATHS_FROM_DEG - MORE_PATHS_FULL_DEG)
+                                       : (e - MORE_PATHS_UNTIL_DEG) / (MORE_PATHS_FULL_DEG - MORE_PATHS_UNTIL_DEG);
+    return 1.0 + (MORE_PATHS_MAX - 1.0) * f;
 }
 
 /* Footprint samples per pixel and axis no denser than the tables need: three per node spacing of
