@@ -35,10 +35,6 @@ void medium_phase(const atmosphere *atm, const double *n, double cos_theta, doub
     }
 }
 
-/* fmax without its NaN rules, which keep the compiler from inlining it in the spectral loops (5% of
- * the multiple-scattering time as a call); the values here are never NaN. */
-static inline double larger(double a, double b) { return a > b ? a : b; }
-
 static vec3 rotate_direction(vec3 d, double cos_theta, double phi)
 {
     frame f = frame_from_normal(d);

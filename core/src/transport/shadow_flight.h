@@ -33,12 +33,14 @@ struct path_context;
 
 #define SHADOW_FLIGHT_LEVELS 20 /* altitudes, 0 to 100 km */
 #define SHADOW_FLIGHT_SUNS 26   /* local sun elevations, from the observer's up, 1 degree apart */
+#define SHADOW_FLIGHT_TOP_KM 100
 
 typedef struct shadow_flight_table {
     double bottom_radius;                                        /* m */
     double sun0, sun_step;                                       /* rad: column 0 is the observer's */
     double value[SHADOW_FLIGHT_LEVELS][SHADOW_FLIGHT_SUNS];      /* I, CIE Y-weighted (or the one value) */
     double ambient[SHADOW_FLIGHT_LEVELS]; /* I scattered once more, above the observer (below) */
+    unsigned char level_at_km[SHADOW_FLIGHT_TOP_KM + 1]; /* the level below each whole km, a first guess */
 } shadow_flight_table;
 
 /* Builds I from single_scatter_radiance with `single` (orders 1..1) at points above and toward the

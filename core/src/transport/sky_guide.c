@@ -185,10 +185,10 @@ vec3 sky_guide_sample(const sky_guide *g, vec3 x, vec3 sun_dir, double u1, doubl
         c--;
     double v = (u2 - l->cdf_col[i][c]) / (l->cdf_col[i][c + 1] - l->cdf_col[i][c]);
     double sin_level = l->edge_sin[i] + (l->edge_sin[i + 1] - l->edge_sin[i]) * u3;
-    double phi = 2.0 * FM_PI * (c + fmin(fmax(v, 0.0), 1.0)) / SKY_GUIDE_COLS;
+    double phi = 2.0 * FM_PI * (c + clamp_between(v, 0.0, 1.0)) / SKY_GUIDE_COLS;
     double e_level = asin(clamp_cosine(sin_level)), eh = vertex_horizon(g, l, v3_length(x));
     double slope = level_slope(l, eh, e_level >= l->horizon);
-    double e = fmin(fmax(eh + (e_level - l->horizon) / slope, -0.5 * FM_PI), 0.5 * FM_PI);
+    double e = clamp_between(eh + (e_level - l->horizon) / slope, -0.5 * FM_PI, 0.5 * FM_PI);
     sun_frame f = sun_frame_at(x, sun_dir);
     return sun_frame_direction(&f, sin(e), phi);
 }

@@ -119,7 +119,7 @@ vec3 view_ray_vertex(const view_ray_vertices *v, const path_context *ctx, double
             hi = mid - 1;
     }
     double p = (v->cdf[lo + 1] - v->cdf[lo]) / v->cdf[VIEW_RAY_CELLS];
-    double a = fmin(fmax((u - v->cdf[lo]) / (v->cdf[lo + 1] - v->cdf[lo]), 0.0), 1.0);
+    double a = clamp_between((u - v->cdf[lo]) / (v->cdf[lo + 1] - v->cdf[lo]), 0.0, 1.0);
     double length = v->edge[lo + 1] - v->edge[lo], t = v->edge[lo] + a * length;
     double col[FM_MAX_SPECIES];
     columns_to(v, ctx->atm, lo, t, col);
