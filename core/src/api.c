@@ -260,6 +260,7 @@ path_context sky_path_context(const fm_sky *sky, int min_order, int max_order)
         .sun = &sky->sun,
         .sun_table = &sky->sun_table,
         .columns = &sky->columns,
+        .mid_depth = &sky->mid_depth,
         .segment_sunlight = SEGMENT_SUNLIGHT_UMBRA,
         .sky_guide = NULL,
         .sky_guide_fraction = 0.0,
@@ -341,6 +342,7 @@ fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err
     sky->observer = v3(0.0, 0.0, sky->atm.bottom_radius_m + params->observer_altitude_m);
 
     if ((s = column_table_build(&sky->columns, &sky->atm, COLUMN_TABLE_R, COLUMN_TABLE_MU, params->threads, err)) ||
+        (s = depth_table_build(&sky->mid_depth, &sky->columns, &sky->atm, sky->atm.grid.count / 2, err)) ||
         (s = sun_irradiance_build(&sky->sun_table, &sky->atm, &sky->columns, &sky->sun, SUN_TABLE_R,
                                   SUN_TABLE_MU, err))) {
         fm_sky_destroy(sky);
@@ -355,6 +357,7 @@ void fm_sky_destroy(fm_sky *sky)
     if (!sky)
         return;
     sun_irradiance_free(&sky->sun_table);
+    depth_table_free(&sky->mid_depth);
     column_table_free(&sky->columns);
     atmosphere_free(&sky->atm);
     free(sky);

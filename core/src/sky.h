@@ -16,6 +16,7 @@ struct fm_sky {
     atmosphere atm;
     sun_disk sun;
     column_table columns;
+    depth_table mid_depth; /* the optical depth at the grid's middle wavelength (shadow_flight.c) */
     sun_irradiance sun_table;
     vec3 sun_dir;      /* toward the sun's centre; at the observer the Earth-centred frame is the map frame */
     vec3 observer;     /* Earth-centred position (0, 0, R + altitude) */

@@ -133,6 +133,36 @@ static void column_table_accuracy(void **state)
     check_abs(worst, 0.0, 2e-3, "column table: worst optical-depth error at 380 nm");
 }
 
+/* The one-wavelength depth table (the deep-twilight flights' density) is the column table's depth at
+ * its wavelength, node for node and so between nodes: up to float rounding of the stored depths,
+ * over directions down to below the horizon (where both refuse the ray). */
+static void depth_table_is_the_columns_depth(void **state)
+{
+    const atmosphere *a = &sky->atm;
+    const depth_table *d = &sky->mid_depth;
+    assert_int_equal(d->k, a->grid.count / 2);
+    rng r = rng_for(4, 5, 6);
+    double worst = 0.0;
+    int compared = 0;
+    for (int i = 0; i < 20000; i++) {
+        double rr = a->bottom_radius_m + 100000.0 * pow(rng_uniform(&r), 2.0);
+        double mh = horizon_mu(a, rr), mu = mh - 0.05 + (1.05 - mh) * rng_uniform(&r);
+        double col[FM_MAX_SPECIES], depth = -1.0;
+        int has_col = column_table_lookup(&sky->columns, a, rr, mu, col);
+        int has_depth = depth_table_lookup(d, a, rr, mu, &depth);
+        assert_int_equal(has_col, has_depth);
+        if (!has_col)
+            continue;
+        double tau = atmosphere_optical_depth(a, col, d->k);
+        worst = fmax(worst, fabs(depth - tau) / fmax(tau, 1e-3));
+        compared++;
+    }
+    print_message("depth table against the columns' depth at %.0f nm: %d rays, worst %.2e\n", a->grid.lambda_nm[d->k],
+                  compared, worst);
+    assert_true(compared > 15000);
+    check_abs(worst, 0.0, 1e-6, "depth table: worst relative difference from the columns' depth");
+}
+
 static void sun_table_accuracy(void **state)
 {
     const atmosphere *a = &sky->atm;
@@ -365,6 +395,7 @@ int main(void)
         cmocka_unit_test(closed_form_matches_fine_quadrature),
         cmocka_unit_test(quadrature_breaks_at_layer_edges),
         cmocka_unit_test(column_table_accuracy),
+        cmocka_unit_test(depth_table_is_the_columns_depth),
         cmocka_unit_test(sun_table_accuracy),
         cmocka_unit_test(sun_table_builds_what_it_reads),
         cmocka_unit_test(majorants_bound_the_medium),

@@ -314,26 +314,71 @@ void column_table_free(column_table *table)
     table_rows_free(&table->rows);
 }
 
-int column_table_lookup(const column_table *table, const atmosphere *atm, double r, double mu, double *columns)
+/* The table's cell of (r, mu): its first node (i_r n_mu + i_mu) and the bilinear weights tr, tm of
+ * the next row and direction; 0 if the ray hits the ground. */
+static int table_cell(const column_table *table, const atmosphere *atm, double r, double mu, size_t *node,
+                      double *tr, double *tm)
 {
     if (ray_hits_ground(atm, r, mu))
         return 0;
     r = clamp_between(r, atm->bottom_radius_m, atm->top_radius_m);
     double rb = atm->bottom_radius_m, H = table->rows.horizon_m;
-    double rho = safe_sqrt(r * r - rb * rb), tr; /* one sqrt for both coordinates */
-    int ir = table_rows_locate_x(&table->rows, rho / H, &tr);
+    double rho = safe_sqrt(r * r - rb * rb); /* one sqrt for both coordinates */
+    int ir = table_rows_locate_x(&table->rows, rho / H, tr);
     double xmu = table_xmu(atm, H, r, rho, mu);
     double fm = clamp_between(xmu, 0.0, 1.0) * (table->n_mu - 1);
     int im = (int)fm;
     if (im > table->n_mu - 2)
         im = table->n_mu - 2;
-    double tm = fm - im;
+    *tm = fm - im;
+    *node = (size_t)ir * table->n_mu + im;
+    return 1;
+}
+
+int column_table_lookup(const column_table *table, const atmosphere *atm, double r, double mu, double *columns)
+{
+    size_t node;
+    double tr, tm;
+    if (!table_cell(table, atm, r, mu, &node, &tr, &tm))
+        return 0;
     const int S = table->species;
-    const float *c00 = &table->columns[((size_t)ir * table->n_mu + im) * S];
+    const float *c00 = &table->columns[node * S];
     const float *c01 = c00 + S;
     const float *c10 = c00 + (size_t)table->n_mu * S;
     const float *c11 = c10 + S;
     for (int c = 0; c < S; c++)
         columns[c] = (1 - tr) * ((1 - tm) * c00[c] + tm * c01[c]) + tr * ((1 - tm) * c10[c] + tm * c11[c]);
+    return 1;
+}
+
+fm_status depth_table_build(depth_table *t, const column_table *columns, const atmosphere *atm, int k, fm_error *err)
+{
+    size_t n = (size_t)columns->rows.count * (size_t)columns->n_mu;
+    *t = (depth_table){.grid = columns, .k = k, .depth = malloc(sizeof(float) * n)};
+    if (!t->depth)
+        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the transmittance table");
+    for (size_t i = 0; i < n; i++) {
+        double col[FM_MAX_SPECIES];
+        for (int c = 0; c < columns->species; c++)
+            col[c] = columns->columns[i * columns->species + c];
+        t->depth[i] = (float)atmosphere_optical_depth(atm, col, k);
+    }
+    return FM_OK;
+}
+
+void depth_table_free(depth_table *t)
+{
+    free(t->depth);
+    t->depth = NULL;
+}
+
+int depth_table_lookup(const depth_table *t, const atmosphere *atm, double r, double mu, double *depth)
+{
+    size_t node;
+    double tr, tm;
+    if (!table_cell(t->grid, atm, r, mu, &node, &tr, &tm))
+        return 0;
+    const float *d0 = &t->depth[node], *d1 = d0 + t->grid->n_mu;
+    *depth = (1 - tr) * ((1 - tm) * d0[0] + tm * d0[1]) + tr * ((1 - tm) * d1[0] + tm * d1[1]);
     return 1;
 }

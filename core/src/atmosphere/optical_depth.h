@@ -57,4 +57,21 @@ void column_table_free(column_table *table);
 /* Columns from (r, mu) to the top; returns 0 (and leaves columns unset) if the ray hits the ground. */
 int column_table_lookup(const column_table *table, const atmosphere *atm, double r, double mu, double *columns);
 
+/* One wavelength's optical depth to the top (sum over species of sigma_t(k) x column) on a column
+ * table's nodes, bilinear the same way: 1 / species of its memory.  The deep-twilight flights'
+ * density (shadow_flight.c) needs no more than that at 25 points per segment, and the whole table
+ * (rural: 137 rows x 512 directions x 5 species, 1.4 MB) let its lookups miss the cache: a fifth of a
+ * deep-twilight render went to them; with this table (280 kB) a 1024 x 512 final map at sun -18
+ * took 29.3 -> 26.9 s, as noisy as before (rural 256 x 128, twelve seeds: 2.51%, 2.52%). */
+typedef struct depth_table {
+    const column_table *grid; /* its rows and directions */
+    int k;                    /* the wavelength's index */
+    float *depth;             /* [i_r][i_mu] */
+} depth_table;
+
+fm_status depth_table_build(depth_table *t, const column_table *columns, const atmosphere *atm, int k, fm_error *err);
+void depth_table_free(depth_table *t); /* accepts a zeroed table */
+/* The depth from (r, mu) to the top; returns 0 (and leaves depth unset) if the ray hits the ground. */
+int depth_table_lookup(const depth_table *t, const atmosphere *atm, double r, double mu, double *depth);
+
 #endif

@@ -51,6 +51,7 @@ typedef struct path_context {
     const sun_disk *sun;
     const sun_irradiance *sun_table;
     const column_table *columns; /* species columns to the top (transmittance along segments) */
+    const depth_table *mid_depth; /* the middle wavelength's optical depth to the top (shadow_flight.c) */
     vec3 sun_dir;       /* unit vector toward the sun's centre (Earth-centred frame) */
     int min_order, max_order;
     int force_escapes;  /* force collisions on segments that would leave through the top */

@@ -99,31 +99,31 @@ double shadow_flight_light(const shadow_flight_table *t, double r, double mu_s)
  * and -18, twelve seeds each: 3.54 / 7.21% at 48, 3.54 / 7.28% at 16). */
 #define ORDER2_POINTS 16
 
-/* sigma_s T at wavelength k at radius r, T from a segment's origin through the columns col: the light
- * scattered there out of a unit beam from the origin. */
-static double scattered_here(const atmosphere *atm, double r, const double *col, int k)
+/* sigma_s T at the middle wavelength (the depth table's) at distance t along the segment of sd, T
+ * from the segment's origin: the light scattered there out of a unit beam from the origin. */
+static double scattered_here(const segment_depth *sd, double t)
 {
+    const atmosphere *atm = sd->ctx->atm;
+    const int k = sd->ctx->mid_depth->k;
     double n[FM_MAX_SPECIES], sigma = 0.0;
-    atmosphere_densities(atm, r, n);
+    atmosphere_densities(atm, ray_segment_radius(sd->seg, t), n);
     for (int c = 0; c < atm->scattering_count; c++)
         sigma += atm->species[c].sigma_s[k] * n[c];
-    return sigma * exp(-atmosphere_optical_depth(atm, col, k));
+    return sigma * exp(-segment_depth_at(sd, t));
 }
 
-/* sigma_s T I at one wavelength, integrated along seg from its origin (trapezoids on `points` + 1
- * points crowded at the origin, where a low point's air is densest). */
-static double light_along(const shadow_flight_table *t, const path_context *single, const ray_segment *seg, int kp,
+/* sigma_s T I at the middle wavelength, integrated along seg from its origin (trapezoids on `points`
+ * + 1 points crowded at the origin, where a low point's air is densest). */
+static double light_along(const shadow_flight_table *t, const path_context *single, const ray_segment *seg,
                           int points)
 {
-    const atmosphere *atm = single->atm;
-    segment_columns sc;
-    segment_columns_init(&sc, single, seg);
-    double col[FM_MAX_SPECIES], prev = 0.0, t_prev = 0.0, sum = 0.0;
+    segment_depth sd;
+    segment_depth_init(&sd, single, seg);
+    double prev = 0.0, t_prev = 0.0, sum = 0.0;
     for (int j = 0; j <= points; j++) {
         double v = (double)j / points, tj = seg->t_end * v * v, rad = ray_segment_radius(seg, tj);
         vec3 x = v3_madd(seg->origin, seg->dir, tj);
-        segment_columns_at(&sc, tj, col);
-        double g = scattered_here(atm, rad, col, kp) * shadow_flight_light(t, rad, v3_dot(x, single->sun_dir) / rad);
+        double g = scattered_here(&sd, tj) * shadow_flight_light(t, rad, v3_dot(x, single->sun_dir) / rad);
         if (j > 0)
             sum += 0.5 * (g + prev) * (tj - t_prev);
         prev = g;
@@ -138,7 +138,7 @@ double shadow_flight_order2(const shadow_flight_table *t, const path_context *si
     ray_segment_init(&seg, single->atm, origin, dir);
     if (!(seg.t_end > 0.0))
         return 0.0;
-    return light_along(t, single, &seg, single->atm->grid.count / 2, ORDER2_POINTS);
+    return light_along(t, single, &seg, ORDER2_POINTS);
 }
 
 /* t->ambient from t->value (shadow_flight_table): one level per work item. */
@@ -146,7 +146,6 @@ static void build_ambient(void *ctx, int64_t begin, int64_t end, int thread)
 {
     build_job *job = ctx;
     shadow_flight_table *t = job->t;
-    const int kp = job->single->atm->grid.count / 2;
     for (int64_t i = begin; i < end; i++) {
         double radius = fmin(t->bottom_radius + level_km[i] * FM_KM, job->top);
         vec3 position = sun_frame_toward_sun(&job->observer, 0.0, radius);
@@ -159,7 +158,7 @@ static void build_ambient(void *ctx, int64_t begin, int64_t end, int thread)
                 ray_segment seg;
                 ray_segment_init(&seg, job->single->atm, position,
                                  sun_frame_direction(&f, sin(e), FM_PI * (c + 0.5) / HALF_COLS));
-                sum += 2.0 * light_along(t, job->single, &seg, kp, AMBIENT_POINTS) * omega;
+                sum += 2.0 * light_along(t, job->single, &seg, AMBIENT_POINTS) * omega;
             }
         }
         t->ambient[i] = sum / (4.0 * FM_PI);
@@ -227,16 +226,15 @@ int shadow_flight(const path_context *ctx, const shadow_flight_table *table, con
                   double *w, double *t_out)
 {
     const atmosphere *atm = ctx->atm;
-    const int K = atm->grid.count, kp = K / 2; /* the density's wavelength, the same for every hero */
-    segment_columns sc;
-    segment_columns_init(&sc, ctx, seg);
+    const int K = atm->grid.count; /* the density at the middle wavelength, the same for every hero */
+    segment_depth sd;
+    segment_depth_init(&sd, ctx, seg);
     double t[CELLS + 1], guided[CELLS + 1], physical[CELLS + 1], col[FM_MAX_SPECIES], n[FM_MAX_SPECIES];
     cell_ends(seg, t);
     for (int j = 0; j <= CELLS; j++) {
         double rad = ray_segment_radius(seg, t[j]);
         vec3 x = v3_madd(seg->origin, seg->dir, t[j]);
-        segment_columns_at(&sc, t[j], col);
-        physical[j] = scattered_here(atm, rad, col, kp);
+        physical[j] = scattered_here(&sd, t[j]);
         guided[j] = physical[j] * shadow_flight_light(table, rad, v3_dot(x, ctx->sun_dir) / rad);
     }
     double mass_g[CELLS], mass_p[CELLS], sum_g = 0.0, sum_p = 0.0;
@@ -255,12 +253,15 @@ int shadow_flight(const path_context *ctx, const shadow_flight_table *table, con
             p = 1.0 / CELLS;
         cdf[j + 1] = cdf[j] + (1.0 - FLOOR) * p + FLOOR / CELLS;
     }
+    /* the exact weights from the columns of every species (segment_columns) */
+    segment_columns sc;
+    segment_columns_init(&sc, ctx, seg);
     double p_ground = 0.0;
     if (seg->hits_ground) {
-        segment_columns_at(&sc, seg->t_end, col);
-        p_ground = clamp_between(exp(-atmosphere_optical_depth(atm, col, kp)), GROUND_MIN, GROUND_MAX);
+        p_ground = clamp_between(exp(-segment_depth_at(&sd, seg->t_end)), GROUND_MIN, GROUND_MAX);
         if (rng_uniform(r) < p_ground) {
             double tr[FM_MAX_WAVELENGTHS];
+            segment_columns_at(&sc, seg->t_end, col);
             atmosphere_transmittances(atm, col, tr);
             for (int k = 0; k < K; k++)
                 w[k] *= tr[k] / p_ground;

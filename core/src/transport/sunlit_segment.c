@@ -94,6 +94,31 @@ void segment_columns_at(const segment_columns *sc, double t, double *col)
     column_quadrature(atm, r0, seg->s0 / r0, t, col);
 }
 
+void segment_depth_init(segment_depth *sd, const path_context *ctx, const ray_segment *seg)
+{
+    sd->ctx = ctx;
+    sd->seg = seg;
+    sd->reversed = seg->hits_ground;
+    double r0 = v3_length(seg->origin), mu0 = seg->s0 / r0;
+    sd->ok = depth_table_lookup(ctx->mid_depth, ctx->atm, r0, sd->reversed ? -mu0 : mu0, &sd->start);
+}
+
+double segment_depth_at(const segment_depth *sd, double t)
+{
+    const atmosphere *atm = sd->ctx->atm;
+    const ray_segment *seg = sd->seg;
+    if (t == 0.0)
+        return 0.0;
+    double rad = ray_segment_radius(seg, t), mu = (t + seg->s0) / rad, here;
+    if (sd->ok && depth_table_lookup(sd->ctx->mid_depth, atm, rad, sd->reversed ? -mu : mu, &here)) {
+        double d = sd->reversed ? here - sd->start : sd->start - here;
+        return d > 0.0 ? d : 0.0;
+    }
+    double r0 = v3_length(seg->origin), col[FM_MAX_SPECIES]; /* grazing the ground: as segment_columns_at */
+    column_quadrature(atm, r0, seg->s0 / r0, t, col);
+    return atmosphere_optical_depth(atm, col, sd->ctx->mid_depth->k);
+}
+
 /* Position along the segment of the sunlit length l (the umbra [u0, u1] skipped). */
 static double lit_to_t(double l, double u0, double u1) { return l < u0 ? l : l + (u1 - u0); }
 

@@ -39,6 +39,18 @@ typedef struct segment_columns {
 void segment_columns_init(segment_columns *sc, const path_context *ctx, const ray_segment *seg);
 void segment_columns_at(const segment_columns *sc, double t, double *col);
 
+/* The same for the optical depth at the middle wavelength alone (path_context.mid_depth), from its
+ * one-wavelength table: what the deep-twilight flights' density needs (shadow_flight.c). */
+typedef struct segment_depth {
+    const path_context *ctx;
+    const ray_segment *seg;
+    int reversed, ok;
+    double start; /* from the origin to the top, along the segment or (reversed) against it */
+} segment_depth;
+
+void segment_depth_init(segment_depth *sd, const path_context *ctx, const ray_segment *seg);
+double segment_depth_at(const segment_depth *sd, double t);
+
 /* The part [*t0, *t1] of [0, seg->t_end] inside the Earth's umbra; 0 when the segment does not
  * enter it (or only grazes it).  The interval may be a little shorter than the true one, never
  * longer: both ends are checked against the sun table's own shadow test. */
