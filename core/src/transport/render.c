@@ -26,12 +26,12 @@ quality_settings render_quality_settings(fm_quality quality, double scale)
     quality_settings q;
     switch (quality) {
     case FM_QUALITY_PREVIEW:
-        q = (quality_settings){64, 32, 48, 12, 8, 12, 512, 4096, 2, 64, 4, 24, 32, 1};
+        q = (quality_settings){64, 32, 48, 12, 8, 12, 512, 4096, 2, 64, 3, 24, 32, 1};
         break;
     case FM_QUALITY_REFERENCE:
     case FM_QUALITY_FINAL:
     default:
-        q = (quality_settings){128, 64, 96, 20, 12, 16, 2048, 16384, 3, 256, 6, 32, 32, SKY_GUIDE_MAX_OFFSETS};
+        q = (quality_settings){128, 64, 96, 20, 12, 16, 2048, 16384, 3, 256, 3, 32, 32, SKY_GUIDE_MAX_OFFSETS};
         break;
     }
     q.ms_paths = (int)fmax(1.0, round(q.ms_paths * scale));
