@@ -142,6 +142,7 @@ static void sobol_table_matches_hashed_scramble(void **state)
                 for (int d = 0; d < FM_SOBOL_DIMS; d++)
                     assert_true(sobol_owen_tabulated(&table, i, d) ==
                                 sobol_owen(i, d, seed * 0x9E3779B97F4A7C15ull, levels));
+            sobol_scramble_free(&table);
         }
     sobol_scramble_init(&table, rng_qmc_seed(3, 4), sobol_levels(64));
     rng r = rng_for_qmc(3, 4, 5, 64), hashed = rng_for_qmc(3, 4, 5, 64);
@@ -149,6 +150,7 @@ static void sobol_table_matches_hashed_scramble(void **state)
     assert_non_null(r.qmc_table);
     for (int d = 0; d < FM_SOBOL_DIMS + 2; d++)
         assert_true(rng_uniform(&r) == rng_uniform(&hashed));
+    sobol_scramble_free(&table);
     sobol_scramble_init(&table, 7, FM_SOBOL_TABLE_LEVELS + 1);
     assert_int_equal(table.levels, 0);
     rng big = rng_for_qmc(3, 4, 5, 1u << (FM_SOBOL_TABLE_LEVELS + 1));

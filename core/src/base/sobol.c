@@ -3,6 +3,7 @@
 #include "base/rng.h"
 
 #include <pthread.h>
+#include <stdlib.h>
 
 /* Joe & Kuo (2008), new-joe-kuo-6.21201, dimensions 2 to 16 (the first is the van der Corput
  * sequence): degree s of the primitive polynomial, its inner coefficients a, initial numbers m. */
@@ -114,27 +115,44 @@ double sobol_owen(uint32_t index, int dim, uint64_t seed, int levels)
 
 void sobol_scramble_init(sobol_scramble *s, uint64_t seed, int levels)
 {
-    s->levels = levels <= FM_SOBOL_TABLE_LEVELS ? levels : 0;
-    for (int d = 0; d < FM_SOBOL_DIMS; d++) {
-        s->key[d] = dimension_key(seed, d);
-        for (int w = 0; w < (1 << FM_SOBOL_TABLE_LEVELS) / 64; w++)
-            s->flips[d][w] = 0;
-        for (int level = 0; level < s->levels; level++)
-            for (uint32_t prefix = 0; prefix < 1u << level; prefix++) {
-                uint32_t node = 1u << level | prefix;
-                s->flips[d][node >> 6] |= (uint64_t)node_flip(s->key[d], level, prefix) << (node & 63);
-            }
+    *s = (sobol_scramble){0};
+    if (levels < 1 || levels > FM_SOBOL_TABLE_LEVELS)
+        return;
+    const uint32_t points = 1u << levels;
+    /* scrambled[1 << l | p]: the scrambled digits of the prefix p of l digits (node of the tree) */
+    uint32_t *scrambled = malloc(sizeof(uint32_t) * 2 * points);
+    s->value = malloc(sizeof(double) * points * FM_SOBOL_DIMS);
+    if (!scrambled || !s->value) {
+        free(scrambled);
+        free(s->value);
+        s->value = NULL;
+        return;
     }
+    pthread_once(&once, build_direction_numbers);
+    for (int d = 0; d < FM_SOBOL_DIMS; d++) {
+        uint64_t key = dimension_key(seed, d);
+        scrambled[1] = 0;
+        for (int level = 0; level < levels; level++)
+            for (uint32_t prefix = 0; prefix < 1u << level; prefix++) {
+                uint32_t node = 1u << level | prefix, flip = node_flip(key, level, prefix);
+                for (uint32_t digit = 0; digit < 2; digit++)
+                    scrambled[2 * node + digit] = scrambled[node] << 1 | (digit ^ flip);
+            }
+        /* the points in Gray-code order g = i ^ (i >> 1): each coordinate one XOR from the last */
+        uint32_t x = 0;
+        for (uint32_t i = 0; i < points; i++) {
+            if (i)
+                x ^= V[d][__builtin_ctz(i)];
+            uint32_t g = i ^ (i >> 1), y = scrambled[points | x >> (32 - levels)] << (32 - levels);
+            s->value[(size_t)g * FM_SOBOL_DIMS + (size_t)d] = with_low_digits(y, levels, key);
+        }
+    }
+    free(scrambled);
+    s->levels = levels;
 }
 
-double sobol_owen_tabulated(const sobol_scramble *s, uint32_t index, int dim)
+void sobol_scramble_free(sobol_scramble *s)
 {
-    const uint64_t *flips = s->flips[dim];
-    uint32_t x = sobol_u32(index, dim), y = 0;
-    for (int level = 0; level < s->levels; level++) {
-        uint32_t node = 1u << level | (level ? x >> (32 - level) : 0u);
-        uint32_t flip = (uint32_t)(flips[node >> 6] >> (node & 63)) & 1u;
-        y |= (((x >> (31 - level)) & 1u) ^ flip) << (31 - level);
-    }
-    return with_low_digits(y, s->levels, s->key[dim]);
+    free(s->value);
+    *s = (sobol_scramble){0};
 }

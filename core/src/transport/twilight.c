@@ -106,6 +106,7 @@ void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int 
             m->yy += xyz[1] * xyz[1];
         }
     }
+    sobol_scramble_free(&scramble);
 }
 
 void node_moments_ratio(const node_moments *m, int c, double *ratio, double *var)
