@@ -138,7 +138,7 @@ static void sobol_table_matches_hashed_scramble(void **state)
         for (uint64_t seed = 1; seed < 4; seed++) {
             sobol_scramble_init(&table, seed * 0x9E3779B97F4A7C15ull, levels);
             assert_int_equal(table.levels, levels);
-            for (uint32_t i = 0; i < 1u << levels; i += 1 + (1u << levels) / 97)
+            for (uint32_t i = 0; i < 1u << levels; i++) /* every point: the table is built in Gray-code order */
                 for (int d = 0; d < FM_SOBOL_DIMS; d++)
                     assert_true(sobol_owen_tabulated(&table, i, d) ==
                                 sobol_owen(i, d, seed * 0x9E3779B97F4A7C15ull, levels));
