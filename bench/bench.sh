@@ -24,6 +24,9 @@
 #
 # "cost x" (with --biomes) is the wall time relative to the clear sky (no aerosol) at equal RMS
 # error: Monte Carlo error falls as 1/sqrt(samples), so equal error costs wall * (RMS / RMS_clear)^2.
+# "equal x" measures the same directly: the biome's wall time over the clear sky's at the sample
+# scale (1 to 1/64, interpolated) where the clear sky's error is the biome's; the clear sky's fixed
+# costs (tables, pixels, output) do not shrink with its paths, which the 1/sqrt law leaves out.
 # "ref cost x" is the same ratio for the path tracer alone, without the fast path's tables and fit:
 # the reference mode at 400 pixels of the map, 2048 paths each (bench/sky_bench.c: time per pixel
 # x its RMS relative noise "ref RSD %" squared), which is what the sampling of the aerosols'
@@ -83,13 +86,25 @@ fi
 echo "firmament $("$FM" --version | cut -d' ' -f2), $(nproc) threads, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 
 if [ "${1:-}" = "--biomes" ]; then
-    printf '%-28s %-10s %8s %7s %7s %8s %9s %12s\n' sky size "wall s" "RMS %" "p99 %" "cost x" "ref RSD %" "ref cost x"
+    # The clear sky's wall time against its error over sample scales 1 to 1/64 ("RMS % wall s" per
+    # line), for the time it takes to reach each biome's error itself ("equal x"): unlike "cost x" it
+    # counts the clear sky's fixed costs (tables, pixels, EXR), which fewer paths do not shrink.
+    render none-16x --width 1024 --sun-elevation 30 --biome none --sample-scale 16 >/dev/null
+    for scale in 1 0.5 0.25 0.125 0.0625 0.03125 0.015625; do
+        read -r sec _ <<<"$(timed "none-$scale" --width 1024 --sun-elevation 30 --biome none --sample-scale "$scale")"
+        read -r rms _ <<<"$(compare "none-$scale" none-16x)"
+        echo "$rms $sec"
+    done | sort -g >"$out/clear-curve.txt"
+    echo "the clear sky's curve (RMS % : wall s):" $(awk '{ printf "%s:%s ", $1, $2 }' "$out/clear-curve.txt")
+    printf '%-28s %-10s %8s %7s %7s %8s %8s %9s %12s\n' sky size "wall s" "RMS %" "p99 %" "cost x" "equal x" "ref RSD %" \
+        "ref cost x"
     clear_cost=""
     clear_ref=""
     for b in none background desert-dust maritime-clean maritime-mineral polar-antarctic polar-arctic \
         remote-continental rural urban; do
         read -r sec _ <<<"$(timed "$b" --width 1024 --sun-elevation 30 --biome "$b")"
-        render "$b-16x" --width 1024 --sun-elevation 30 --biome "$b" --sample-scale 16 >/dev/null
+        [ -f "$out/$b-16x.exr" ] ||
+            render "$b-16x" --width 1024 --sun-elevation 30 --biome "$b" --sample-scale 16 >/dev/null
         read -r rms p99 <<<"$(compare "$b" "$b-16x")"
         cost=$(awk -v s="$sec" -v r="$rms" 'BEGIN { print s * r * r }')
         [ -z "$clear_cost" ] && clear_cost=$cost
@@ -97,8 +112,21 @@ if [ "${1:-}" = "--biomes" ]; then
         read -r _ t_ref _ e_ref _ <<<"$("$SB" speed "biome:$b" 1024 2048)"
         ref=$(awk -v t="$t_ref" -v e="$e_ref" 'BEGIN { print t * e * e }')
         [ -z "$clear_ref" ] && clear_ref=$ref
-        printf '%-28s %-10s %8.2f %7.3f %7.3f %8.2f %9.3f %12.2f\n' "$b (sun 30)" 1024x512 "$sec" "$rms" "$p99" \
+        # the clear sky's time at this error: log time linear in log error between the curve's points;
+        # below its smallest error 1 / error^2 from there, above its largest the fastest time
+        clear_sec=$(awk -v e="$rms" 'NR == 1 { e0 = $1; t0 = $2 } { r[NR] = $1; t[NR] = $2 }
+            END {
+                if (e <= r[1]) { print t0 * (e0 / e) ^ 2; exit }
+                for (i = 2; i <= NR; i++)
+                    if (e <= r[i]) {
+                        f = log(e / r[i - 1]) / log(r[i] / r[i - 1])
+                        print exp(log(t[i - 1]) + f * log(t[i] / t[i - 1])); exit
+                    }
+                m = t[1]; for (i = 2; i <= NR; i++) if (t[i] < m) m = t[i]; print m
+            }' "$out/clear-curve.txt")
+        printf '%-28s %-10s %8.2f %7.3f %7.3f %8.2f %8.2f %9.3f %12.2f\n' "$b (sun 30)" 1024x512 "$sec" "$rms" "$p99" \
             "$(awk -v c="$cost" -v c0="$clear_cost" 'BEGIN { print c / c0 }')" \
+            "$(awk -v s="$sec" -v c="$clear_sec" 'BEGIN { print s / c }')" \
             "$(awk -v e="$e_ref" 'BEGIN { print 100 * e }')" "$(awk -v c="$ref" -v c0="$clear_ref" 'BEGIN { print c / c0 }')"
     done
     exit 0
