@@ -86,9 +86,7 @@ fi
 echo "firmament $("$FM" --version | cut -d' ' -f2), $(nproc) threads, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 
 if [ "${1:-}" = "--biomes" ]; then
-    # The clear sky's wall time against its error over sample scales 1 to 1/64 ("RMS % wall s" per
-    # line), for the time it takes to reach each biome's error itself ("equal x"): unlike "cost x" it
-    # counts the clear sky's fixed costs (tables, pixels, EXR), which fewer paths do not shrink.
+    # the clear sky's wall time against its error ("RMS % wall s" per line), for "equal x" (above)
     render none-16x --width 1024 --sun-elevation 30 --biome none --sample-scale 16 >/dev/null
     for scale in 1 0.5 0.25 0.125 0.0625 0.03125 0.015625; do
         read -r sec _ <<<"$(timed "none-$scale" --width 1024 --sun-elevation 30 --biome none --sample-scale "$scale")"

@@ -16,6 +16,7 @@
 #include "base/units.h"
 #include "spectrum/spectral_grid.h"
 #include "transport/ground_irradiance.h"
+#include "transport/render.h"
 #include "transport/twilight.h"
 
 #include <math.h>
@@ -35,6 +36,13 @@ static fm_sky *sky_for(const char *biome_name, double sun_deg, double turbidity)
     p.sun_azimuth_deg = 0.0;
     p.turbidity = turbidity;
     return test_sky(&p);
+}
+
+/* The ground quadrature a final map takes (render.c). */
+static ground_quadrature final_quadrature(void)
+{
+    quality_settings q = render_quality_settings(FM_QUALITY_FINAL, 1.0);
+    return (ground_quadrature){q.ground_rows, q.ground_cols, q.ss_points};
 }
 
 /* The table's E_d (CIE Y) at the observer's ground point. */
@@ -75,7 +83,7 @@ static void check_order_one(const char *biome_name, double sun_deg, double turbi
     fm_sky *sky = sky_for(biome_name, sun_deg, turbidity);
     path_context pc = twilight_path_context(sky, NULL, 1, 1);
     double fine = table_irradiance(sky, &pc, (ground_quadrature){64, 64, 6}, 1);
-    double final = table_irradiance(sky, &pc, (ground_quadrature){32, 32, 3}, 1); /* as a final map */
+    double final = table_irradiance(sky, &pc, final_quadrature(), 1);
     double se, paths = path_irradiance(sky, &pc, 400000, &se);
     double z = (final - paths) / se;
     print_message("%s sun %g T %g: order-1 E_d quadrature %.6g (64 x 64: %.6g), paths %.6g +- %.2g (z %.2f)\n", biome_name,
@@ -119,7 +127,7 @@ static void check_bounce(const char *biome_name)
     const int K = sky->atm.grid.count, N = 200000;
     path_context single = twilight_path_context(sky, NULL, 1, 1);
     ground_irradiance g;
-    assert_int_equal(ground_irradiance_build(&g, &single, acos(sky->sun_dir.z), 0.0, (ground_quadrature){32, 32, 3}, 1,
+    assert_int_equal(ground_irradiance_build(&g, &single, acos(sky->sun_dir.z), 0.0, final_quadrature(), 1,
                                              3, 2, NULL),
                      FM_OK);
     double reflected[FM_MAX_WAVELENGTHS];
@@ -164,7 +172,7 @@ static void all_orders_rural(void **state)
     fm_sky *sky = sky_for("rural", 30.0, 1.0);
     path_context pc = twilight_path_context(sky, NULL, 1, 0);
     pc.segment_sunlight = SEGMENT_SUNLIGHT_ALL; /* as the renderer's ground irradiance */
-    double table = table_irradiance(sky, &pc, (ground_quadrature){32, 32, 3}, 16384);
+    double table = table_irradiance(sky, &pc, final_quadrature(), 16384);
     double se, paths = path_irradiance(sky, &pc, 60000, &se);
     double z = (table - paths) / se;
     print_message("rural sun 30: all-orders E_d table %.6g, paths %.6g +- %.2g (z %.2f)\n", table, paths, se, z);
