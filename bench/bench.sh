@@ -37,6 +37,10 @@
 #   bench/bench.sh --make-reference rewrites the converged references (after a change of the physics;
 #                                   about 10 minutes for the default sky and 40 for the sunset on 2
 #                                   cores)
+#   bench/bench.sh --extend-reference SKY PATHS
+#                                   adds a run of PATHS paths per probe, with a seed of its own, to
+#                                   SKY's converged reference (pooled path by path; sky-bench merge
+#                                   prints how the run agrees with the rest)
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 . "$ROOT/scripts/common.sh"
@@ -80,6 +84,18 @@ if [ "${1:-}" = "--make-reference" ]; then
         mv "$out/$sky-1024.txt" "$REFERENCES/$sky-1024.txt"
         sed -n 2p "$REFERENCES/$sky-1024.txt"
     done
+    exit 0
+fi
+if [ "${1:-}" = "--extend-reference" ]; then
+    sky=${2:?--extend-reference SKY PATHS}
+    paths=${3:?--extend-reference SKY PATHS}
+    ref="$REFERENCES/$sky-1024.txt"
+    # a seed no run of the file has taken: one past the largest
+    seed=$(sed -n 's/^# run: [0-9]* paths, seed \([0-9]*\),.*/\1/p' "$ref" | sort -n | tail -n 1)
+    "$SB" reference "$sky" 1024 "$paths" "$((seed + 1))" >"$out/run.txt"
+    "$SB" merge "$sky" 1024 "$ref" "$out/run.txt" >"$out/merged.txt"
+    mv "$out/merged.txt" "$ref"
+    sed -n 2p "$ref"
     exit 0
 fi
 

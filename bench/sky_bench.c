@@ -10,7 +10,12 @@
  *   sky-bench args SKY                   the firmament render options of the sky (default | sunset |
  *                                        biome:NAME, sun 30 through that biome)
  *   sky-bench speed SKY WIDTH PATHS      prints "seconds_per_pixel T noise E paths N"
- *   sky-bench reference SKY WIDTH PATHS  prints the converged reference at the probes (the cache file)
+ *   sky-bench reference SKY WIDTH PATHS [SEED]
+ *                                        prints the converged reference at the probes (the cache file;
+ *                                        seed 1000003 unless given)
+ *   sky-bench merge SKY WIDTH FILE...    prints the reference files' runs pooled into one (runs of other
+ *                                        seeds add paths to a cached reference), and on stderr how
+ *                                        each file agrees with the rest
  *   sky-bench error MAP.exr REFERENCE    prints "rms E noise N corrected C bias B probes P": the map's
  *                                        relative luminance error at the reference's probes (a map k
  *                                        times as wide is averaged over k x k pixels first), the
@@ -122,23 +127,149 @@ static double rms_relative_noise(const double *Y, const double *se, int n)
     return sqrt(noise2 / n);
 }
 
-/* The reference at the probes, as tests/data/bench_reference/SKY-WIDTH.txt: a header, then per
- * probe "x y Y se" (CIE Y in W m^-2 sr^-1 and its standard error). */
-static int write_reference(const bench_sky *b, int W, int paths)
+/* One run of the reference mode at the probes, or several pooled: its paths, seed and wall time. */
+typedef struct reference_run {
+    long long paths;
+    unsigned long long seed;
+    double wall_s;
+} reference_run;
+
+#define MAX_RUNS 64
+
+/* The reference at the probes, as tests/data/bench_reference/SKY-WIDTH.txt: a header that ends with
+ * one "# run:" line per run pooled in it, then per probe "x y Y se" (CIE Y in W m^-2 sr^-1 and its
+ * standard error). */
+static void print_reference(const bench_sky *b, int W, const reference_run *runs, int r, const int *x, const int *y,
+                            int n, const double *Y, const double *se)
 {
-    int x[PROBES], y[PROBES], n = probe_pixels(b, W, x, y);
-    static double Y[PROBES], se[PROBES];
-    const uint64_t seed = 1000003; /* not the speed measurement's */
-    double t = reference(b, W, paths, seed, x, y, n, Y, se);
+    long long paths = 0;
+    for (int i = 0; i < r; i++)
+        paths += runs[i].paths;
     printf("# The reference mode at %d probe pixels of the %d x %d map of the benchmark sky '%s' (%s,\n", n, W, W / 2,
            b->name, b->args);
-    printf("# --no-sun-disk), %d paths per pixel, seed %llu: RMS relative noise %.4f%%; %.0f s wall.\n", paths,
-           (unsigned long long)seed, 100.0 * rms_relative_noise(Y, se, n), t);
+    printf("# --no-sun-disk): %lld paths per pixel (the runs below, pooled), RMS relative noise %.4f%%.\n", paths,
+           100.0 * rms_relative_noise(Y, se, n));
     printf("# Per probe: x y (pixel), CIE Y (W m^-2 sr^-1), its standard error.  Regenerate after a change of the\n");
-    printf("# physics: bench/bench.sh --make-reference (hours).\n");
+    printf("# physics: bench/bench.sh --make-reference (hours); --extend-reference SKY PATHS adds a run.\n");
+    for (int i = 0; i < r; i++)
+        printf("# run: %lld paths, seed %llu, %.0f s wall\n", runs[i].paths, runs[i].seed, runs[i].wall_s);
     printf("%d %d %d\n", W, W / 2, n);
     for (int i = 0; i < n; i++)
         printf("%d %d %.9g %.9g\n", x[i], y[i], Y[i], se[i]);
+}
+
+static int write_reference(const bench_sky *b, int W, int paths, uint64_t seed)
+{
+    int x[PROBES], y[PROBES], n = probe_pixels(b, W, x, y);
+    static double Y[PROBES], se[PROBES];
+    reference_run run = {paths, (unsigned long long)seed, reference(b, W, paths, seed, x, y, n, Y, se)};
+    print_reference(b, W, &run, 1, x, y, n, Y, se);
+    return 0;
+}
+
+/* Reads a reference file of sky b: its runs (appended to runs[*r]) and probes, which must be b's
+ * probes of a W-wide map.  0, or 1 with the problem said. */
+static int read_reference(const char *path, const bench_sky *b, int W, reference_run *runs, int *r, double *Y,
+                          double *se)
+{
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        fprintf(stderr, "sky-bench: cannot read %s\n", path);
+        return 1;
+    }
+    char line[512], name[64];
+    int before = *r, w = 0, h = 0, n = 0, x[PROBES], y[PROBES], bad = 0, named = 0;
+    long pos = ftell(f);
+    while (fgets(line, sizeof line, f) && line[0] == '#') {
+        reference_run run;
+        const char *sky = strstr(line, "benchmark sky '");
+        if (sky && sscanf(sky, "benchmark sky '%63[^']'", name) == 1)
+            named = strcmp(name, b->name) == 0;
+        if (sscanf(line, "# run: %lld paths, seed %llu, %lf s wall", &run.paths, &run.seed, &run.wall_s) == 3) {
+            if (*r == MAX_RUNS || run.paths < 2) {
+                bad = 1;
+                break;
+            }
+            runs[(*r)++] = run;
+        }
+        pos = ftell(f);
+    }
+    fseek(f, pos, SEEK_SET);
+    int expected = probe_pixels(b, W, x, y);
+    if (bad || !named || *r == before || !bench_reference_header(f, &w, &h, &n) || w != W || h != W / 2 ||
+        n != expected) {
+        fprintf(stderr, "sky-bench: %s: not a reference of sky '%s' at width %d with its '# run:' lines\n", path,
+                b->name, W);
+        fclose(f);
+        return 1;
+    }
+    for (int i = 0; i < n; i++) {
+        int px, py;
+        if (!bench_reference_probe(f, w, h, &px, &py, &Y[i], &se[i]) || px != x[i] || py != y[i]) {
+            fprintf(stderr, "sky-bench: %s: probe %d unreadable or not the sky's probe (%d, %d)\n", path, i + 1, x[i],
+                    y[i]);
+            fclose(f);
+            return 1;
+        }
+    }
+    fclose(f);
+    return 0;
+}
+
+/* Pools the reference files of sky b (independent runs: their seeds must differ) into one, every
+ * path weighing the same: Y = sum n_i Y_i / sum n_i, se^2 = sum n_i^2 se_i^2 / (sum n_i)^2.  Says on
+ * stderr how each file agrees with the others pooled (z per probe, as test_bench_reference): runs of
+ * one physics give mean z^2 near 1 and mean z near 0 (its standard deviation 1 / sqrt(probes)). */
+static int merge_references(const bench_sky *b, int W, char **paths, int files)
+{
+    static reference_run runs[MAX_RUNS];
+    static double Y[MAX_RUNS][PROBES], se[MAX_RUNS][PROBES], total[PROBES], total_se[PROBES];
+    int r = 0, x[PROBES], y[PROBES], n = probe_pixels(b, W, x, y);
+    if (files > MAX_RUNS) {
+        fprintf(stderr, "sky-bench: at most %d files\n", MAX_RUNS);
+        return 2;
+    }
+    long long file_paths[MAX_RUNS], all = 0;
+    for (int f = 0; f < files; f++) {
+        int first = r;
+        if (read_reference(paths[f], b, W, runs, &r, Y[f], se[f]))
+            return 1;
+        file_paths[f] = 0;
+        for (int i = first; i < r; i++)
+            file_paths[f] += runs[i].paths;
+        all += file_paths[f];
+    }
+    for (int i = 0; i < r; i++)
+        for (int j = 0; j < i; j++)
+            if (runs[i].seed == runs[j].seed) {
+                fprintf(stderr, "sky-bench: two runs with seed %llu: the same random numbers, not independent\n",
+                        runs[i].seed);
+                return 1;
+            }
+    for (int i = 0; i < n; i++) {
+        double sum = 0.0, var = 0.0;
+        for (int f = 0; f < files; f++) {
+            sum += file_paths[f] * Y[f][i];
+            var += (double)file_paths[f] * file_paths[f] * se[f][i] * se[f][i];
+        }
+        total[i] = sum / all;
+        total_se[i] = sqrt(var) / all;
+    }
+    for (int f = 0; f < files && files > 1; f++) {
+        double z2 = 0.0, zsum = 0.0, rest = (double)(all - file_paths[f]);
+        for (int i = 0; i < n; i++) {
+            /* the other files pooled: their sums less this file's */
+            double others = (all * total[i] - file_paths[f] * Y[f][i]) / rest;
+            double others_var = ((double)all * all * total_se[i] * total_se[i] -
+                                 (double)file_paths[f] * file_paths[f] * se[f][i] * se[f][i]) / (rest * rest);
+            double z = (Y[f][i] - others) / sqrt(se[f][i] * se[f][i] + fmax(others_var, 0.0));
+            z2 += z * z;
+            zsum += z;
+        }
+        fprintf(stderr, "sky-bench: %s against the others: mean z^2 %.3f, mean z %+.3f (+-%.3f)\n", paths[f], z2 / n,
+                zsum / n, 1.0 / sqrt(n));
+    }
+    print_reference(b, W, runs, r, x, y, n, total, total_se);
     return 0;
 }
 
@@ -212,15 +343,17 @@ int main(int argc, char **argv)
         printf("%s\n", find_sky(argv[2])->args);
         return 0;
     }
-    if (argc == 5 && (strcmp(argv[1], "speed") == 0 || strcmp(argv[1], "reference") == 0)) {
+    const char *command = argc >= 2 ? argv[1] : "";
+    int is_reference = strcmp(command, "reference") == 0;
+    if ((argc == 5 && strcmp(command, "speed") == 0) || (is_reference && (argc == 5 || argc == 6))) {
         const bench_sky *b = find_sky(argv[2]);
         int W = atoi(argv[3]), paths = atoi(argv[4]), x[PROBES], y[PROBES];
         if (W < 8 || W % 2 || paths < 2) {
             fprintf(stderr, "sky-bench: WIDTH must be even and at least 8, PATHS at least 2\n");
             return 2;
         }
-        if (strcmp(argv[1], "reference") == 0)
-            return write_reference(b, W, paths);
+        if (is_reference)
+            return write_reference(b, W, paths, argc == 6 ? strtoull(argv[5], NULL, 10) : 1000003);
         int n = probe_pixels(b, W, x, y);
         static double Y[PROBES], se[PROBES];
         double t = reference(b, W, paths, 1, x, y, n, Y, se);
@@ -229,7 +362,15 @@ int main(int argc, char **argv)
     }
     if (argc == 4 && strcmp(argv[1], "error") == 0)
         return map_error(argv[2], argv[3]);
-    fprintf(stderr, "usage: sky-bench args SKY | speed SKY WIDTH PATHS | reference SKY WIDTH PATHS | error MAP.exr "
-                    "REFERENCE\n");
+    if (argc >= 5 && strcmp(argv[1], "merge") == 0) {
+        int W = atoi(argv[3]);
+        if (W < 8 || W % 2) {
+            fprintf(stderr, "sky-bench: WIDTH must be even and at least 8\n");
+            return 2;
+        }
+        return merge_references(find_sky(argv[2]), W, argv + 4, argc - 4);
+    }
+    fprintf(stderr, "usage: sky-bench args SKY | speed SKY WIDTH PATHS | reference SKY WIDTH PATHS [SEED] | error "
+                    "MAP.exr REFERENCE | merge SKY WIDTH FILE...\n");
     return 2;
 }
