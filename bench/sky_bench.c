@@ -14,8 +14,9 @@
  *                                        prints the converged reference at the probes (the cache file;
  *                                        seed 1000003 unless given)
  *   sky-bench merge SKY WIDTH FILE...    prints the reference files' runs pooled into one (runs of other
- *                                        seeds add paths to a cached reference), and on stderr how
- *                                        each file agrees with the rest
+ *                                        seeds add to a cached reference; each file weighted by the
+ *                                        inverse square of its noise), and on stderr how each file
+ *                                        agrees with the rest
  *   sky-bench error MAP.exr REFERENCE    prints "rms E noise N corrected C bias B probes P": the map's
  *                                        relative luminance error at the reference's probes (a map k
  *                                        times as wide is averaged over k x k pixels first), the
@@ -216,10 +217,14 @@ static int read_reference(const char *path, const bench_sky *b, int W, reference
     return 0;
 }
 
-/* Pools the reference files of sky b (independent runs: their seeds must differ) into one, every
- * path weighing the same: Y = sum n_i Y_i / sum n_i, se^2 = sum n_i^2 se_i^2 / (sum n_i)^2.  Says on
- * stderr how each file agrees with the others pooled (z per probe, as test_bench_reference): runs of
- * one physics give mean z^2 near 1 and mean z near 0 (its standard deviation 1 / sqrt(probes)). */
+/* Pools the reference files of sky b (independent runs: their seeds must differ) into one, each
+ * file weighted by the inverse square of its RMS relative noise over all probes, w_i (for runs of
+ * one estimator that is their paths; the reference mode's estimator changes at times, e.g. the
+ * sunset's rising segments since 2026-12-05): Y = sum w_i Y_i / sum w_i, se^2 = sum w_i^2 se_i^2 /
+ * (sum w_i)^2.  One weight per file, not per probe: a probe's standard error is correlated with its
+ * own estimate, and weighting by it would bias the mean.  Says on stderr how each file agrees with
+ * the others pooled (z per probe, as test_bench_reference): runs of one physics give mean z^2 near
+ * 1 and mean z near 0 (its standard deviation 1 / sqrt(probes)). */
 static int merge_references(const bench_sky *b, int W, char **paths, int files)
 {
     static reference_run runs[MAX_RUNS];
@@ -229,15 +234,13 @@ static int merge_references(const bench_sky *b, int W, char **paths, int files)
         fprintf(stderr, "sky-bench: at most %d files\n", MAX_RUNS);
         return 2;
     }
-    long long file_paths[MAX_RUNS], all = 0;
+    double weight[MAX_RUNS], all = 0.0;
     for (int f = 0; f < files; f++) {
-        int first = r;
         if (read_reference(paths[f], b, W, runs, &r, Y[f], se[f]))
             return 1;
-        file_paths[f] = 0;
-        for (int i = first; i < r; i++)
-            file_paths[f] += runs[i].paths;
-        all += file_paths[f];
+        double noise = rms_relative_noise(Y[f], se[f], n);
+        weight[f] = 1.0 / (noise * noise);
+        all += weight[f];
     }
     for (int i = 0; i < r; i++)
         for (int j = 0; j < i; j++)
@@ -249,19 +252,19 @@ static int merge_references(const bench_sky *b, int W, char **paths, int files)
     for (int i = 0; i < n; i++) {
         double sum = 0.0, var = 0.0;
         for (int f = 0; f < files; f++) {
-            sum += file_paths[f] * Y[f][i];
-            var += (double)file_paths[f] * file_paths[f] * se[f][i] * se[f][i];
+            sum += weight[f] * Y[f][i];
+            var += weight[f] * weight[f] * se[f][i] * se[f][i];
         }
         total[i] = sum / all;
         total_se[i] = sqrt(var) / all;
     }
     for (int f = 0; f < files && files > 1; f++) {
-        double z2 = 0.0, zsum = 0.0, rest = (double)(all - file_paths[f]);
+        double z2 = 0.0, zsum = 0.0, rest = all - weight[f];
         for (int i = 0; i < n; i++) {
             /* the other files pooled: their sums less this file's */
-            double others = (all * total[i] - file_paths[f] * Y[f][i]) / rest;
-            double others_var = ((double)all * all * total_se[i] * total_se[i] -
-                                 (double)file_paths[f] * file_paths[f] * se[f][i] * se[f][i]) / (rest * rest);
+            double others = (all * total[i] - weight[f] * Y[f][i]) / rest;
+            double others_var = (all * all * total_se[i] * total_se[i] - weight[f] * weight[f] * se[f][i] * se[f][i]) /
+                                (rest * rest);
             double z = (Y[f][i] - others) / sqrt(se[f][i] * se[f][i] + fmax(others_var, 0.0));
             z2 += z * z;
             zsum += z;
