@@ -219,9 +219,9 @@ static int read_reference(const char *path, const bench_sky *b, int W, reference
 
 /* Pools the reference files of sky b (independent runs: their seeds must differ) into one, each
  * file weighted by the inverse square of its RMS relative noise over all probes, w_i (for runs of
- * one estimator that is their paths; the reference mode's estimator changes at times, e.g. the
- * sunset's rising segments since 2026-12-05): Y = sum w_i Y_i / sum w_i, se^2 = sum w_i^2 se_i^2 /
- * (sum w_i)^2.  One weight per file, not per probe: a probe's standard error is correlated with its
+ * one estimator, in proportion to their paths; a run of the reference mode after a change that
+ * kept its expectation, e.g. a faster version, pools at its own efficiency): Y = sum w_i Y_i /
+ * sum w_i, se^2 = sum w_i^2 se_i^2 / (sum w_i)^2.  One weight per file, not per probe: a probe's standard error is correlated with its
  * own estimate, and weighting by it would bias the mean.  Says on stderr how each file agrees with
  * the others pooled (z per probe, as test_bench_reference): runs of one physics give mean z^2 near
  * 1 and mean z near 0 (its standard deviation 1 / sqrt(probes)). */

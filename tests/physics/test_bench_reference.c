@@ -5,8 +5,7 @@
  * afresh with PATHS paths and other random numbers and requires agreement within the joint noise:
  * z = (Y_now - Y_cached) / sqrt(se_now^2 + se_cached^2) per probe, mean z^2 < 1.6 and |mean z| <
  * 0.5 (4 standard deviations of that mean), every |z| < 5.  At the default sky each probe's noise
- * is about 0.5%, so a 1% change of the physics fails it; the sunset's about 1.8% (3.5% before the
- * reference mode took the sunlight along rising segments there, render.c). */
+ * is about 0.6%, so a 1% change of the physics fails it; the sunset's about 3.5%. */
 #include "bench_skies.h"
 #include "check.h"
 

@@ -95,7 +95,7 @@ typedef struct render_job {
     ground_irradiance ground;
     fm_image *img;
     atomic_int no_memory; /* a worker could not allocate */
-    int rising_segments;  /* the table's and the reference's paths: SEGMENT_SUNLIGHT_RISING (rising_segments) */
+    int rising_segments;  /* the table's paths: SEGMENT_SUNLIGHT_RISING (rising_segments) */
     double *ms_y, *ms_var; /* per node of ms: the luminance estimate and its variance (sky_grid_fit) */
     double *ms_spectral;   /* per node of ms: the estimate at every grid wavelength, [node][K] */
     double *ms_shape;      /* per node of ms: its view ray's light_integral (twilight_node_paths) */
@@ -345,20 +345,6 @@ static void fast_rows_camera(void *ctx, int64_t begin, int64_t end, int thread)
         }
 }
 
-/* The reference mode's paths: every order from the observer and, with a low sun behind thick haze
- * (rising_segments), the sunlight of every rising segment counted along it as the table's paths
- * count it, the view ray's own single scattering included.  Reference mode at the 400 probes of the
- * urban sunset (sun 2, turbidity 2, 1024 x 512, 2048 paths): noise 7.17 -> 3.77% in 1.8 times the
- * time, 2.0 times the efficiency (1 / (noise^2 x time)); 40 pixels about the sun, 4096 paths: rural
- * T 2 sun 2 1.7, desert dust T 2 sun 3 1.5, urban T 2 sun 4 1.3, urban T 1 sun 2 2.1 times. */
-static path_context reference_path_context(const render_job *job)
-{
-    path_context pc = twilight_path_context(job->sky, job->twilight, 1, 0);
-    if (job->rising_segments)
-        pc.segment_sunlight = SEGMENT_SUNLIGHT_RISING;
-    return pc;
-}
-
 /* One equirect pixel of the reference: N paths through uniformly jittered positions in it; the mean
  * and its standard error per channel. */
 static void reference_pixel(const render_job *job, const path_context *pc, int x, int y, int N, float *mean_out,
@@ -395,7 +381,7 @@ static void reference_rows(void *ctx, int64_t begin, int64_t end, int thread)
     render_job *job = ctx;
     fm_image *img = job->img;
     const int W = img->width, C = job->channels;
-    path_context pc = reference_path_context(job);
+    path_context pc = twilight_path_context(job->sky, job->twilight, 1, 0);
     for (int64_t y = begin; y < end; y++)
         for (int x = 0; x < W; x++) {
             size_t i = ((size_t)y * W + x) * C;
@@ -414,7 +400,7 @@ static void reference_rows_camera(void *ctx, int64_t begin, int64_t end, int thr
     fm_image *img = job->img;
     const int W = img->width, C = job->channels, K = sky->atm.grid.count;
     const int N = job->q.reference_paths;
-    path_context pc = reference_path_context(job);
+    path_context pc = twilight_path_context(job->sky, job->twilight, 1, 0);
     for (int64_t y = begin; y < end; y++) {
         for (int x = 0; x < W; x++) {
             uint64_t item = ITEM_PIXEL + (uint64_t)y * W + x;
@@ -817,7 +803,7 @@ static void reference_pixels(void *ctx, int64_t begin, int64_t end, int thread)
 {
     pixels_job *pj = ctx;
     const int C = pj->job.channels;
-    path_context pc = reference_path_context(&pj->job);
+    path_context pc = twilight_path_context(pj->job.sky, pj->job.twilight, 1, 0);
     float se[FM_MAX_WAVELENGTHS];
     for (int64_t i = begin; i < end; i++)
         reference_pixel(&pj->job, &pc, pj->x[i], pj->y[i], pj->job.q.reference_paths, &pj->out[i * C],
@@ -850,7 +836,6 @@ fm_status fm_render_pixels(const fm_sky *sky, const fm_render_params *params, in
     if ((s = make_twilight(sky, &job->q, params->threads, &twilight, err)))
         return s;
     job->twilight = twilight;
-    job->rising_segments = rising_segments(sky, twilight);
     parallel_progress pr = {params->progress, params->progress_user, "path tracing", 0.0, 1.0};
     s = parallel_for(params->threads, count, 1, reference_pixels, &pj, params->cancel, &pr);
     free(twilight);
