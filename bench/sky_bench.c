@@ -355,8 +355,14 @@ int main(int argc, char **argv)
             fprintf(stderr, "sky-bench: WIDTH must be even and at least 8, PATHS at least 2\n");
             return 2;
         }
+        char *end = NULL;
+        unsigned long long seed = argc == 6 ? strtoull(argv[5], &end, 10) : 1000003;
+        if (argc == 6 && (end == argv[5] || *end)) {
+            fprintf(stderr, "sky-bench: SEED must be a whole number, not '%s'\n", argv[5]);
+            return 2;
+        }
         if (is_reference)
-            return write_reference(b, W, paths, argc == 6 ? strtoull(argv[5], NULL, 10) : 1000003);
+            return write_reference(b, W, paths, seed);
         int n = probe_pixels(b, W, x, y);
         static double Y[PROBES], se[PROBES];
         double t = reference(b, W, paths, 1, x, y, n, Y, se);
