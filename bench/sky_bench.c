@@ -221,11 +221,12 @@ static int read_reference(const char *path, const bench_sky *b, int W, reference
  * file weighted by the inverse square of its RMS relative noise over all probes, w_i (for runs of
  * one estimator, in proportion to their paths; a run of the reference mode after a change that
  * kept its expectation, e.g. a faster version, pools at its own efficiency): Y = sum w_i Y_i /
- * sum w_i, se^2 = sum w_i^2 se_i^2 / (sum w_i)^2.  One weight per file, not per probe: a probe's standard error is correlated with its
- * own estimate, and weighting by it would bias the mean.  Says on stderr how each file agrees with
- * the others pooled (z per probe, as test_bench_reference): runs of one physics give mean z^2 near
- * 1 and mean z near 0 (its standard deviation 1 / sqrt(probes)). */
-static int merge_references(const bench_sky *b, int W, char **paths, int files)
+ * sum w_i, se^2 = sum w_i^2 se_i^2 / (sum w_i)^2.  One weight per file, not per probe: a probe's
+ * standard error is correlated with its own estimate, and weighting by it would bias the mean.
+ * Says on stderr how each file agrees with the others pooled (z per probe, as
+ * test_bench_reference): runs of one physics give mean z^2 near 1 and mean z near 0 (its standard
+ * deviation 1 / sqrt(probes)). */
+static int merge_references(const bench_sky *b, int W, char **names, int files)
 {
     static reference_run runs[MAX_RUNS];
     static double Y[MAX_RUNS][PROBES], se[MAX_RUNS][PROBES], total[PROBES], total_se[PROBES];
@@ -236,7 +237,7 @@ static int merge_references(const bench_sky *b, int W, char **paths, int files)
     }
     double weight[MAX_RUNS], all = 0.0;
     for (int f = 0; f < files; f++) {
-        if (read_reference(paths[f], b, W, runs, &r, Y[f], se[f]))
+        if (read_reference(names[f], b, W, runs, &r, Y[f], se[f]))
             return 1;
         double noise = rms_relative_noise(Y[f], se[f], n);
         weight[f] = 1.0 / (noise * noise);
@@ -269,7 +270,7 @@ static int merge_references(const bench_sky *b, int W, char **paths, int files)
             z2 += z * z;
             zsum += z;
         }
-        fprintf(stderr, "sky-bench: %s against the others: mean z^2 %.3f, mean z %+.3f (+-%.3f)\n", paths[f], z2 / n,
+        fprintf(stderr, "sky-bench: %s against the others: mean z^2 %.3f, mean z %+.3f (+-%.3f)\n", names[f], z2 / n,
                 zsum / n, 1.0 / sqrt(n));
     }
     print_reference(b, W, runs, r, x, y, n, total, total_se);
@@ -342,11 +343,11 @@ static int map_error(const char *map_path, const char *ref_path)
 
 int main(int argc, char **argv)
 {
-    if (argc == 3 && strcmp(argv[1], "args") == 0) {
+    const char *command = argc >= 2 ? argv[1] : "";
+    if (argc == 3 && strcmp(command, "args") == 0) {
         printf("%s\n", find_sky(argv[2])->args);
         return 0;
     }
-    const char *command = argc >= 2 ? argv[1] : "";
     int is_reference = strcmp(command, "reference") == 0;
     if ((argc == 5 && strcmp(command, "speed") == 0) || (is_reference && (argc == 5 || argc == 6))) {
         const bench_sky *b = find_sky(argv[2]);
@@ -369,9 +370,9 @@ int main(int argc, char **argv)
         printf("seconds_per_pixel %.6g noise %.6f paths %d\n", t / n, rms_relative_noise(Y, se, n), paths);
         return 0;
     }
-    if (argc == 4 && strcmp(argv[1], "error") == 0)
+    if (argc == 4 && strcmp(command, "error") == 0)
         return map_error(argv[2], argv[3]);
-    if (argc >= 5 && strcmp(argv[1], "merge") == 0) {
+    if (argc >= 5 && strcmp(command, "merge") == 0) {
         int W = atoi(argv[3]);
         if (W < 8 || W % 2) {
             fprintf(stderr, "sky-bench: WIDTH must be even and at least 8\n");
