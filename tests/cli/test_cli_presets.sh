@@ -90,6 +90,14 @@ import json, math, sys
 d = json.load(open('$work/out/sky.json'))['sky']
 ev = math.log2(683 * math.pi / d['global_horizontal_illuminance_lux'])
 sys.exit(abs(d['suggested_exposure_ev'] - ev) > 1e-9 or not -6.5 < ev < -4)" && ok || fail "suggested_exposure_ev"
+# deep twilight needs more than +20 EV (sun -16: about 2e-4 lx, +23.4); Blender's film exposure
+# reaches +32, so the suggestion is not cut short below that
+"$FM" render --quality preview --width 64 --sun-elevation -16 --progress none -o "$work/out/dusk.exr" >/dev/null
+python3 -c "
+import json, math, sys
+d = json.load(open('$work/out/dusk.json'))['sky']
+ev = math.log2(683 * math.pi / d['global_horizontal_illuminance_lux'])
+sys.exit(abs(d['suggested_exposure_ev'] - ev) > 1e-9 or not 22 < ev < 25)" && ok || fail "suggested_exposure_ev at sun -16"
 expect_usage_error "--sun-disk-map with --no-sun-disk" render --no-sun-disk --sun-disk-map d.exr
 
 echo "$checks checks passed, $failures failed"

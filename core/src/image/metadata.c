@@ -157,11 +157,12 @@ static void add_camera(metadata *m, const fm_image *img)
 /* The film exposure (EV, values x 2^EV) that shows a white Lambertian surface under the global
  * horizontal illuminance E as 1.0, so an 18% grey card as 0.18: its radiance in map units is
  * E / (683 pi), hence EV = log2(683 pi / E).  100 klx gives -5.54 (the -5 EV of daylight in
- * Blender); clamped to [-20, 20] so a night sky gets a finite value. */
+ * Blender); clamped to Blender's range of the film exposure, [-32, 32] (astronomical twilight,
+ * sun -18, needs about +26; a night sky, E below 5e-7 lux, gets the end of the range). */
 static double suggested_exposure_ev(double global_lux)
 {
     double ev = log2(FM_LUMINOUS_EFFICACY * FM_PI / fmax(global_lux, 1e-9));
-    return fmin(20.0, fmax(-20.0, ev));
+    return fmin(32.0, fmax(-32.0, ev));
 }
 
 void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *params, const fm_image *img,
