@@ -10,9 +10,8 @@
 #     fast path has no bias beyond the reference mode's noise is a test
 #     (tests/physics/test_fast_vs_reference.c);
 #   - their error against the reference mode converged at 400 probe pixels of the 1024 x 512 map
-#     (tests/data/bench_reference/SKY-1024.txt, cached: 300 000 paths per pixel for the default sky,
-#     RMS noise about 0.1%, 1.2 million for the sunset, about 0.3%; a 4096 x 2048 map is averaged
-#     over 4 x 4 pixels there): "ref RMS %", the RMS relative luminance error at the probes with the
+#     (tests/data/bench_reference/SKY-1024.txt, cached, each file's header giving its paths per pixel
+#     and RMS noise; a 4096 x 2048 map is averaged over 4 x 4 pixels there): "ref RMS %", the RMS relative luminance error at the probes with the
 #     reference's own noise taken out in quadrature, and "ref bias %", its mean.  Unlike the 16x
 #     map's, this error holds the fast path's bias too (the fit's, the tables' interpolation);
 #   - the speed-up against the reference mode at equal RMS error, measured in the same run: the
