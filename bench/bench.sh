@@ -34,7 +34,7 @@
 #   bench/bench.sh --biomes         1024 x 512 final maps of the clear sky and every biome at sun 30,
 #                                   with their cost against the clear sky (issue "composition")
 #   bench/bench.sh --make-reference rewrites the converged references (after a change of the physics;
-#                                   below 0.1% noise: about 15 minutes for the default sky and 5 hours
+#                                   below 0.1% noise: about 15 minutes for the default sky and 3-4 hours
 #                                   for the sunset on 2 cores)
 #   bench/bench.sh --extend-reference SKY PATHS
 #                                   adds a run of PATHS paths per probe, with a seed of its own, to
@@ -78,7 +78,7 @@ row() { printf '%-28s %-10s %-8s %8s %9s %7s %7s %9s %10s %12s\n' "$@"; }
 REFERENCES="$ROOT/tests/data/bench_reference"
 if [ "${1:-}" = "--make-reference" ]; then
     mkdir -p "$REFERENCES"
-    for job in "default 600000" "sunset 11000000"; do
+    for job in "default 600000" "sunset 12000000"; do
         read -r sky paths <<<"$job"
         "$SB" reference "$sky" 1024 "$paths" >"$out/$sky-1024.txt"
         mv "$out/$sky-1024.txt" "$REFERENCES/$sky-1024.txt"
