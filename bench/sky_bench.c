@@ -17,10 +17,11 @@
  *                                        seeds add to a cached reference; each file weighted by the
  *                                        inverse square of its noise), and on stderr how each file
  *                                        agrees with the rest
- *   sky-bench error MAP.exr REFERENCE    prints "rms E noise N corrected C bias B probes P": the map's
- *                                        relative luminance error at the reference's probes (a map k
- *                                        times as wide is averaged over k x k pixels first), the
- *                                        reference's own noise and the error with it taken out
+ *   sky-bench error MAP.exr REFERENCE    prints "rms E noise N corrected C bias B probes P p99 Q": the
+ *                                        map's relative luminance error at the reference's probes (a
+ *                                        map k times as wide is averaged over k x k pixels first), the
+ *                                        reference's own noise, the error with it taken out, and the
+ *                                        99th percentile of |error| over the probes (noise left in)
  *
  * Probe pixels: positions uniform over the map's pixels (the map's RMS weighs every pixel alike),
  * from a fixed hash, leaving out those within EXCLUDE_DEG of the sun (the benchmark's maps have no
@@ -286,12 +287,24 @@ static double map_luminance(const fm_image *m, int x, int y)
     return xyz[1];
 }
 
+static int ascending(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
 /* The map's relative luminance error at the n probes that follow in the reference file f (of a W x H
  * map); 0, or 1 with the problem said. */
 static int probe_errors(const fm_image *m, FILE *f, const char *ref_path, int W, int H, int n)
 {
+    if (n > PROBES) {
+        fprintf(stderr, "sky-bench: %s holds %d probes, more than the %d of a benchmark reference\n", ref_path, n,
+                PROBES);
+        return 1;
+    }
     const int k = m->width / W;
     double e2 = 0.0, noise2 = 0.0, bias = 0.0;
+    static double abs_e[PROBES];
     for (int i = 0; i < n; i++) {
         int x, y;
         double Y, se;
@@ -307,10 +320,14 @@ static int probe_errors(const fm_image *m, FILE *f, const char *ref_path, int W,
         e2 += e * e;
         bias += e;
         noise2 += (se / Y) * (se / Y);
+        abs_e[i] = fabs(e);
     }
     double rms = sqrt(e2 / n), noise = sqrt(noise2 / n);
-    printf("rms %.6f noise %.6f corrected %.6f bias %.6f probes %d\n", rms, noise,
-           sqrt(fmax(0.0, rms * rms - noise * noise)), bias / n, n);
+    /* the 99th percentile probe: the smallest |e| that at least 99% of the probes do not exceed */
+    qsort(abs_e, (size_t)n, sizeof abs_e[0], ascending);
+    int rank = (int)ceil(0.99 * n) - 1;
+    printf("rms %.6f noise %.6f corrected %.6f bias %.6f probes %d p99 %.6f\n", rms, noise,
+           sqrt(fmax(0.0, rms * rms - noise * noise)), bias / n, n, abs_e[rank < 0 ? 0 : rank]);
     return 0;
 }
 
