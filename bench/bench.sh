@@ -14,8 +14,9 @@
 #     and RMS noise; a 4096 x 2048 map is averaged over 4 x 4 pixels there): "ref RMS %", the RMS
 #     relative luminance error at the probes with the reference's own noise taken out in
 #     quadrature, "ref bias %", its mean, and "ref p99 %", the 99th percentile of its magnitude over
-#     the probes (the 5th largest of 400; the reference's noise left in).  Unlike the 16x map's,
-#     this error holds the fast path's bias too (the fit's, the tables' interpolation);
+#     the probes (the 4th largest of 400, as firmament compare takes it over a map's pixels; the
+#     reference's noise left in).  Unlike the 16x map's, this error holds the fast path's bias too
+#     (the fit's, the tables' interpolation);
 #   - the speed-up against the reference mode at equal RMS error, measured in the same run: the
 #     reference mode (per-pixel path tracing, no tables) renders 400 pixels of the 1024 x 512 map
 #     with 256 paths each (bench/sky_bench.c); its time per pixel t and its RMS relative noise e
