@@ -22,6 +22,12 @@
  *                                        map k times as wide is averaged over k x k pixels first), the
  *                                        reference's own noise, the error with it taken out, and the
  *                                        99th percentile of |error| over the probes (noise left in)
+ *   sky-bench seeds A.exr B.exr EV       prints one map's noise from two seeds' maps (seed_noise.h):
+ *                                        "luminance L red_green R blue_green B grain G de_mean M
+ *                                        de_p99 P" (relative, and CIEDE2000 as displayed at EV)
+ *   sky-bench flicker A1.exr B1.exr A2.exr B2.exr
+ *                                        prints "flicker F": one map's noise in the ratio of frames
+ *                                        a and b (A1, B1 of one seed, A2, B2 of another)
  *
  * Probe pixels: positions uniform over the map's pixels (the map's RMS weighs every pixel alike),
  * from a fixed hash, leaving out those within EXCLUDE_DEG of the sun (the benchmark's maps have no
@@ -29,6 +35,7 @@
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 
 #include "bench_skies.h"
+#include "seed_noise.h"
 #include "firmament/firmament.h"
 
 #include "base/rng.h"
@@ -358,6 +365,56 @@ static int map_error(const char *map_path, const char *ref_path)
     return status;
 }
 
+/* Reads n EXR maps; 0, or 1 with the problem said (none left allocated). */
+static int read_maps(char **paths, int n, fm_image **maps)
+{
+    for (int i = 0; i < n; i++) {
+        fm_error err;
+        if (fm_image_read_exr(paths[i], &maps[i], &err)) {
+            fprintf(stderr, "sky-bench: %s\n", err.message);
+            while (i-- > 0)
+                fm_image_destroy(maps[i]);
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static int seeds(char **paths, const char *ev_text)
+{
+    char *end = NULL;
+    double ev = strtod(ev_text, &end);
+    fm_image *m[2];
+    if (end == ev_text || *end || !isfinite(ev) || fabs(ev) > 100.0) {
+        fprintf(stderr, "sky-bench: EV must be a number in [-100, 100], not '%s'\n", ev_text);
+        return 2;
+    }
+    if (read_maps(paths, 2, m))
+        return 1;
+    seed_noise s;
+    int status = seed_noise_measure(m[0], m[1], ev, &s);
+    if (!status)
+        printf("luminance %.6f red_green %.6f blue_green %.6f grain %.6f de_mean %.4f de_p99 %.4f\n", s.luminance,
+               s.red_green, s.blue_green, s.grain, s.de_mean, s.de_p99);
+    fm_image_destroy(m[0]);
+    fm_image_destroy(m[1]);
+    return status;
+}
+
+static int flicker(char **paths)
+{
+    fm_image *m[4];
+    if (read_maps(paths, 4, m))
+        return 1;
+    double f;
+    int status = seed_flicker(m[0], m[1], m[2], m[3], &f);
+    if (!status)
+        printf("flicker %.6f\n", f);
+    for (int i = 0; i < 4; i++)
+        fm_image_destroy(m[i]);
+    return status;
+}
+
 int main(int argc, char **argv)
 {
     const char *command = argc >= 2 ? argv[1] : "";
@@ -389,6 +446,10 @@ int main(int argc, char **argv)
     }
     if (argc == 4 && strcmp(command, "error") == 0)
         return map_error(argv[2], argv[3]);
+    if (argc == 5 && strcmp(command, "seeds") == 0)
+        return seeds(argv + 2, argv[4]);
+    if (argc == 6 && strcmp(command, "flicker") == 0)
+        return flicker(argv + 2);
     if (argc >= 5 && strcmp(command, "merge") == 0) {
         int W = atoi(argv[3]);
         if (W < 8 || W % 2) {
@@ -398,6 +459,7 @@ int main(int argc, char **argv)
         return merge_references(find_sky(argv[2]), W, argv + 4, argc - 4);
     }
     fprintf(stderr, "usage: sky-bench args SKY | speed SKY WIDTH PATHS | reference SKY WIDTH PATHS [SEED] | error "
-                    "MAP.exr REFERENCE | merge SKY WIDTH FILE...\n");
+                    "MAP.exr REFERENCE | merge SKY WIDTH FILE... | seeds A.exr B.exr EV | flicker A1.exr B1.exr A2.exr "
+                    "B2.exr\n");
     return 2;
 }
