@@ -36,6 +36,13 @@
 #   bench/bench.sh                  the default sky (sun 30, rural) and a sunset (sun 2, urban, T 2)
 #   bench/bench.sh --biomes         1024 x 512 final maps of the clear sky and every biome at sun 30,
 #                                   with their cost against the clear sky (issue "composition")
+#   bench/bench.sh --twilight       one map's noise at sun -6, -12 and -18 (the default sky, final
+#                                   quality, 1024 x 512) from two seeds' maps: the relative standard
+#                                   deviation of its luminance, R / G and B / G and of its grain (from
+#                                   pixel to pixel), the CIEDE2000 difference of the two maps as
+#                                   displayed at the suggested exposure (mean, 99th percentile), and
+#                                   the flicker of a time series (bench/seed_noise.h) (issue "Sun and
+#                                   sky geometry": noise-free at -18)
 #   bench/bench.sh --make-reference rewrites the converged references (after a change of the physics;
 #                                   below 0.1% noise: about 15 minutes for the default sky and 3-4 hours
 #                                   for the sunset on 2 cores)
@@ -145,6 +152,31 @@ if [ "${1:-}" = "--biomes" ]; then
             "$(awk -v c="$cost" -v c0="$clear_cost" 'BEGIN { print c / c0 }')" \
             "$(awk -v s="$sec" -v c="$clear_sec" 'BEGIN { print s / c }')" \
             "$(awk -v e="$e_ref" 'BEGIN { print 100 * e }')" "$(awk -v c="$ref" -v c0="$clear_ref" 'BEGIN { print c / c0 }')"
+    done
+    exit 0
+fi
+
+if [ "${1:-}" = "--twilight" ]; then
+    # the default sky at final quality, 1024 x 512, seeds 1 and 2 (sky-bench seeds: one map's noise),
+    # and each seed's next frame of a time series 0.25 degrees on (a minute or two; sky-bench flicker)
+    json() { sed -n "s/.*\"$2\":[[:space:]]*\([0-9.eE+-]*\).*/\1/p" "$out/$1.json" | head -n 1; }
+    printf '%-10s %7s %6s %8s %7s %7s %8s %8s %7s %10s\n' sun "wall s" paths "Y %" "R/G %" "B/G %" "grain %" \
+        "dE mean" "dE p99" "flicker %"
+    for sun in -6 -12 -18; do
+        next=$(awk -v s="$sun" 'BEGIN { print s + 0.25 }')
+        for seed in 1 2; do
+            render "tw$sun-$seed" --width 1024 --sun-elevation "$sun" --seed "$seed" >"$out/tw$sun-$seed.wall"
+            render "tw$next-$seed" --width 1024 --sun-elevation "$next" --seed "$seed" >/dev/null
+        done
+        ev=$(json "tw$sun-1" suggested_exposure_ev)
+        read -r _ y _ rg _ bg _ grain _ de _ de99 <<<"$("$SB" seeds "$out/tw$sun-1.exr" "$out/tw$sun-2.exr" "$ev")"
+        read -r _ fl <<<"$("$SB" flicker "$out/tw$sun-1.exr" "$out/tw$next-1.exr" "$out/tw$sun-2.exr" \
+            "$out/tw$next-2.exr")"
+        printf '%-10s %7.2f %6s %8.2f %7.2f %7.2f %8.3f %8.2f %7.2f %10.2f\n' "$sun" \
+            "$(cat "$out/tw$sun-1.wall" "$out/tw$sun-2.wall" | awk '{ s += $1 } END { print s / NR }')" \
+            "$(json "tw$sun-1" paths_per_node)" "$(awk -v v="$y" 'BEGIN { print 100 * v }')" \
+            "$(awk -v v="$rg" 'BEGIN { print 100 * v }')" "$(awk -v v="$bg" 'BEGIN { print 100 * v }')" \
+            "$(awk -v v="$grain" 'BEGIN { print 100 * v }')" "$de" "$de99" "$(awk -v v="$fl" 'BEGIN { print 100 * v }')"
     done
     exit 0
 fi
