@@ -67,8 +67,7 @@ static double degrees_of(double y, double x)
     return h < 0.0 ? h + 360.0 : h;
 }
 
-/* CIEDE2000 colour difference (Sharma, Wu & Dalal 2005, with k_L = k_C = k_H = 1) */
-static double ciede2000(const double l1[3], const double l2[3])
+double seed_noise_ciede2000(const double l1[3], const double l2[3])
 {
     const double p25 = pow(25.0, 7.0);
     double c1 = hypot(l1[1], l1[2]), c2 = hypot(l2[1], l2[2]), cm = 0.5 * (c1 + c2);
@@ -147,7 +146,7 @@ int seed_noise_measure(const fm_image *a, const fm_image *b, double exposure_ev,
             }
             display_lab(da, la);
             display_lab(db, lb);
-            de[i] = ciede2000(la, lb);
+            de[i] = seed_noise_ciede2000(la, lb);
         }
     }
     double mean = 0.0;

@@ -25,6 +25,9 @@ typedef struct seed_noise {
 /* 0 with *out filled; 1 when the maps are not two equirect colour maps of one size (said on stderr). */
 int seed_noise_measure(const fm_image *a, const fm_image *b, double exposure_ev, seed_noise *out);
 
+/* The CIEDE2000 colour difference of two CIELAB colours (Sharma, Wu & Dalal 2005; k_L = k_C = k_H = 1). */
+double seed_noise_ciede2000(const double lab1[3], const double lab2[3]);
+
 /* 0 with *flicker set; 1 as above.  a1, b1: frames a and b of seed 1; a2, b2 those of seed 2. */
 int seed_flicker(const fm_image *a1, const fm_image *b1, const fm_image *a2, const fm_image *b2, double *flicker);
 
