@@ -36,7 +36,7 @@ static void same_bits_for_any_thread_count(double sun_elevation)
 
 static void thread_count_does_not_change_the_bits(void **state) { same_bits_for_any_thread_count(25.0); }
 /* twilight: the sky guide is built on the render's threads, the paths use it (transport/twilight.h) */
-static void thread_count_does_not_change_the_bits_at_twilight(void **state) { same_bits_for_any_thread_count(-6.0); }
+static void thread_count_does_not_change_the_bits_at_twilight(void **state) { same_bits_for_any_thread_count(-3.0); }
 /* deep twilight: the guided flights' table too (transport/shadow_flight.h) */
 static void thread_count_does_not_change_the_bits_in_deep_twilight(void **state) { same_bits_for_any_thread_count(-12.0); }
 

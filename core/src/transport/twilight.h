@@ -4,7 +4,7 @@
  * comes from sunlit air far off and high up, seen across the Earth's shadow.  Then every render
  * builds the sky guide (sky_guide.h), draws half the scattering directions from it and counts every
  * segment's sunlight along the segment (sunlit_segment.h); in deep twilight, with the sun more
- * than 7 degrees down, segments also place their next interaction toward the light
+ * than 4.5 degrees down (twilight.c), segments also place their next interaction toward the light
  * (shadow_flight.h).  All are unbiased changes of sampling;
  * by day neither is used (except the along-segment sunlight on the rare segments that enter the
  * Earth's umbra).  Day and night, the fast path places the first vertex of its table nodes' paths
