@@ -36,13 +36,14 @@
 #   bench/bench.sh                  the default sky (sun 30, rural) and a sunset (sun 2, urban, T 2)
 #   bench/bench.sh --biomes         1024 x 512 final maps of the clear sky and every biome at sun 30,
 #                                   with their cost against the clear sky (issue "composition")
-#   bench/bench.sh --twilight       one map's noise at sun -6, -12 and -18 (the default sky, final
-#                                   quality, 1024 x 512) from two seeds' maps: the relative standard
-#                                   deviation of its luminance, R / G and B / G and of its grain (from
-#                                   pixel to pixel), the CIEDE2000 difference of the two maps as
-#                                   displayed at the suggested exposure (mean, 99th percentile), and
-#                                   the flicker of a time series (bench/seed_noise.h) (issue "Sun and
-#                                   sky geometry": noise-free at -18)
+#   bench/bench.sh --twilight       one map's noise at sun -6, -12 and -18 (the default sky; and a
+#                                   hazy one, urban at turbidity 2, at -18; final quality, 1024 x 512)
+#                                   from two seeds' maps: the relative standard deviation of its
+#                                   luminance, R / G and B / G and of its grain (from pixel to pixel),
+#                                   the CIEDE2000 difference of the two maps as displayed at the
+#                                   suggested exposure (mean, 99th percentile), and the flicker of a
+#                                   time series (bench/seed_noise.h) (issue "Sun and sky geometry":
+#                                   noise-free at -18)
 #   bench/bench.sh --make-reference rewrites the converged references (after a change of the physics;
 #                                   below 0.1% noise: about 15 minutes for the default sky and 3-4 hours
 #                                   for the sunset on 2 cores)
@@ -157,26 +158,30 @@ if [ "${1:-}" = "--biomes" ]; then
 fi
 
 if [ "${1:-}" = "--twilight" ]; then
-    # the default sky at final quality, 1024 x 512, seeds 1 and 2 (sky-bench seeds: one map's noise),
-    # and each seed's next frame of a time series 0.25 degrees on (a minute or two; sky-bench flicker)
+    # final quality, 1024 x 512, seeds 1 and 2 (sky-bench seeds: one map's noise), and each seed's next
+    # frame of a time series 0.25 degrees on (a minute or two; sky-bench flicker): the default sky at
+    # sun -6, -12 and -18, and a hazy one (urban, turbidity 2) at -18
     json() { sed -n "s/.*\"$2\":[[:space:]]*\([0-9.eE+-]*\).*/\1/p" "$out/$1.json" | head -n 1; }
-    printf '%-10s %7s %6s %8s %7s %7s %8s %8s %7s %10s\n' sun "wall s" paths "Y %" "R/G %" "B/G %" "grain %" \
+    pct() { awk -v v="$1" 'BEGIN { print 100 * v }'; }
+    printf '%-22s %7s %6s %8s %7s %7s %8s %8s %7s %10s\n' sky "wall s" paths "Y %" "R/G %" "B/G %" "grain %" \
         "dE mean" "dE p99" "flicker %"
-    for sun in -6 -12 -18; do
+    for job in "rural -6" "rural -12" "rural -18" "urban -18 --biome urban --turbidity 2"; do
+        read -r biome sun extra <<<"$job"
+        read -r -a extra <<<"$extra"
         next=$(awk -v s="$sun" 'BEGIN { print s + 0.25 }')
+        a="tw-$biome$sun" b="tw-$biome$next"
         for seed in 1 2; do
-            render "tw$sun-$seed" --width 1024 --sun-elevation "$sun" --seed "$seed" >"$out/tw$sun-$seed.wall"
-            render "tw$next-$seed" --width 1024 --sun-elevation "$next" --seed "$seed" >/dev/null
+            render "$a-$seed" --width 1024 --sun-elevation "$sun" --seed "$seed" "${extra[@]}" >"$out/$a-$seed.wall"
+            render "$b-$seed" --width 1024 --sun-elevation "$next" --seed "$seed" "${extra[@]}" >/dev/null
         done
-        ev=$(json "tw$sun-1" suggested_exposure_ev)
-        read -r _ y _ rg _ bg _ grain _ de _ de99 <<<"$("$SB" seeds "$out/tw$sun-1.exr" "$out/tw$sun-2.exr" "$ev")"
-        read -r _ fl <<<"$("$SB" flicker "$out/tw$sun-1.exr" "$out/tw$next-1.exr" "$out/tw$sun-2.exr" \
-            "$out/tw$next-2.exr")"
-        printf '%-10s %7.2f %6s %8.2f %7.2f %7.2f %8.3f %8.2f %7.2f %10.2f\n' "$sun" \
-            "$(cat "$out/tw$sun-1.wall" "$out/tw$sun-2.wall" | awk '{ s += $1 } END { print s / NR }')" \
-            "$(json "tw$sun-1" paths_per_node)" "$(awk -v v="$y" 'BEGIN { print 100 * v }')" \
-            "$(awk -v v="$rg" 'BEGIN { print 100 * v }')" "$(awk -v v="$bg" 'BEGIN { print 100 * v }')" \
-            "$(awk -v v="$grain" 'BEGIN { print 100 * v }')" "$de" "$de99" "$(awk -v v="$fl" 'BEGIN { print 100 * v }')"
+        ev=$(json "$a-1" suggested_exposure_ev)
+        read -r _ y _ rg _ bg _ grain _ de _ de99 <<<"$("$SB" seeds "$out/$a-1.exr" "$out/$a-2.exr" "$ev")"
+        read -r _ fl <<<"$("$SB" flicker "$out/$a-1.exr" "$out/$b-1.exr" "$out/$a-2.exr" "$out/$b-2.exr")"
+        label="$biome${extra[*]:+ T ${extra[3]}} (sun $sun)"
+        printf '%-22s %7.2f %6s %8.2f %7.2f %7.2f %8.3f %8.2f %7.2f %10.2f\n' "$label" \
+            "$(cat "$out/$a-1.wall" "$out/$a-2.wall" | awk '{ s += $1 } END { print s / NR }')" \
+            "$(json "$a-1" paths_per_node)" "$(pct "$y")" "$(pct "$rg")" "$(pct "$bg")" "$(pct "$grain")" "$de" "$de99" \
+            "$(pct "$fl")"
     done
     exit 0
 fi
