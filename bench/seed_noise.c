@@ -1,22 +1,11 @@
 #include "seed_noise.h"
 
 #include "base/units.h"
+#include "colour/colour.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-
-/* linear Rec.709 (sRGB primaries, D65) from CIE XYZ and back (IEC 61966-2-1) */
-static const double XYZ_TO_709[3][3] = {
-    {3.2406, -1.5372, -0.4986}, {-0.9689, 1.8758, 0.0415}, {0.0557, -0.2040, 1.0570}};
-static const double REC709_TO_XYZ[3][3] = {
-    {0.4124, 0.3576, 0.1805}, {0.2126, 0.7152, 0.0722}, {0.0193, 0.1192, 0.9505}};
-
-static void mat3(const double m[3][3], const double v[3], double out[3])
-{
-    for (int i = 0; i < 3; i++)
-        out[i] = m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2];
-}
 
 /* linear Rec.709 of pixel i */
 static void pixel_rec709(const fm_image *m, size_t i, double rgb[3])
@@ -24,7 +13,7 @@ static void pixel_rec709(const fm_image *m, size_t i, double rgb[3])
     const float *p = &m->pixels[i * (size_t)m->channels];
     double v[3] = {p[0], p[1], p[2]}, xyz[3];
     image_colour_to_xyz(m, v, xyz);
-    mat3(XYZ_TO_709, xyz, rgb);
+    colour_xyz_to_rec709(xyz, rgb);
 }
 
 static int usable(const fm_image *a, const fm_image *b)
@@ -47,14 +36,14 @@ static double lab_f(double t)
     return t > d * d * d ? cbrt(t) : t / (3.0 * d * d) + 4.0 / 29.0;
 }
 
-/* CIELAB (D65 white) of a display-referred linear Rec.709 colour, clipped to [0, 1] */
-static void display_lab(const double rgb[3], double lab[3])
+/* CIELAB of a display-referred linear Rec.709 colour, clipped to [0, 1], against the white
+ * (XYZ of Rec.709 1, 1, 1: D65) */
+static void display_lab(const double rgb[3], const double white[3], double lab[3])
 {
-    double c[3], xyz[3], white[3], one[3] = {1.0, 1.0, 1.0};
+    double c[3], xyz[3];
     for (int i = 0; i < 3; i++)
         c[i] = rgb[i] < 0.0 ? 0.0 : (rgb[i] > 1.0 ? 1.0 : rgb[i]);
-    mat3(REC709_TO_XYZ, c, xyz);
-    mat3(REC709_TO_XYZ, one, white);
+    colour_rec709_to_xyz(c, xyz);
     double fx = lab_f(xyz[0] / white[0]), fy = lab_f(xyz[1] / white[1]), fz = lab_f(xyz[2] / white[2]);
     lab[0] = 116.0 * fy - 16.0;
     lab[1] = 500.0 * (fx - fy);
@@ -99,7 +88,12 @@ double seed_noise_ciede2000(const double l1[3], const double l2[3])
 
 static double log_ratio(double x, double y) { return x > 0.0 && y > 0.0 ? log(x / y) : 0.0; }
 
-static double luminance(const double rgb[3]) { return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]; }
+/* CIE Y of a linear Rec.709 colour */
+static double luminance(const double rgb[3])
+{
+    const double *y = fm_rec709_to_xyz[1];
+    return y[0] * rgb[0] + y[1] * rgb[1] + y[2] * rgb[2];
+}
 
 static int ascending(const void *a, const void *b)
 {
@@ -119,7 +113,9 @@ int seed_noise_measure(const fm_image *a, const fm_image *b, double exposure_ev,
         fprintf(stderr, "sky-bench: out of memory\n");
         return 1;
     }
-    const double scale = exp2(exposure_ev);
+    const double scale = exp2(exposure_ev), one[3] = {1.0, 1.0, 1.0};
+    double white[3];
+    colour_rec709_to_xyz(one, white);
     double sw = 0.0, sy = 0.0, srg = 0.0, sbg = 0.0, sgrain = 0.0, sgw = 0.0;
     for (int y = 0; y < H; y++) {
         double w = row_weight(y, a->height);
@@ -144,8 +140,8 @@ int seed_noise_measure(const fm_image *a, const fm_image *b, double exposure_ev,
                 da[c] = scale * ca[c];
                 db[c] = scale * cb[c];
             }
-            display_lab(da, la);
-            display_lab(db, lb);
+            display_lab(da, white, la);
+            display_lab(db, white, lb);
             de[i] = seed_noise_ciede2000(la, lb);
         }
     }
