@@ -86,7 +86,7 @@ rm -rf "$work/out" && mkdir -p "$work/out"
 (cd "$work/out" && "$FM" render --atmosphere "$work/bad-syntax.json" --wavelength 550 2>"$work/stderr")
 grep -q -- "--atmosphere: $work/bad-syntax.json:3:25: JSON syntax error" "$work/stderr" && ok || fail "syntax error message: $(cat "$work/stderr")"
 (cd "$work/out" && "$FM" render --atmosphere "$work/bad-g.json" --wavelength 550 2>"$work/stderr")
-grep -qF -- "--atmosphere: $work/bad-g.json: \$.constituents[0].phase.g: must be in (-1, 1), not 1.5" "$work/stderr" && ok ||
+grep -qF -- "--atmosphere: $work/bad-g.json: \$.constituents[0].phase.g: must be in [-0.99999, 0.99999], not 1.5" "$work/stderr" && ok ||
     fail "range error message: $(cat "$work/stderr")"
 (cd "$work/out" && "$FM" render --atmosphere "$presets/reference-rayleigh.json" 2>"$work/stderr")
 grep -q 'given for 440-680 nm (constituent "molecules"), but the render needs 380-780 nm' "$work/stderr" && ok ||

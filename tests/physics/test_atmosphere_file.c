@@ -364,7 +364,18 @@ static void malformed_files_are_refused(void **state)
          FILE_WITH(GOOD_MOL ", {\"name\": \"a\", \"profile\": {\"type\": \"exponential\", \"scale_height_km\": 1.2}, "
                             "\"extinction\": 4e-6, \"single_scattering_albedo\": 0.9, "
                             "\"phase\": {\"type\": \"henyey-greenstein\", \"g\": 1.2}}"),
-         550, ": $.constituents[1].phase.g: must be in (-1, 1), not 1.2"},
+         550, ": $.constituents[1].phase.g: must be in [-0.99999, 0.99999], not 1.2"},
+        /* nearer 1 the Henyey-Greenstein peak overflowed and the map was NaN (exit 0) */
+        {"g too near 1",
+         FILE_WITH(GOOD_MOL ", {\"name\": \"a\", \"profile\": {\"type\": \"exponential\", \"scale_height_km\": 1.2}, "
+                            "\"extinction\": 4e-6, \"single_scattering_albedo\": 0.9, "
+                            "\"phase\": {\"type\": \"henyey-greenstein\", \"g\": 0.99999999}}"),
+         550, ": $.constituents[1].phase.g: must be in [-0.99999, 0.99999], not 0.99999999"},
+        /* a larger sun overflowed the disk's radiance in 32-bit floats (inf in the map, exit 0) */
+        {"solar irradiance too large",
+         "{\"planet_radius_km\": 6360, \"top_altitude_km\": 60, \"solar_irradiance\": 1e300, \"constituents\": ["
+         GOOD_MOL "]}",
+         550, ": $.solar_irradiance: must be in [0, 1e+06], not 1e+300"},
         {"albedo out of range",
          "{\"planet_radius_km\": 6360, \"top_altitude_km\": 60, \"ground_albedo\": 1.5, \"constituents\": [" GOOD_MOL
          "]}",
@@ -463,6 +474,47 @@ static void observer_inside_the_file_atmosphere(void **state)
     free(path);
 }
 
+/* An atmosphere that absorbs and scatters nothing (a vacuum planet, or absorption alone): the sky
+ * is black and the ground is lit by the direct sun only, L = albedo / pi x the sun's horizontal
+ * irradiance.  (Its table paths once drew a direction from a vertex without a phase function, and
+ * the maps were NaN, exit 0.) */
+static void non_scattering_atmosphere_renders_a_black_sky(void **state)
+{
+    const char *constituents[] = {"{\"profile\": {\"type\": \"exponential\", \"scale_height_km\": 8}, "
+                                  "\"absorption\": 1e-5}",
+                                  "{\"profile\": {\"type\": \"exponential\", \"scale_height_km\": 8}, "
+                                  "\"scattering\": 0, \"phase\": {\"type\": \"rayleigh\"}}"};
+    for (int f = 0; f < 2; f++) {
+        char *path = constituent_file("\n  \"ground_albedo\": 0.3,\n  \"solar_irradiance\": 1,", constituents[f]);
+        fm_sky_params p = test_params(30.0, 550.0);
+        p.atmosphere_file = path;
+        fm_sky *sky = test_sky(&p);
+        fm_sun_light sun;
+        fm_sky_sun_light(sky, &sun);
+        const double ground = 0.3 / FM_PI * sun.horizontal_irradiance[0];
+        for (int q = 0; q < 2; q++) {
+            fm_image *img = test_render(sky, 64, q ? FM_QUALITY_FINAL : FM_QUALITY_PREVIEW, 0, 1, 0, 1.0, 0);
+            double sky_max = 0.0;
+            for (int y = 0; y < img->height; y++)
+                for (int x = 0; x < img->width; x++) {
+                    double v = img->pixels[(size_t)y * img->width + x];
+                    assert_true(isfinite(v));
+                    if (y < img->height / 2)
+                        sky_max = fmax(sky_max, v);
+                    else
+                        check_rel(v, ground, 1e-3, "ground lit by the sun alone");
+                }
+            print_message("file %d, quality %d: sky up to %.1e, ground %.5f (sun alone %.5f)\n", f, q, sky_max,
+                          img->pixels[(size_t)(img->height - 1) * img->width], ground);
+            assert_true(sky_max < 1e-20);
+            fm_image_destroy(img);
+        }
+        fm_sky_destroy(sky);
+        unlink(path);
+        free(path);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -474,6 +526,7 @@ int main(void)
         cmocka_unit_test(tabulated_phase_from_a_file),
         cmocka_unit_test(malformed_files_are_refused),
         cmocka_unit_test(observer_inside_the_file_atmosphere),
+        cmocka_unit_test(non_scattering_atmosphere_renders_a_black_sky),
         cmocka_unit_test(molecular_fixture_renders_the_builtin_sky),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

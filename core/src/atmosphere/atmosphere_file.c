@@ -396,7 +396,9 @@ static fm_status read_phase(const reader *rd, const cJSON *node, const char *pat
     }
     if (strcmp(type->valuestring, "henyey-greenstein") == 0) {
         const char *const other[] = {"depolarization", "angles_deg", "wavelengths_nm", "values", NULL};
-        const json_interval g_range = {-1.0, 1.0, 1, 1};
+        /* closer to +-1 the phase function's peak (~ 1 / (2 pi (1 - |g|)^2) sr^-1) overflows its
+         * sampling and the maps turn NaN (measured: fine at 0.999999, NaN at 0.99999999) */
+        const json_interval g_range = {-0.99999, 0.99999, 0, 0};
         int present = 0;
         if ((st = refuse_keys(rd, node, path, "Henyey-Greenstein", other)) ||
             (st = optional_spectral(rd, node, path, "g", g_range, owner, 0.0, out->param, &present)))
@@ -519,7 +521,10 @@ static fm_status build(const reader *rd, const cJSON *root, atmosphere *atm, dou
     const cJSON *solar = member(root, "solar_irradiance");
     if (solar) {
         spectral s;
-        if ((st = read_spectral(rd, solar, "$.solar_irradiance", json_non_negative, &s)))
+        /* the sun's own ~2 W m^-2 nm^-1 times a million: a larger value overflows the disk's radiance
+         * (E / its 6.8e-5 sr) in the EXR's 32-bit floats */
+        const json_interval solar_range = {0.0, 1e6, 0, 0};
+        if ((st = read_spectral(rd, solar, "$.solar_irradiance", solar_range, &s)))
             return st;
         double check[FM_MAX_WAVELENGTHS];
         if (!(st = spectral_on_grid(rd, &s, NULL, check))) {

@@ -211,7 +211,7 @@ static fm_status check_value(const json_reader *rd, const char *path, double v, 
         return FM_OK;
     if (r.lo == 0.0 && isinf(r.hi))
         return json_bad(rd, path, "must be %s, not %g", r.lo_open ? "positive" : "non-negative", v);
-    return json_bad(rd, path, "must be in %c%g, %g%c, not %g", r.lo_open ? '(' : '[', r.lo, r.hi, r.hi_open ? ')' : ']',
+    return json_bad(rd, path, "must be in %c%g, %g%c, not %.10g", r.lo_open ? '(' : '[', r.lo, r.hi, r.hi_open ? ')' : ']',
                     v);
 }
 
