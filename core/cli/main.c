@@ -1,6 +1,6 @@
 /* The firmament executable: parse, render, write, exit.  The only place that prints or exits.
  * Exit codes: 0 ok, 1 runtime failure, 2 bad usage or input, 128 + signal when interrupted. */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "args.h"
 #include "preset_args.h"
 #include "report.h"
@@ -9,16 +9,20 @@
 
 #include "firmament/firmament.h"
 
+#include <errno.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 enum { EXIT_RUNTIME = 1, EXIT_USAGE = 2 };
 
-/* Set by SIGINT/SIGTERM/SIGHUP to the signal number; the library polls it and stops. */
+/* Set by SIGINT/SIGTERM/SIGHUP/SIGPIPE to the signal number; the library polls it and stops.  (A
+ * closed pipe, e.g. `--progress json | head -1`, would otherwise kill the process before it removes
+ * its temporary files.) */
 static atomic_int cancel_signal;
 
 static void on_signal(int sig)
@@ -35,6 +39,7 @@ static void install_signal_handlers(void)
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     sigaction(SIGHUP, &sa, NULL);
+    sigaction(SIGPIPE, &sa, NULL);
 }
 
 /* The sidecar's default path: the output with its .exr extension (if any) replaced by .json. */
@@ -103,6 +108,77 @@ static fm_status write_preview(const options *opt, const fm_image *img, const fm
     return fm_image_write_preview(img, colour, path, ev, err);
 }
 
+/* path with its directory resolved (links, ".", ".."), so that two spellings of one file compare
+ * equal; a copy of path itself where the directory cannot be resolved (malloc'd, NULL: no memory) */
+static char *resolved_path(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
+    char *real = dir ? realpath(dir, NULL) : NULL;
+    const char *base = slash ? slash + 1 : path;
+    size_t n = (real ? strlen(real) : 0) + strlen(path) + 2;
+    char *out = malloc(n);
+    if (out)
+        snprintf(out, n, "%s%s%s", real ? real : "", real ? "/" : "", real ? base : path);
+    free(real);
+    free(dir);
+    return out;
+}
+
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (stat(a, &sa) == 0 && stat(b, &sb) == 0)
+        return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    char *ra = resolved_path(a), *rb = resolved_path(b);
+    int same = ra && rb ? strcmp(ra, rb) == 0 : strcmp(a, b) == 0;
+    free(ra);
+    free(rb);
+    return same;
+}
+
+/* Before the render: every output (paths[i], or NULL where not asked for; names[i] the option that
+ * set it) must be writable and no two may be one file, else one line and exit 2, nothing written.
+ * Returns 0 when all is well. */
+static int check_outputs(const char *const *paths, const char *const *names, int n)
+{
+    for (int i = 0; i < n; i++) {
+        fm_error err = {0};
+        if (paths[i] && fm_output_check_path(paths[i], &err)) {
+            report_error("%s: %s", names[i], err.message);
+            return EXIT_USAGE;
+        }
+        for (int j = 0; j < i; j++)
+            if (paths[i] && paths[j] && same_file(paths[i], paths[j])) {
+                report_error("%s and %s would both write '%s'", names[j], names[i], paths[i]);
+                return EXIT_USAGE;
+            }
+    }
+    return 0;
+}
+
+/* --spectral and --preview, written before the map itself, so that the caller can remove them
+ * (the flags say which are in place) when a later step fails or is interrupted: all or nothing. */
+static fm_status write_extras(const options *opt, const fm_sky *sky, const fm_image *spectral, const fm_image *img,
+                              const fm_colour_config *colour, const char *preview, int *spectral_written,
+                              int *preview_written, fm_error *err)
+{
+    fm_status s;
+    if (opt->spectral) {
+        if ((s = fm_output_write_spectral(opt->spectral, sky, &opt->render, spectral, img, &cancel_signal, err)))
+            return s;
+        *spectral_written = 1;
+    }
+    if (preview) {
+        if (atomic_load(&cancel_signal))
+            return FM_ERR_CANCELLED; /* reported as an interruption, not through err */
+        if ((s = write_preview(opt, img, colour, preview, err)))
+            return s;
+        *preview_written = 1;
+    }
+    return FM_OK;
+}
+
 /* ---- time series: render --time-start HH:MM --time-end HH:MM --step MIN ------------------------ */
 
 /* path with _NNNN before its extension: sky.exr -> sky_0003.exr, out -> out_0003 */
@@ -134,6 +210,31 @@ static int run_series(options *opt, const fm_colour_config *colour)
     opt->render.cancel = &cancel_signal;
     install_signal_handlers();
 
+    struct stat st;
+    if (stat(opt->output, &st) == 0 && S_ISDIR(st.st_mode)) {
+        report_error("-o: '%s' is a directory; a series needs a file name to number (e.g. '%s/sky.exr')",
+                     opt->output, opt->output);
+        return EXIT_USAGE;
+    }
+    /* every frame's files writable and distinct before the first render */
+    for (int i = 0; i < opt->frames && !code; i++) {
+        char *exr = numbered_path(opt->output, i);
+        char *json = exr ? (opt->sidecar ? numbered_path(opt->sidecar, i) : default_sidecar(exr)) : NULL;
+        char *preview = opt->preview ? numbered_path(opt->preview, i) : NULL;
+        if (!exr || !json || (opt->preview && !preview)) {
+            report_error("out of memory");
+            code = EXIT_RUNTIME;
+        } else {
+            const char *paths[] = {exr, json, preview};
+            const char *names[] = {"-o", opt->sidecar ? "--sidecar" : "the sidecar", "--preview"};
+            code = check_outputs(paths, names, 3);
+        }
+        free(exr);
+        free(json);
+        free(preview);
+    }
+    if (code)
+        return code;
     fm_status s = fm_sky_create(&opt->sky, &sky, &err);
     if (s) {
         report_library_error(&err);
@@ -159,6 +260,7 @@ static int run_series(options *opt, const fm_colour_config *colour)
             int dark = sp->sun_elevation_deg < -18.0;
             night += dark;
             reporter_frame_start(&rep, i, opt->frames, when, sp->sun_elevation_deg, sp->sun_azimuth_deg, dark);
+            int no_spectral = 0, preview_written = 0;
             if ((s = fm_output_open(exr, json, &out, &err))) {
                 report_library_error(&err);
                 code = s == FM_ERR_IO ? EXIT_USAGE : exit_code_for(s);
@@ -166,9 +268,11 @@ static int run_series(options *opt, const fm_colour_config *colour)
                        (s = fm_render(sky, &opt->render, &img, &err)) ||
                        (img->content == FM_IMAGE_XYZ &&
                         (s = fm_image_to_colorspace(img, colour, opt->colorspace, &err))) ||
-                       (s = fm_output_commit(out, sky, &opt->render, img, &cancel_signal, &err)) ||
-                       (s = write_preview(opt, img, colour, preview, &err))) {
+                       (s = write_extras(opt, sky, NULL, img, colour, preview, &no_spectral, &preview_written, &err)) ||
+                       (s = fm_output_commit(out, sky, &opt->render, img, &cancel_signal, &err))) {
                 reporter_finish_line(&rep);
+                if (preview_written) /* the frame's files all or none */
+                    unlink(preview);
                 if (s == FM_ERR_CANCELLED)
                     report_error("interrupted; frame %d was not written (%d before it were)", i, written);
                 else
@@ -264,7 +368,7 @@ static int run_render_options(int argc, char **argv)
     fm_output *out = NULL, *disk_out = NULL;
     fm_image *img = NULL, *spectral = NULL; /* spectral: the --spectral map, img made from it */
     char *disk_sidecar = opt.sun_disk_map ? default_sidecar(opt.sun_disk_map) : NULL;
-    int code = 0, disk_written = 0;
+    int code = 0, disk_written = 0, spectral_written = 0, preview_written = 0;
     if (opt.sun_disk_map && !disk_sidecar) {
         report_error("out of memory");
         free(sidecar);
@@ -279,6 +383,11 @@ static int run_render_options(int argc, char **argv)
     install_signal_handlers();
 
     fm_status s;
+    const char *paths[] = {opt.output, sidecar_path, opt.preview, opt.spectral, opt.sun_disk_map, disk_sidecar};
+    const char *names[] = {"-o",         opt.sidecar ? "--sidecar" : "the sidecar", "--preview", "--spectral",
+                           "--sun-disk-map", "the disk map's sidecar"};
+    if ((code = check_outputs(paths, names, 6)))
+        goto done;
     if ((s = fm_sky_create(&opt.sky, &sky, &err))) {
         report_library_error(&err);
         code = exit_code_for(s);
@@ -297,15 +406,18 @@ static int run_render_options(int argc, char **argv)
         (opt.spectral && (spectral = img, img = NULL, s = fm_image_spectral_to_xyz(spectral, &img, &err))) ||
         (img->content == FM_IMAGE_XYZ && (s = fm_image_to_colorspace(img, colour, opt.colorspace, &err))) ||
         (disk_out && (s = commit_disk_map(disk_out, sky, &opt.render, img, &disk_written, &err))) ||
-        (s = fm_output_commit(out, sky, &opt.render, img, &cancel_signal, &err)) ||
-        (opt.spectral &&
-         (s = fm_output_write_spectral(opt.spectral, sky, &opt.render, spectral, img, &cancel_signal, &err))) ||
-        (s = write_preview(&opt, img, colour, opt.preview, &err))) {
+        (s = write_extras(&opt, sky, spectral, img, colour, opt.preview, &spectral_written, &preview_written,
+                          &err)) ||
+        (s = fm_output_commit(out, sky, &opt.render, img, &cancel_signal, &err))) {
         reporter_finish_line(&rep);
-        if (disk_written) { /* all or nothing: the disk map goes too */
+        if (disk_written) { /* all or nothing: the disk map, spectral map and preview go too */
             unlink(opt.sun_disk_map);
             unlink(disk_sidecar);
         }
+        if (spectral_written)
+            unlink(opt.spectral);
+        if (preview_written)
+            unlink(opt.preview);
         if (s == FM_ERR_CANCELLED)
             report_error("interrupted; nothing was written");
         else
@@ -406,7 +518,20 @@ static int run_compare(int argc, char **argv)
     return code;
 }
 
+static int run_command(int argc, char **argv);
+
+/* Output that could not reach stdout (a full disk, /dev/full) is an error, not a success. */
 int main(int argc, char **argv)
+{
+    int code = run_command(argc, argv);
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        report_error("cannot write to standard output: %s", strerror(errno ? errno : EIO));
+        return code ? code : EXIT_RUNTIME;
+    }
+    return code;
+}
+
+static int run_command(int argc, char **argv)
 {
     if (argc < 2) {
         report_error("no command (try: firmament render, firmament sun, or firmament --help)");

@@ -218,6 +218,11 @@ static fm_status validate(const fm_sky_params *p, fm_error *err)
         return s;
     if (p->aod550 != 0.0 && (s = check_range(err, "aod550", p->aod550, 1e-6, 10.0, "")))
         return s;
+    /* aod550 sets the turbidity: a second, different value would be silently dropped */
+    if (p->aod550 != 0.0 && p->turbidity != 1.0)
+        return fm_fail_parameter(err, "aod550", "give turbidity or aod550, not both");
+    if (p->biome && !p->biome[0])
+        return fm_fail_parameter(err, "biome", "the name is empty (none for no aerosols)");
     if (p->humidity_percent != FM_HUMIDITY_BIOME_DEFAULT &&
         (s = check_range(err, "humidity_percent", p->humidity_percent, 0.0, 99.0, "%")))
         return s;

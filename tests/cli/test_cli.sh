@@ -420,6 +420,54 @@ expect_usage_error "info without a file" info
 expect_usage_error "info of a missing file" info missing.exr
 grep -q "missing.exr" "$work/stderr" && ok || fail "info names the missing file: $(cat "$work/stderr")"
 
+# --- every output checked before the render: writable, a regular file, no two the same ----------
+R=(render --width 16 --quality preview --progress none)
+SERIES=(--date 2024-06-21 --latitude 45 --longitude 7 --time-start 10:00 --time-end 11:00 --step 30)
+expect_usage_error "-o and --preview one file" "${R[@]}" -o o.exr --preview o.exr
+grep -qF -- "-o and --preview would both write 'o.exr'" "$work/stderr" && ok || fail "same-file message: $(cat "$work/stderr")"
+expect_usage_error "--spectral is the sidecar, spelled otherwise" "${R[@]}" -o o.exr --spectral ./o.json
+expect_usage_error "--preview is the sidecar" "${R[@]}" -o o.exr --sidecar p.png --preview p.png
+expect_usage_error "--sun-disk-map's sidecar is the map's" "${R[@]}" -o a.exr --sun-disk-map a.tif
+printf 'x' >"$work/afile"
+expect_usage_error "--preview under a file" "${R[@]}" -o o.exr --preview "$work/afile/p.png"
+grep -qF -- "--preview: cannot write '$work/afile/p.png'" "$work/stderr" && ok || fail "preview path message: $(cat "$work/stderr")"
+expect_usage_error "--spectral in a missing directory" "${R[@]}" -o o.exr --spectral /nonexistent/s.exr
+expect_usage_error "--preview a directory" "${R[@]}" -o o.exr --preview "$work"
+expect_usage_error "--preview empty" "${R[@]}" -o o.exr --preview ""
+# run as root, `-o /dev/null` would have replaced the device by the map: an existing non-file is refused
+mkfifo "$work/fifo"
+expect_usage_error "-o a FIFO" "${R[@]}" -o "$work/fifo" --sidecar s.json
+[ -p "$work/fifo" ] && ok || fail "-o a FIFO: the FIFO was replaced"
+mkdir -p "$work/sdir"
+expect_usage_error "series into a directory" "${R[@]}" "${SERIES[@]}" -o "$work/sdir"
+[ -z "$(ls "$work" | grep '^sdir_')" ] && ok || fail "series into a directory wrote beside it: $(ls "$work")"
+expect_usage_error "series preview over its maps" "${R[@]}" "${SERIES[@]}" -o s.exr --preview s.exr
+expect_usage_error "empty biome name" "${R[@]}" --biome ""
+expect_usage_error "--aod550 and --turbidity" "${R[@]}" --aod550 0.3 --turbidity 2
+grep -qF -- "--aod550: give turbidity or aod550, not both" "$work/stderr" && ok || fail "aod550 conflict: $(cat "$work/stderr")"
+# output that cannot reach stdout is an error
+"$FM" sun --date 2024-06-21 --time 12:00 --latitude 45 --longitude 7 --json >/dev/full 2>"$work/stderr"
+[ $? -eq 1 ] && grep -q '^firmament: cannot write to standard output' "$work/stderr" && ok ||
+    fail "sun into /dev/full: $(cat "$work/stderr")"
+# a reader that goes away (SIGPIPE) stops the render like Ctrl-C: no temporary file left
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$FM" render --width 256 --quality preview --progress json -o "$work/out/o.exr" 2>/dev/null | head -n 1 >/dev/null
+rc=${PIPESTATUS[0]}
+[ "$rc" -eq 141 ] && ok || fail "SIGPIPE: exit $rc, expected 141"
+expect_empty_dir "SIGPIPE"
+# Ctrl-C while the spectral map is written: the map, sidecar and preview are not left either
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$FM" render --width 1024 --quality preview --sample-scale 0.1 --progress json -o "$work/out/sky.exr" \
+    --spectral "$work/out/s.exr" --preview "$work/out/p.png" >"$work/progress" 2>/dev/null &
+pid=$!
+for _ in $(seq 1 3000); do grep -q '"stage": "done"' "$work/progress" && break; sleep 0.01; done
+for _ in $(seq 1 1000); do ls -A "$work/out" | grep -q '^\.s\.exr\.' && break; sleep 0.01; done
+kill -INT $pid
+wait $pid
+rc=$?
+[ $rc -eq 130 ] && ok || fail "SIGINT during the spectral map: exit $rc, expected 130"
+expect_empty_dir "SIGINT during the spectral map"
+
 # --- interruption: SIGINT and SIGTERM leave nothing, and never replace an existing file ---------
 interrupt() {
     local sig=$1 expect=$2

@@ -457,6 +457,11 @@ fm_status fm_output_commit(fm_output *output, const fm_sky *sky, const fm_render
                            const fm_image *image, const atomic_int *cancel, fm_error *err);
 /* Removes any temporary file left and frees the handle (accepts NULL). */
 void fm_output_close(fm_output *output);
+/* Fails (FM_ERR_IO, one line naming the path) where an output could not be written: an empty path,
+ * a directory, an existing file that is not a regular file (a device such as /dev/null, which the
+ * final rename would replace), or a directory that refuses a new file.  Leaves nothing behind; for
+ * the outputs written beside the map (preview, spectral map), so that they fail before the render. */
+fm_status fm_output_check_path(const char *path, fm_error *err);
 
 /* Lossless both.  (DWAA is not offered: OpenEXR 3.1's C library, which firmament writes with,
  * cannot encode it.) */

@@ -50,8 +50,17 @@ static double largest_value(const fm_image *img)
 char *image_reserve_temp(const char *path, fm_error *err)
 {
     struct stat st;
+    if (!path[0]) {
+        fm_fail(err, FM_ERR_IO, "an output path is empty");
+        return NULL;
+    }
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
         fm_fail(err, FM_ERR_IO, "cannot write '%s': it is a directory", path);
+        return NULL;
+    }
+    /* rename() would replace a device, FIFO or socket (run as root: /dev/null) by a regular file */
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        fm_fail(err, FM_ERR_IO, "cannot write '%s': it is not a regular file", path);
         return NULL;
     }
     const char *slash = strrchr(path, '/');
@@ -75,6 +84,18 @@ char *image_reserve_temp(const char *path, fm_error *err)
     fchmod(fd, 0666 & ~mask);
     close(fd);
     return tmp;
+}
+
+fm_status fm_output_check_path(const char *path, fm_error *err)
+{
+    if (!path)
+        return fm_fail(err, FM_ERR_IO, "an output path is missing");
+    char *tmp = image_reserve_temp(path, err);
+    if (!tmp)
+        return err ? err->status : FM_ERR_IO;
+    unlink(tmp);
+    free(tmp);
+    return FM_OK;
 }
 
 static char *copy_string(const char *s)
