@@ -432,8 +432,10 @@ static int finish_time_options(options *opt, const time_options *t, int have_lat
         }
         double frames = floor((opt->time_end_s - opt->time_start_s) / (60.0 * opt->step_min) + 1e-9) + 1.0;
         if (frames > FM_MAX_FRAMES) {
-            snprintf(msg, msg_size, "--step: %g min from %s to %s makes %.0f frames (at most %d)", opt->step_min, a, b,
-                     frames, FM_MAX_FRAMES);
+            /* the count in full unless it is absurd (--step 1e-300 would print 300 digits) */
+            snprintf(msg, msg_size, frames < 1e9 ? "--step: %g min from %s to %s makes %.0f frames (at most %d)"
+                                                 : "--step: %g min from %s to %s makes %.3g frames (at most %d)",
+                     opt->step_min, a, b, frames, FM_MAX_FRAMES);
             return 0;
         }
         opt->frames = (int)frames;
@@ -528,6 +530,24 @@ static int camera_option(int c, const char *arg, options *opt, const char **spec
     }
 }
 
+/* The option's own word on the command line: where getopt_long found it (before its value when the
+ * value came as the next word). */
+static const char *option_token(char **argv, const char *arg)
+{
+    return arg && optind >= 2 && arg == argv[optind - 1] ? argv[optind - 2] : argv[optind - 1];
+}
+
+/* getopt_long also takes unique abbreviations (--pres for --pressure), which turn a typo of another
+ * option (--pres meant --preset) into a different setting: only full names are accepted. */
+static int abbreviated(char **argv, const char *name, const char *arg)
+{
+    const char *tok = option_token(argv, arg);
+    if (strncmp(tok, "--", 2) != 0)
+        return 0;
+    size_t n = strcspn(tok + 2, "=");
+    return !(n == strlen(name) && strncmp(tok + 2, name, n) == 0);
+}
+
 parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_t msg_size)
 {
     opt->sky = fm_sky_params_default();
@@ -558,6 +578,11 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     while ((c = getopt_long(argc, argv, ":o:h", long_options, &index)) != -1) {
         const char *name = index >= 0 ? long_options[index].name : NULL;
         const char *arg = optarg;
+        if (name && abbreviated(argv, name, arg)) {
+            snprintf(msg, msg_size, "unknown option '%s' (options are given in full: --%s?)", option_token(argv, arg),
+                     name);
+            return PARSE_ERROR;
+        }
         int camera = camera_option(c, arg, opt, &camera_specific, &camera_needed, msg, msg_size);
         if (camera < 0)
             return PARSE_ERROR;
@@ -661,17 +686,17 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             break;
         case OPT_WIDTH:
             if (!parse_long(arg, -2147483647LL, 2147483647LL, &n)) {
-                snprintf(msg, msg_size, "--width: '%s' is not a whole number", arg);
+                snprintf(msg, msg_size, "--width: '%s' is not a whole number in [8, 16384]", arg);
                 return PARSE_ERROR;
             }
             opt->render.width = (int)n;
             break;
         case OPT_SAMPLES:
             if (!parse_long(arg, -2147483647LL, 2147483647LL, &n)) {
-                snprintf(msg, msg_size, "--samples: '%s' is not a whole number", arg);
+                snprintf(msg, msg_size, "--samples: '%s' is not a whole number in [1, 16777216]", arg);
                 return PARSE_ERROR;
             }
-            if (n < 1) {
+            if (n < 1 || n > 16777216) {
                 snprintf(msg, msg_size, "--samples: %lld is outside [1, 16777216]", n);
                 return PARSE_ERROR;
             }
@@ -679,7 +704,7 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             break;
         case OPT_THREADS:
             if (!parse_long(arg, -2147483647LL, 2147483647LL, &n)) {
-                snprintf(msg, msg_size, "--threads: '%s' is not a whole number", arg);
+                snprintf(msg, msg_size, "--threads: '%s' is not a whole number in [0, 256]", arg);
                 return PARSE_ERROR;
             }
             opt->render.threads = (int)n;
@@ -778,7 +803,9 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             return PARSE_ERROR;
         case '?':
         default:
-            if (optopt && optopt < 256)
+            if (optopt >= 256 && strchr(argv[optind - 1], '='))
+                snprintf(msg, msg_size, "%.*s takes no value", (int)strcspn(argv[optind - 1], "="), argv[optind - 1]);
+            else if (optopt && optopt < 256)
                 snprintf(msg, msg_size, "unknown option '-%c' (firmament --help lists the options)", optopt);
             else
                 snprintf(msg, msg_size, "unknown option '%s' (firmament --help lists the options)", argv[optind - 1]);

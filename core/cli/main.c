@@ -58,15 +58,43 @@ static char *default_sidecar(const char *output)
     return s;
 }
 
-/* One line naming the problem; for a parameter, the command-line flag that set it. */
+/* render --preset: the expanded options and the user's own, to tell who set a refused value */
+static struct {
+    const preset_args *pre;
+    int argc;
+    char **argv;
+} origin;
+
+/* The preset file that set flag, or NULL when the user gave it (or there is no preset). */
+static const char *preset_source(const char *flag)
+{
+    if (!origin.pre || !origin.pre->preset)
+        return NULL;
+    size_t n = strlen(flag);
+    for (int i = 1; i < origin.argc; i++)
+        if (strncmp(origin.argv[i], flag, n) == 0 && (origin.argv[i][n] == '\0' || origin.argv[i][n] == '='))
+            return NULL;
+    for (int i = 0; i < origin.pre->preset->count; i++)
+        if (strcmp(origin.pre->flags[i], flag) == 0)
+            return origin.pre->preset->path;
+    return NULL;
+}
+
+/* One line naming the problem; for a parameter, the command-line flag that set it (and the preset
+ * file, when the value came from there). */
 static void report_library_error(const fm_error *err)
 {
     const char *flag = err->parameter[0] ? options_flag_for(err->parameter) : NULL;
     size_t plen = strlen(err->parameter);
-    if (flag && strncmp(err->message, err->parameter, plen) == 0 && err->message[plen] == ':')
-        report_error("%s%s", flag, err->message + plen);
-    else
+    if (flag && strncmp(err->message, err->parameter, plen) == 0 && err->message[plen] == ':') {
+        const char *from = preset_source(flag);
+        if (from)
+            report_error("--preset: %s: %s%s", from, flag, err->message + plen);
+        else
+            report_error("%s%s", flag, err->message + plen);
+    } else {
         report_error("%s", err->message);
+    }
 }
 
 static int exit_code_for(fm_status s)
@@ -327,12 +355,23 @@ static int run_render(int argc, char **argv)
 {
     preset_args pre;
     char msg[512];
+    /* else the first file it cannot find (the colour config) would be blamed, not the variable */
+    const char *presets = getenv("FIRMAMENT_PRESETS");
+    struct stat st;
+    if (presets && presets[0] && !(stat(presets, &st) == 0 && S_ISDIR(st.st_mode))) {
+        report_error("FIRMAMENT_PRESETS: '%s' is not a directory (unset it to use the installed presets)", presets);
+        return EXIT_USAGE;
+    }
     if (preset_args_expand(argc, argv, &pre, msg, sizeof msg)) {
         report_error("%s", msg);
         preset_args_free(&pre);
         return EXIT_USAGE;
     }
+    origin.pre = &pre;
+    origin.argc = argc;
+    origin.argv = argv;
     int code = run_render_options(pre.argc, pre.argv);
+    origin.pre = NULL;
     preset_args_free(&pre);
     return code;
 }

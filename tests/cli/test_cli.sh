@@ -445,6 +445,18 @@ expect_usage_error "series preview over its maps" "${R[@]}" "${SERIES[@]}" -o s.
 expect_usage_error "empty biome name" "${R[@]}" --biome ""
 expect_usage_error "--aod550 and --turbidity" "${R[@]}" --aod550 0.3 --turbidity 2
 grep -qF -- "--aod550: give turbidity or aod550, not both" "$work/stderr" && ok || fail "aod550 conflict: $(cat "$work/stderr")"
+FIRMAMENT_PRESETS=/nonexistent expect_usage_error "FIRMAMENT_PRESETS not a directory" "${R[@]}"
+grep -qF "FIRMAMENT_PRESETS: '/nonexistent' is not a directory" "$work/stderr" && ok || fail "presets message: $(cat "$work/stderr")"
+expect_usage_error "--step making absurdly many frames" "${R[@]}" --date 2024-06-21 --latitude 45 --longitude 7 \
+    --time-start 10:00 --time-end 11:00 --step 1e-300
+[ "$(wc -c <"$work/stderr")" -lt 200 ] && ok || fail "frame count printed in full: $(cat "$work/stderr")"
+# getopt's abbreviations would read --pres (a typo of --preset) as --pressure: full names only
+expect_usage_error "abbreviated option" "${R[@]}" --pres golden-hour
+grep -qF -- "unknown option '--pres' (options are given in full: --pressure?)" "$work/stderr" && ok ||
+    fail "abbreviation message: $(cat "$work/stderr")"
+expect_usage_error "abbreviated option with =" "${R[@]}" --sun-elev=10
+expect_usage_error "a value to a flag" "${R[@]}" --no-sun-disk=1
+grep -qF -- "--no-sun-disk takes no value" "$work/stderr" && ok || fail "flag with a value: $(cat "$work/stderr")"
 # output that cannot reach stdout is an error
 "$FM" sun --date 2024-06-21 --time 12:00 --latitude 45 --longitude 7 --json >/dev/full 2>"$work/stderr"
 [ $? -eq 1 ] && grep -q '^firmament: cannot write to standard output' "$work/stderr" && ok ||

@@ -49,6 +49,13 @@ bad "both aerosol amounts" '{"name": "x", "turbidity": 1, "aod550": 0.2}' '$.aod
 bad "bad date" '{"name": "x", "date": "2024-13-01", "latitude": 10}' '$.date'
 bad "bad time" '{"name": "x", "date": "2024-01-01", "time": "25:00", "latitude": 10}' '--time'
 expect_usage_error "--preset without value" render --preset
+# values refused after parsing (by the renderer, the biome loader) name the preset file too, unless
+# the user gave that option
+bad "odd width" '{"name": "x", "width": 63}' '--width: 63'
+bad "unknown biome" '{"name": "x", "biome": "jungle"}' '--biome: unknown biome'
+printf '{"name": "x", "width": 63}' >"$work/bad.json"
+expect_usage_error "odd width given by the user" render --preset "$work/bad.json" --width 65
+grep -q '^firmament: --width: 65' "$work/stderr" && ok || fail "the user's own value: $(cat "$work/stderr")"
 bad "camera key of the wrong type" '{"name": "x", "fov": "wide"}' '$.fov'
 bad "fov out of range" '{"name": "x", "camera": "pinhole", "fov": 200}' '$.fov'
 bad "unknown camera" '{"name": "x", "camera": "periscope"}' '--camera'

@@ -73,7 +73,7 @@ fm_status camera_init(camera *c, const fm_camera *p, int width, fm_error *err)
         c->height = pinhole_height(p, width);
         if (c->height == 0)
             return fm_fail_parameter(err, "camera.aspect",
-                                     "%g gives a height of %.0f pixels for width %d, outside [8, %d]", p->aspect,
+                                     "%g gives a height of %.4g pixels for width %d, outside [8, %d]", p->aspect,
                                      2.0 * round(0.5 * width / p->aspect), width, FM_MAX_IMAGE_SIZE);
         pinhole_init(&c->pin, width, c->height, p->fov_deg * FM_DEG, p->look_azimuth_deg * FM_DEG,
                      p->look_elevation_deg * FM_DEG);
