@@ -274,7 +274,7 @@ void options_print_usage(void)
           "  --exposure EV          preview exposure: values x 2^EV before the display transform, [-100, 100]\n"
           "                         (default: the sky's log-average luminance above the horizon -> 0.18)\n"
           "Quality:\n"
-          "  --quality LEVEL        preview | final | reference (default final); final takes up to 4x\n"
+          "  --quality LEVEL        preview | final | reference (default final); final takes up to 2x\n"
           "                         its paths in deep twilight (sun -11 to -21 deg, most at -18)\n"
           "  --samples N            reference quality: paths per pixel (default 256; slow by design,\n"
           "                         about 3 us of one core per colour path)\n"

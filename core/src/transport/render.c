@@ -41,8 +41,11 @@ quality_settings render_quality_settings(fm_quality quality, double scale)
 }
 
 /* Deep twilight's final maps: more paths per multiple-scattering node as the sun sinks, from 1 at
- * sun -11 degrees to 4 times at -18 (linear in between), since less and less of the sky's light is
- * found per path.  Rural, 256 x 128 final, the relative SD of one map over twelve seeds: sun -12
+ * sun -11 degrees to 2 times at -18 (linear in between), since less and less of the sky's light is
+ * found per path.  (4 times until the light-led split, path.c, which costs about twice the time per
+ * path there: rural 256 x 128 at -18, four seeds, luminance / R / G / B / G 1.25 / 3.40 / 0.98% in
+ * 25.8 s with 4 times before, 1.36 / 3.02 / 0.97% in 22.5 s with the split and 2 times.)  Before the
+ * split, with 4 times:  Rural, 256 x 128 final, the relative SD of one map over twelve seeds: sun -12
  * 1.27 -> 1.10%, -14 1.63 -> 1.11%, -18 2.51 -> 1.39% (R / G 5.57 -> 3.09%; the horizon's first 2
  * degrees, the stretch that showed, 4.5-5.3 -> 2.1-3.2%); a 1024 x 512 final map at -18 7.7 ->
  * 26.8 s on two cores (with the flights' depth table, optical_depth.h).  Below -18, night by
@@ -52,7 +55,7 @@ quality_settings render_quality_settings(fm_quality quality, double scale)
 #define MORE_PATHS_FROM_DEG -11.0
 #define MORE_PATHS_FULL_DEG -18.0
 #define MORE_PATHS_UNTIL_DEG -21.0
-#define MORE_PATHS_MAX 4.0
+#define MORE_PATHS_MAX 2.0
 static double twilight_path_scale(fm_quality quality, double sun_elevation_deg)
 {
     const double e = sun_elevation_deg;
