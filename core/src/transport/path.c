@@ -276,6 +276,12 @@ typedef struct path_resume {
     int order, splits_left, at_vertex;
 } path_resume;
 
+/* A path's weight as roulette and splitting weigh it: its largest spectral weight q_k w_k W / mean(q). */
+static double path_weight(double W, const double *q, const double *w, int K)
+{
+    return largest_weight(q, w, K) * (W / average(q, K));
+}
+
 /* How many copies a path whose weight (as roulette weighs it, times lift) is m splits into: 1 for
  * none. */
 static int split_copies(double m, int splits_left)
@@ -341,6 +347,10 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
             at_vertex = 0;
             atmosphere_densities(atm, v3_length(pos), n);
             atmosphere_coefficients_from_densities(atm, n, sig_s, sig_t);
+            /* air that scatters nothing at the hero wavelength here (an absorbing-only atmosphere
+             * file) has no phase function to draw the next direction from: no light this way */
+            if (!(sig_s[h] > 0.0))
+                return;
             scattered = 1;
             goto vertex;
         }
@@ -454,14 +464,12 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
             }
             if (ctx->max_order > 0 && order >= ctx->max_order)
                 return;
-            if (late_roulette && !roulette(&W, q, w, K, order, light_lift(ctx, x, start_light), min_survive, r))
+            const double lift = light_lift(ctx, x, start_light); /* 1 unless light-led */
+            if (late_roulette && !roulette(&W, q, w, K, order, lift, min_survive, r))
                 return;
             counted = 0;
             const int split = ctx->shadow_flights && ctx->split_heavy_paths;
-            int copies = split && light_led ? split_copies(largest_weight(q, w, K) * (W / average(q, K)) *
-                                                               light_lift(ctx, x, start_light),
-                                                           splits_left)
-                                            : 1;
+            int copies = split && light_led ? split_copies(path_weight(W, q, w, K) * lift, splits_left) : 1;
             if (copies > 1) { /* led by the light: each copy draws its own direction here */
                 W /= copies;
                 splits_left -= copies - 1;
@@ -473,7 +481,7 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
             renormalise(q, K);
             pos = x;
             d = nd;
-            copies = split ? split_copies(largest_weight(q, w, K) * (W / average(q, K)), splits_left) : 1;
+            copies = split ? split_copies(path_weight(W, q, w, K), splits_left) : 1;
             if (copies > 1) { /* by the weight alone: the copies share the direction */
                 W /= copies;
                 splits_left -= copies - 1;

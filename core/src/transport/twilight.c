@@ -98,13 +98,7 @@ void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int 
         double own[FM_MAX_WAVELENGTHS] = {0}, *Lp = m ? own : L;
         double weight[FM_MAX_WAVELENGTHS];
         vec3 x = view_ray_vertex(&v, pc, (p + rng_uniform(&r)) / paths, weight);
-        double any = 0.0;
-        for (int k = 0; k < K; k++)
-            any += weight[k];
-        /* air that scatters nothing here (an absorbing-only atmosphere file) sends no light; its
-         * vertex would have no phase function to draw from */
-        if (any > 0.0)
-            path_trace_from(pc, x, d, weight, (p + offset) % K, &r, Lp);
+        path_trace_from(pc, x, d, weight, (p + offset) % K, &r, Lp);
         if (m) {
             for (int k = 0; k < K; k++)
                 L[k] += own[k];
