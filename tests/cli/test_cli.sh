@@ -191,7 +191,7 @@ PY
 
 # deep twilight's final maps take more paths per multiple-scattering node (render.c: 1x at sun -11
 # deg, 2x at -18, 1x again by -21), the preview its own; the sidecar and the EXR say how many
-# (2048 x 1/64 = 32)
+# (2048 x 1/64 = 32; the default sky's table needs no second pass, twilight_extra_paths)
 for c in "-18 final 64" "-14.5 final 48" "-8 final 32" "-19.5 final 48" "-21 final 32" "-18 preview 8"; do
     set -- $c
     "$FM" render --width 16 --quality "$2" --sun-elevation "$1" --sample-scale 0.015625 --progress none -o "$work/out/tw.exr" &&

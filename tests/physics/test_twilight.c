@@ -564,6 +564,42 @@ static void deep_twilight_map_is_noise_free(void **state)
     assert_true(n.luminance < 0.02);
     assert_true(n.de_mean < 1.0);
     assert_true(n.de_p99 < 4.5);
+    /* the default sky meets its noise with the paths of the first pass (render.c: twilight_extra_paths) */
+    assert_int_equal(a->paths_per_node, 4096);
+    assert_int_equal(b->paths_per_node, 4096);
+    fm_image_destroy(a);
+    fm_image_destroy(b);
+    fm_sky_destroy(sky);
+}
+
+/* Hazy deep twilight takes the paths that its noise needs: urban air at turbidity 2, sun -18, whose
+ * paths are noisier than the default sky's (render.c: twilight_extra_paths), at an eighth of the
+ * final quality's paths to keep the test short (the noise aimed at grows as the square root of the
+ * eighth, and the criterion of deep_twilight_map_is_noise_free with it: luminance within
+ * 2% x sqrt(8)).  The second pass must have run (the first has 512 paths per node) and the maps must
+ * meet the scaled criterion, which the first pass's paths alone miss.  Measured: 1224 and 1179 paths
+ * per node, luminance 4.02% (bound 5.66%), R / G 5.09%, CIEDE2000 1.88 / 6.16; with the first pass
+ * alone 6.08%, 7.22%, 2.59 / 8.38. */
+static void hazy_deep_twilight_takes_the_paths_it_needs(void **state)
+{
+    fm_sky_params p = fm_sky_params_default();
+    p.sun_elevation_deg = -18.0;
+    p.biome = "urban";
+    p.turbidity = 2.0;
+    fm_sky *sky = test_sky(&p);
+    const double scale = 0.125;
+    fm_image *a = test_render(sky, 256, FM_QUALITY_FINAL, 2, 1, 0, scale, 0);
+    fm_image *b = test_render(sky, 256, FM_QUALITY_FINAL, 2, 2, 0, scale, 0);
+    double xyz[3];
+    assert_int_equal(fm_image_diffuse_horizontal(a, xyz), 1);
+    seed_noise n;
+    assert_int_equal(seed_noise_measure(a, b, log2(FM_PI / xyz[1]), &n), 0);
+    print_message("urban T 2, sun -18, final x 1/8: paths per node %d and %d; one map's luminance %.2f%%, R/G %.2f%%, "
+                  "B/G %.2f%%; CIEDE2000 between two seeds mean %.2f, p99 %.2f\n",
+                  a->paths_per_node, b->paths_per_node, 100.0 * n.luminance, 100.0 * n.red_green,
+                  100.0 * n.blue_green, n.de_mean, n.de_p99);
+    assert_true(a->paths_per_node > 2 * 512 && b->paths_per_node > 2 * 512);
+    assert_true(n.luminance < 0.02 * sqrt(1.0 / scale));
     fm_image_destroy(a);
     fm_image_destroy(b);
     fm_sky_destroy(sky);
@@ -585,6 +621,7 @@ int main(void)
         cmocka_unit_test(zenith_falls_monotonically),
         cmocka_unit_test(illuminance_against_the_ams_glossary),
         cmocka_unit_test(deep_twilight_map_is_noise_free),
+        cmocka_unit_test(hazy_deep_twilight_takes_the_paths_it_needs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
