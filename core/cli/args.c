@@ -1,4 +1,5 @@
 #include "args.h"
+#include "numbers.h"
 #include "time_args.h"
 
 #include <errno.h>
@@ -290,28 +291,6 @@ void options_print_usage(void)
           stdout);
 }
 
-static int parse_double(const char *s, double *out)
-{
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end != '\0' || errno == ERANGE || !isfinite(v))
-        return 0;
-    *out = v;
-    return 1;
-}
-
-static int parse_long(const char *s, long long lo, long long hi, long long *out)
-{
-    char *end;
-    errno = 0;
-    long long v = strtoll(s, &end, 10);
-    if (end == s || *end != '\0' || errno == ERANGE || v < lo || v > hi)
-        return 0;
-    *out = v;
-    return 1;
-}
-
 /* ---- the sun from the date and time: --time, --utc-offset, refraction, time series ---------- */
 
 typedef struct time_options {
@@ -352,7 +331,7 @@ static int parse_time_option(int c, const char *name, const char *arg, options *
         opt->sky.refraction = on;
         return 1;
     case OPT_STEP:
-        if (!parse_double(arg, &d) || !(d > 0.0)) {
+        if (!parse_decimal(arg, &d) || !(d > 0.0)) {
             snprintf(msg, msg_size, "%s: '%s' is not a positive number of minutes", flag, arg);
             return 0;
         }
@@ -361,7 +340,7 @@ static int parse_time_option(int c, const char *name, const char *arg, options *
         return 1;
     default: /* pressure, temperature, Delta T: numbers, ranges checked by the library */
         t->solar_only = c;
-        if (!parse_double(arg, &d)) {
+        if (!parse_decimal(arg, &d)) {
             snprintf(msg, msg_size, "%s: '%s' is not a number", flag, arg);
             return 0;
         }
@@ -459,14 +438,14 @@ static int parse_aspect(const char *s, double *out)
     const char *colon = strchr(s, ':');
     double w, h;
     if (!colon)
-        return parse_double(s, out) && *out > 0.0;
+        return parse_decimal(s, out) && *out > 0.0;
     char left[64];
     size_t n = (size_t)(colon - s);
     if (n == 0 || n >= sizeof left)
         return 0;
     memcpy(left, s, n);
     left[n] = '\0';
-    if (!parse_double(left, &w) || !parse_double(colon + 1, &h) || !(w > 0.0) || !(h > 0.0))
+    if (!parse_decimal(left, &w) || !parse_decimal(colon + 1, &h) || !(w > 0.0) || !(h > 0.0))
         return 0;
     *out = w / h;
     return isfinite(*out) && *out > 0.0;
@@ -509,7 +488,7 @@ static int camera_option(int c, const char *arg, options *opt, const char **spec
         double *field = c == OPT_FOV ? &cam->fov_deg
                                      : (c == OPT_LOOK_AZIMUTH ? &cam->look_azimuth_deg : &cam->look_elevation_deg);
         const char *name = c == OPT_FOV ? "fov" : (c == OPT_LOOK_AZIMUTH ? "look-azimuth" : "look-elevation");
-        if (!parse_double(arg, field)) {
+        if (!parse_decimal(arg, field)) {
             snprintf(msg, msg_size, "--%s: '%s' is not a number", name, arg);
             return -1;
         }
@@ -602,20 +581,20 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             return PARSE_EXIT_OK;
         case OPT_SUN_ELEVATION:
             times.sun_elevation = 1;
-            bad_number = !parse_double(arg, &opt->sky.sun_elevation_deg);
+            bad_number = !parse_decimal(arg, &opt->sky.sun_elevation_deg);
             break;
         case OPT_SUN_AZIMUTH:
             times.sun_azimuth = 1;
-            bad_number = !parse_double(arg, &opt->sky.sun_azimuth_deg);
+            bad_number = !parse_decimal(arg, &opt->sky.sun_azimuth_deg);
             break;
         case OPT_ALTITUDE:
-            bad_number = !parse_double(arg, &opt->sky.observer_altitude_m);
+            bad_number = !parse_decimal(arg, &opt->sky.observer_altitude_m);
             break;
         case OPT_ALBEDO:
-            bad_number = !parse_double(arg, &opt->sky.ground_albedo);
+            bad_number = !parse_decimal(arg, &opt->sky.ground_albedo);
             break;
         case OPT_OZONE:
-            bad_number = !parse_double(arg, &opt->sky.ozone_column_du);
+            bad_number = !parse_decimal(arg, &opt->sky.ozone_column_du);
             if (!bad_number && opt->sky.ozone_column_du < 0.0) { /* negative values are library sentinels */
                 snprintf(msg, msg_size, "--ozone-du: %g is outside [0, 1000] DU", opt->sky.ozone_column_du);
                 return PARSE_ERROR;
@@ -624,10 +603,10 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             break;
         case OPT_EARTH_SUN_DISTANCE:
             times.distance = 1;
-            bad_number = !parse_double(arg, &opt->sky.earth_sun_distance_au);
+            bad_number = !parse_decimal(arg, &opt->sky.earth_sun_distance_au);
             break;
         case OPT_WAVELENGTH:
-            bad_number = !parse_double(arg, &d);
+            bad_number = !parse_decimal(arg, &d);
             if (!bad_number && d == 0.0) {
                 snprintf(msg, msg_size, "--wavelength: 0 is outside [300, 1000] nm");
                 return PARSE_ERROR;
@@ -641,10 +620,10 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             opt->sky.biome = arg;
             break;
         case OPT_TURBIDITY:
-            bad_number = !parse_double(arg, &opt->sky.turbidity);
+            bad_number = !parse_decimal(arg, &opt->sky.turbidity);
             break;
         case OPT_AOD550:
-            bad_number = !parse_double(arg, &d);
+            bad_number = !parse_decimal(arg, &d);
             if (!bad_number && d <= 0.0) {
                 snprintf(msg, msg_size, "--aod550: %g is outside (0, 10]", d);
                 return PARSE_ERROR;
@@ -652,7 +631,7 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             opt->sky.aod550 = d;
             break;
         case OPT_HUMIDITY:
-            bad_number = !parse_double(arg, &d);
+            bad_number = !parse_decimal(arg, &d);
             if (!bad_number && d < 0.0) {
                 snprintf(msg, msg_size, "--humidity: %g is outside [0, 99] %%", d);
                 return PARSE_ERROR;
@@ -674,25 +653,25 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
                 return PARSE_ERROR;
             break;
         case OPT_LATITUDE:
-            bad_number = !parse_double(arg, &opt->sky.latitude_deg);
+            bad_number = !parse_decimal(arg, &opt->sky.latitude_deg);
             have_latitude = 1;
             break;
         case OPT_LONGITUDE:
             times.longitude = 1;
-            bad_number = !parse_double(arg, &opt->sky.longitude_deg);
+            bad_number = !parse_decimal(arg, &opt->sky.longitude_deg);
             break;
         case OPT_SAMPLE_SCALE:
-            bad_number = !parse_double(arg, &opt->render.sample_scale);
+            bad_number = !parse_decimal(arg, &opt->render.sample_scale);
             break;
         case OPT_WIDTH:
-            if (!parse_long(arg, -2147483647LL, 2147483647LL, &n)) {
+            if (!parse_whole(arg, -2147483647LL, 2147483647LL, &n)) {
                 snprintf(msg, msg_size, "--width: '%s' is not a whole number in [8, 16384]", arg);
                 return PARSE_ERROR;
             }
             opt->render.width = (int)n;
             break;
         case OPT_SAMPLES:
-            if (!parse_long(arg, -2147483647LL, 2147483647LL, &n)) {
+            if (!parse_whole(arg, -2147483647LL, 2147483647LL, &n)) {
                 snprintf(msg, msg_size, "--samples: '%s' is not a whole number in [1, 16777216]", arg);
                 return PARSE_ERROR;
             }
@@ -703,7 +682,7 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             opt->render.reference_samples = (int)n;
             break;
         case OPT_THREADS:
-            if (!parse_long(arg, -2147483647LL, 2147483647LL, &n)) {
+            if (!parse_whole(arg, -2147483647LL, 2147483647LL, &n)) {
                 snprintf(msg, msg_size, "--threads: '%s' is not a whole number in [0, 256]", arg);
                 return PARSE_ERROR;
             }
@@ -711,7 +690,7 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             opt->sky.threads = (int)n;
             break;
         case OPT_SEED:
-            if (!parse_long(arg, 0, 9007199254740992LL, &n)) {
+            if (!parse_whole(arg, 0, 9007199254740992LL, &n)) {
                 snprintf(msg, msg_size, "--seed: '%s' is not a whole number in [0, 2^53]", arg);
                 return PARSE_ERROR;
             }
@@ -780,7 +759,7 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
             break;
         case OPT_EXPOSURE:
             opt->have_exposure = 1;
-            bad_number = !parse_double(arg, &opt->exposure_ev);
+            bad_number = !parse_decimal(arg, &opt->exposure_ev);
             if (!bad_number && !(fabs(opt->exposure_ev) <= 100.0)) {
                 snprintf(msg, msg_size, "--exposure: %s is out of range [-100, 100]", arg);
                 return PARSE_ERROR;

@@ -2,6 +2,7 @@
  * Exit codes: 0 ok, 1 runtime failure, 2 bad usage or input, 128 + signal when interrupted. */
 #define _XOPEN_SOURCE 700 /* realpath */
 #include "args.h"
+#include "numbers.h"
 #include "preset_args.h"
 #include "report.h"
 #include "sun_command.h"
@@ -507,9 +508,7 @@ static int run_compare(int argc, char **argv)
     int n = 0, json = 0;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--exclude-sun") == 0 && i + 1 < argc) {
-            char *end;
-            exclude = strtod(argv[++i], &end);
-            if (*end || !(exclude >= 0.0 && exclude <= 180.0)) {
+            if (!parse_decimal(argv[++i], &exclude) || !(exclude >= 0.0 && exclude <= 180.0)) {
                 report_error("--exclude-sun: '%s' is not an angle in [0, 180] degrees", argv[i]);
                 return EXIT_USAGE;
             }

@@ -2,6 +2,7 @@
  * place (fm_solar_position_compute), as text or as one JSON object. */
 #include "sun_command.h"
 
+#include "numbers.h"
 #include "report.h"
 #include "time_args.h"
 
@@ -71,17 +72,6 @@ static void print_usage(void)
           "  --delta-t S            TT - UT in seconds (default: Espenak & Meeus estimate for the date)\n"
           "  --json                 one JSON object on stdout\n",
           stdout);
-}
-
-static int number(const char *s, double *out)
-{
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end || errno == ERANGE || !isfinite(v))
-        return 0;
-    *out = v;
-    return 1;
 }
 
 /* Local clock hours to "HH:MM:SS" (rounded to the second). */
@@ -219,7 +209,7 @@ int run_sun(int argc, char **argv)
             report_error("sun: unknown option '%s' (firmament sun --help lists the options)", argv[optind - 1]);
             return 2;
         }
-        if (target && !number(arg, target)) {
+        if (target && !parse_decimal(arg, target)) {
             snprintf(msg, sizeof msg, "%s: '%s' is not a number", flag, arg);
             ok = 0;
         }

@@ -4,20 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
-int parse_date_arg(const char *flag, const char *arg, int *year, int *month, int *day, char *msg, size_t msg_size)
-{
-    int y, m, d, used = 0;
-    if (sscanf(arg, "%4d-%2d-%2d%n", &y, &m, &d, &used) != 3 || used != 10 || arg[used] != '\0') {
-        snprintf(msg, msg_size, "%s: '%s' is not a date YYYY-MM-DD", flag, arg);
-        return 0;
-    }
-    *year = y;
-    *month = m;
-    *day = d;
-    return 1;
-}
-
-/* Exactly n (1 or 2 when n_max is 2 and n_min 1) decimal digits at *s; advances *s. */
+/* n_min to n_max decimal digits at *s (no sign, no spaces); advances *s. */
 static int digits(const char **s, int n_min, int n_max, int *value)
 {
     int n = 0, v = 0;
@@ -29,6 +16,21 @@ static int digits(const char **s, int n_min, int n_max, int *value)
         return 0;
     *s += n;
     *value = v;
+    return 1;
+}
+
+int parse_date_arg(const char *flag, const char *arg, int *year, int *month, int *day, char *msg, size_t msg_size)
+{
+    const char *s = arg;
+    int y, m, d;
+    if (!digits(&s, 4, 4, &y) || *s++ != '-' || !digits(&s, 2, 2, &m) || *s++ != '-' || !digits(&s, 2, 2, &d) ||
+        *s != '\0') {
+        snprintf(msg, msg_size, "%s: '%s' is not a date YYYY-MM-DD", flag, arg);
+        return 0;
+    }
+    *year = y;
+    *month = m;
+    *day = d;
     return 1;
 }
 

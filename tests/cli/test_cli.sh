@@ -36,6 +36,15 @@ expect_usage_error "missing biome file" render --biome /nonexistent/biome.json
 expect_usage_error "invalid date" render --date 2023-02-30 --latitude 45
 grep -q -- '--date' "$work/stderr" && ok || fail "date message names the flag"
 expect_usage_error "malformed date" render --date 2023-2-3 --latitude 45
+# numbers and dates as people write them: no spaces, signs inside a date, hexadecimal or infinity
+expect_usage_error "date with a signed month" render --date 2024-+1-01 --latitude 45
+expect_usage_error "date with a space" render --date "2024- 1-01" --latitude 45
+expect_usage_error "number with a leading space" render --width " 64"
+expect_usage_error "hexadecimal whole number" render --width 0x40
+expect_usage_error "hexadecimal number" render --turbidity 0x1
+expect_usage_error "infinite number" render --sun-elevation inf
+expect_usage_error "exponent without digits" render --sun-elevation 1e
+expect_usage_error "sun: hexadecimal latitude" sun --date 2023-06-01 --time 12:00 --latitude 0x2d --longitude 7
 expect_usage_error "date without a place" render --date 2023-06-01
 expect_usage_error "latitude beyond 90" render --date 2023-06-01 --latitude 91
 mkdir -p "$work/biomes"
@@ -121,6 +130,8 @@ grep -q '"event": "progress"' "$work/progress" && tail -n 1 "$work/progress" | g
 "$FM" compare "$work/out/sky.exr" "$work/out/sky.exr" --exclude-sun 2 --json | grep -q '"rms": 0,' && ok || fail "compare identical maps"
 "$FM" compare "$work/out/sky.exr" "$work/out/noext" >/dev/null 2>"$work/stderr"
 [ $? -eq 2 ] && grep -q 'differ in size' "$work/stderr" && ok || fail "compare different sizes"
+"$FM" compare "$work/out/sky.exr" "$work/out/sky.exr" --exclude-sun 0x5 >/dev/null 2>"$work/stderr"
+[ $? -eq 2 ] && grep -q "'0x5' is not an angle" "$work/stderr" && ok || fail "compare: hexadecimal angle: $(cat "$work/stderr")"
 
 # --- the sun from the date and time (firmament sun, render --time, time series) -----------------
 grep -q -- '--utc-offset' "$work/help" && ok || fail "render --help lists --utc-offset"
