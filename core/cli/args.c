@@ -572,6 +572,13 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
         double d = 0.0;
         long long n = 0;
         int bad_number = 0;
+        if ((c == 'o' || c == OPT_SIDECAR || c == OPT_PREVIEW || c == OPT_SUN_DISK_MAP || c == OPT_SPECTRAL) &&
+            arg[0] == '-' && arg[1] == '-') {
+            /* `-o --width 64`: the path was left out and the next option taken for it */
+            snprintf(msg, msg_size, "%s%s: '%s' looks like an option, not a file (a file of that name: ./%s)",
+                     name ? "--" : "-o", name ? name : "", arg, arg);
+            return PARSE_ERROR;
+        }
         switch (c) {
         case 'o':
             opt->output = arg;
@@ -805,6 +812,16 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
     }
     if (!finish_time_options(opt, &times, have_latitude, msg, msg_size))
         return PARSE_ERROR;
+    if ((have_latitude || times.longitude) && opt->sky.year == 0) {
+        /* the place chooses the sun (with --time) and the ozone (with --date); alone it does nothing */
+        snprintf(msg, msg_size, "--%s: applies only with --date (the ozone climatology) or --time (the sun)",
+                 have_latitude ? "latitude" : "longitude");
+        return PARSE_ERROR;
+    }
+    if (opt->render.reference_samples > 0 && opt->render.quality != FM_QUALITY_REFERENCE) {
+        snprintf(msg, msg_size, "--samples: applies only with --quality reference");
+        return PARSE_ERROR;
+    }
     if (opt->sky.atmosphere_file && !builtin_only && opt->sky.year != 0 && opt->sky.hour == FM_NO_TIME)
         builtin_only = "date"; /* without a time, the date is for the ozone climatology only */
     if (camera_specific && opt->render.camera.type != camera_needed) {

@@ -45,6 +45,12 @@ expect_usage_error "hexadecimal number" render --turbidity 0x1
 expect_usage_error "infinite number" render --sun-elevation inf
 expect_usage_error "exponent without digits" render --sun-elevation 1e
 expect_usage_error "sun: hexadecimal latitude" sun --date 2023-06-01 --time 12:00 --latitude 0x2d --longitude 7
+# options that would do nothing, and a path left out (the next option taken for it)
+expect_usage_error "latitude without a date" render --latitude 45
+expect_usage_error "longitude without a date" render --longitude 7
+expect_usage_error "samples without reference quality" render --samples 64
+expect_usage_error "output that is an option" render --width 16 -o --width 16
+expect_usage_error "preview that is an option" render --width 16 --preview --half
 expect_usage_error "date without a place" render --date 2023-06-01
 expect_usage_error "latitude beyond 90" render --date 2023-06-01 --latitude 91
 mkdir -p "$work/biomes"
