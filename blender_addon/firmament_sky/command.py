@@ -71,8 +71,9 @@ def build_arguments(executable, s, output, sidecar, disk_map=None):
     else:
         args += ["--sun-elevation", repr(float(s["sun_elevation"])),
                  "--sun-azimuth", repr(float(s["sun_azimuth"]))]
-        if s["ozone_mode"] == "AUTO":  # the climatology needs the date and the latitude
-            args += ["--date", date, "--latitude", repr(float(s["latitude"]))]
+        if s["ozone_mode"] == "AUTO":  # the climatology's column depends on the date and the place
+            args += ["--date", date, "--latitude", repr(float(s["latitude"])),
+                     "--longitude", repr(float(s["longitude"]))]
     args += ["--biome", s["biome"]]
     if s["biome"] != "none":
         if s["aerosol_amount"] == "AOD":

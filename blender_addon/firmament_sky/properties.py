@@ -53,7 +53,7 @@ class FirmamentSkySettings(bpy.types.PropertyGroup):
                                description="Set the relative humidity (else the biome's own)")
     humidity: FloatProperty(name="Humidity %", min=0.0, max=99.0, default=70.0)
     ozone_mode: EnumProperty(name="Ozone", items=[
-        ("AUTO", "Auto", "Total ozone column from the date and latitude (climatology)"),
+        ("AUTO", "Auto", "Total ozone column from the date and place (climatology)"),
         ("MANUAL", "Manual", "Total ozone column in Dobson units"),
     ], default="AUTO")
     ozone_du: FloatProperty(name="Ozone DU", min=0.0, max=1000.0, default=300.0)

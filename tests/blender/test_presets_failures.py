@@ -123,6 +123,21 @@ for text, needle in (('{"name": "x", "turbidity": 1,}', ":1:"), ('{"turbidity": 
         h.check(needle in str(e) and "bad.json" in str(e), "malformed preset: %s" % str(e).strip())
     h.check(dict(p.items()) == settings_before and snapshot() == before, "malformed preset changed nothing")
 
+# --- the sun given by angles with the ozone from the climatology: its column depends on the whole
+# place, so the command passes the longitude as well as the latitude, and the executable takes them
+from firmament_sky import command, properties  # noqa: E402
+angles = properties.defaults()
+angles.update(sun_source="ANGLES", ozone_mode="AUTO", latitude=-33.9, longitude=151.2, resolution=16, quality="preview")
+folder = tempfile.mkdtemp()
+args = command.build_arguments(h.EXE, angles, os.path.join(folder, "a.exr"), os.path.join(folder, "a.json"))
+given = dict(zip(args, args[1:]))
+h.check(given.get("--longitude") == "151.2" and given.get("--latitude") == "-33.9",
+        "angles + climatology ozone: the place passed: %s" % args)
+done = subprocess.run(args, capture_output=True, text=True)
+side = json.load(open(os.path.join(folder, "a.json"))) if done.returncode == 0 else {}
+h.check(side.get("parameters", {}).get("longitude_deg") == 151.2,
+        "angles + climatology ozone renders at that longitude: %s %s" % (done.stderr, side.get("parameters")))
+
 # --- the non-blocking runner, polled as the modal timer does, then cancelled ----------------------
 for line, want in (('{"event": "progress", "fraction": 0.42, "stage": "multiple scattering"}', (0.42, "multiple scattering")),
                    ('{"event": "progress", "fraction": 1.7, "stage": "x"}', (1.0, "x")),
