@@ -2,7 +2,6 @@
 #include "numbers.h"
 #include "time_args.h"
 
-#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>

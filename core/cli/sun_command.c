@@ -8,7 +8,6 @@
 
 #include "firmament/firmament.h"
 
-#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
