@@ -56,13 +56,22 @@ quality_settings render_quality_settings(fm_quality quality, double scale)
 #define MORE_PATHS_FULL_DEG -18.0
 #define MORE_PATHS_UNTIL_DEG -21.0
 #define MORE_PATHS_MAX 2.0
+/* 1 down to sun -18 degrees, 0 from -21 (night), linear in between. */
+static double before_night(double sun_elevation_deg)
+{
+    const double e = sun_elevation_deg;
+    return e >= MORE_PATHS_FULL_DEG   ? 1.0
+           : e <= MORE_PATHS_UNTIL_DEG ? 0.0
+                                       : (e - MORE_PATHS_UNTIL_DEG) / (MORE_PATHS_FULL_DEG - MORE_PATHS_UNTIL_DEG);
+}
+
 static double twilight_path_scale(fm_quality quality, double sun_elevation_deg)
 {
     const double e = sun_elevation_deg;
     if (quality != FM_QUALITY_FINAL || !(e < MORE_PATHS_FROM_DEG && e > MORE_PATHS_UNTIL_DEG))
         return 1.0;
     double f = e > MORE_PATHS_FULL_DEG ? (MORE_PATHS_FROM_DEG - e) / (MORE_PATHS_FROM_DEG - MORE_PATHS_FULL_DEG)
-                                       : (e - MORE_PATHS_UNTIL_DEG) / (MORE_PATHS_FULL_DEG - MORE_PATHS_UNTIL_DEG);
+                                       : before_night(e);
     return 1.0 + (MORE_PATHS_MAX - 1.0) * f;
 }
 
@@ -100,11 +109,12 @@ typedef struct render_job {
     atomic_int no_memory; /* a worker could not allocate */
     int rising_segments;  /* the table's paths: SEGMENT_SUNLIGHT_RISING (rising_segments) */
     double *ms_y, *ms_var; /* per node of ms: the luminance estimate and its variance (sky_grid_fit) */
-    double *ms_spectral;   /* per node of ms: the estimate at every grid wavelength, [node][K] */
-    double *ms_sum;        /* per node of ms: the sum of its paths' estimates, [node][K] */
+    double *ms_sum;        /* per node of ms: the sum of its paths' estimates at every grid wavelength,
+                            * [node][K] */
     node_moments *ms_moments; /* per node of ms: its paths' moments */
     int ms_pass, ms_pass_paths; /* the table's pass (0, or 1 for deep twilight's extra paths) and its
                                  * paths per node */
+    int ms_paths;               /* paths per node so far (ms_finish) */
     double *ms_shape;      /* per node of ms: its view ray's light_integral (twilight_node_paths) */
     double *ms_ratio[2], *ms_ratio_var[2]; /* twilight, colour: per node of ms, X / Y and Z / Y and their
                                             * variances (sky_grid_fit_chroma); else NULL */
@@ -222,8 +232,9 @@ static void ms_finish(render_job *job, int paths)
     const fm_sky *sky = job->sky;
     const int K = sky->atm.grid.count, nodes = sky_grid_nodes(&job->ms);
     const double n = paths;
+    job->ms_paths = paths;
     for (int i = 0; i < nodes; i++) {
-        double *L = &job->ms_spectral[i * K];
+        double L[FM_MAX_WAVELENGTHS];
         for (int k = 0; k < K; k++)
             L[k] = job->ms_sum[i * K + k] / n;
         double y = spectral_grid_luminance(&sky->atm.grid, L);
@@ -265,11 +276,7 @@ static int twilight_extra_paths(const render_job *job, double sample_scale, doub
     if (!may_add_twilight_paths(job))
         return 0;
     /* below -18 degrees (night: twilight_path_scale) the most falls to none by -21 */
-    const double e = sun_elevation_deg;
-    double most = e >= MORE_PATHS_FULL_DEG ? TWILIGHT_EXTRA_MAX
-                  : e <= MORE_PATHS_UNTIL_DEG
-                      ? 0.0
-                      : TWILIGHT_EXTRA_MAX * (e - MORE_PATHS_UNTIL_DEG) / (MORE_PATHS_FULL_DEG - MORE_PATHS_UNTIL_DEG);
+    const double most = TWILIGHT_EXTRA_MAX * before_night(sun_elevation_deg);
     const int nodes = job->ms.rows_sky * job->ms.cols;
     double sum = 0.0;
     int used = 0;
@@ -302,7 +309,7 @@ static fm_status ground_from_table(render_job *job)
     sky_grid_irradiance_weights(&job->ms, w);
     for (int i = 0; i < n; i++)
         for (int k = 0; k < K; k++)
-            E[k] += w[i] * job->ms_spectral[(size_t)i * K + k];
+            E[k] += w[i] * (job->ms_sum[(size_t)i * K + k] / job->ms_paths);
     free(w);
     ground_irradiance_add(&job->ground, E);
     return FM_OK;
@@ -773,7 +780,6 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
             sky_grid_init(&job.ms, horizon, q->ms_rows_sky, q->ms_rows_ground, q->ms_cols, job.channels, 0) ||
             !(job.ms_y = malloc((size_t)sky_grid_nodes(&job.ms) * sizeof(double))) ||
             !(job.ms_var = malloc((size_t)sky_grid_nodes(&job.ms) * sizeof(double))) ||
-            !(job.ms_spectral = malloc((size_t)sky_grid_nodes(&job.ms) * atm->grid.count * sizeof(double))) ||
             !(job.ms_sum = calloc((size_t)sky_grid_nodes(&job.ms) * atm->grid.count, sizeof(double))) ||
             !(job.ms_moments = calloc((size_t)sky_grid_nodes(&job.ms), sizeof(node_moments))) ||
             !(job.ms_shape = malloc((size_t)sky_grid_nodes(&job.ms) * sizeof(double)))) {
@@ -871,7 +877,6 @@ done:
     sky_grid_free(&job.ms);
     free(job.ms_y);
     free(job.ms_var);
-    free(job.ms_spectral);
     free(job.ms_sum);
     free(job.ms_moments);
     free(job.ms_shape);
