@@ -534,6 +534,21 @@ static void illuminance_against_the_ams_glossary(void **state)
     }
 }
 
+/* Two final 256 x 128 maps of sky (seeds 1 and 2, the sample scale given) and their noise as
+ * bench/seed_noise.h measures it, displayed at the sidecar's suggested exposure (white under the
+ * horizontal illuminance E shown as 1), which the Blender add-on sets: log2(683 pi / E).  Returns
+ * that exposure; the maps are the caller's. */
+static double two_seeds_noise(const fm_sky *sky, double scale, fm_image **a, fm_image **b, seed_noise *n)
+{
+    *a = test_render(sky, 256, FM_QUALITY_FINAL, 2, 1, 0, scale, 0);
+    *b = test_render(sky, 256, FM_QUALITY_FINAL, 2, 2, 0, scale, 0);
+    double xyz[3];
+    assert_int_equal(fm_image_diffuse_horizontal(*a, xyz), 1);
+    double ev = log2(FM_PI / xyz[1]);
+    assert_int_equal(seed_noise_measure(*a, *b, ev, n), 0);
+    return ev;
+}
+
 /* Deep twilight's map is noise-free at the default (final) quality: two maps of the default sky at sun
  * -18, 256 x 128, seeds 1 and 2, compared as bench/seed_noise.h says.  Noise-free means no grain (the
  * noise from one pixel to the next below 0.2%), and broad variations that the eye does not see: one
@@ -547,15 +562,9 @@ static void deep_twilight_map_is_noise_free(void **state)
     fm_sky_params p = fm_sky_params_default();
     p.sun_elevation_deg = -18.0;
     fm_sky *sky = test_sky(&p);
-    fm_image *a = test_render(sky, 256, FM_QUALITY_FINAL, 2, 1, 0, 1.0, 0);
-    fm_image *b = test_render(sky, 256, FM_QUALITY_FINAL, 2, 2, 0, 1.0, 0);
-    /* the sidecar's suggested exposure (white under the horizontal illuminance E shown as 1), which the
-     * Blender add-on sets: log2(683 pi / E) */
-    double xyz[3];
-    assert_int_equal(fm_image_diffuse_horizontal(a, xyz), 1);
-    double ev = log2(FM_PI / xyz[1]);
+    fm_image *a, *b;
     seed_noise n;
-    assert_int_equal(seed_noise_measure(a, b, ev, &n), 0);
+    double ev = two_seeds_noise(sky, 1.0, &a, &b, &n);
     print_message("sun -18, final, EV %.2f: one map's luminance %.2f%%, grain %.3f%%, R/G %.2f%%, B/G %.2f%%; CIEDE2000 "
                   "between two seeds mean %.2f, p99 %.2f\n",
                   ev, 100.0 * n.luminance, 100.0 * n.grain, 100.0 * n.red_green, 100.0 * n.blue_green, n.de_mean,
@@ -588,12 +597,9 @@ static void hazy_deep_twilight_takes_the_paths_it_needs(void **state)
     p.turbidity = 2.0;
     fm_sky *sky = test_sky(&p);
     const double scale = 0.125;
-    fm_image *a = test_render(sky, 256, FM_QUALITY_FINAL, 2, 1, 0, scale, 0);
-    fm_image *b = test_render(sky, 256, FM_QUALITY_FINAL, 2, 2, 0, scale, 0);
-    double xyz[3];
-    assert_int_equal(fm_image_diffuse_horizontal(a, xyz), 1);
+    fm_image *a, *b;
     seed_noise n;
-    assert_int_equal(seed_noise_measure(a, b, log2(FM_PI / xyz[1]), &n), 0);
+    two_seeds_noise(sky, scale, &a, &b, &n);
     print_message("urban T 2, sun -18, final x 1/8: paths per node %d and %d; one map's luminance %.2f%%, R/G %.2f%%, "
                   "B/G %.2f%%; CIEDE2000 between two seeds mean %.2f, p99 %.2f\n",
                   a->paths_per_node, b->paths_per_node, 100.0 * n.luminance, 100.0 * n.red_green,
