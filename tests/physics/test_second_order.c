@@ -5,7 +5,12 @@
  * test_single_scattering checks against an independent reference; the outer integrals are Simpson
  * along the ray and Gauss-Legendre x trapezoid over the sphere, split at the local horizon.
  * A path tracer that sampled directions uniformly without the phase weight, or that weighted any
- * vertex wrongly, misses these values by several percent. */
+ * vertex wrongly, misses these values by several percent.
+ *
+ * The fast path's table parts each node's light into order 2 and the orders above, from the same
+ * paths (render.c fits them apart): order 2 must be what the paths cut at order 2 give, the rest
+ * what they give from order 3 on, and the two the whole; and the aerosols' aureole, which the part
+ * rests on, must be order 2's. */
 #include "check.h"
 
 #include "atmosphere/optical_depth.h"
@@ -13,7 +18,9 @@
 #include "base/rng.h"
 #include "base/units.h"
 #include "phase/phase_rayleigh.h"
+#include "spectrum/spectral_grid.h"
 #include "transport/single_scatter.h"
+#include "transport/twilight.h"
 
 #include <math.h>
 
@@ -86,10 +93,103 @@ static void second_order_matches_quadrature(void **state)
     fm_sky_destroy(sky);
 }
 
+/* The table's paths (render.c's ms_nodes: orders >= 2, first vertices along the view ray, the
+ * ground seen directly left to single scattering) for desert dust, the sun 30 degrees up in the
+ * south. */
+static fm_sky *desert_dust_sky(path_context *pc, int min_order, int max_order)
+{
+    fm_sky_params p = test_params(30.0, 0.0);
+    p.sun_azimuth_deg = 180.0;
+    p.biome = "desert-dust";
+    fm_sky *sky = test_sky(&p);
+    *pc = twilight_path_context(sky, NULL, min_order, max_order);
+    pc->skip_ground_first = 1;
+    return sky;
+}
+
+static void table_orders_part_the_same_paths(void **state)
+{
+    path_context pc, cut, later_only;
+    fm_sky *sky = desert_dust_sky(&pc, 2, 0);
+    cut = later_only = pc;
+    cut.max_order = 2;
+    later_only.min_order = 3;
+    const int K = sky->atm.grid.count, N = 2000;
+    const double dirs[3][2] = {{30, 175}, {60, 90}, {5, 0}}; /* near the sun, the side, the north horizon */
+    for (int i = 0; i < 3; i++) {
+        vec3 d = direction_from_elevation_azimuth(dirs[i][0] * FM_DEG, dirs[i][1] * FM_DEG);
+        double whole[FM_MAX_WAVELENGTHS] = {0}, parted[FM_MAX_WAVELENGTHS] = {0}, later[FM_MAX_WAVELENGTHS] = {0};
+        double two[FM_MAX_WAVELENGTHS] = {0}, three[FM_MAX_WAVELENGTHS] = {0};
+        node_orders orders = {later, {0.0, 0.0}};
+        twilight_node_paths(sky, &pc, d, N, 5, (uint64_t)i, 0, whole, NULL, NULL, NULL);
+        twilight_node_paths(sky, &pc, d, N, 5, (uint64_t)i, 0, parted, NULL, NULL, &orders);
+        twilight_node_paths(sky, &cut, d, N, 5, (uint64_t)i, 0, two, NULL, NULL, NULL);
+        twilight_node_paths(sky, &later_only, d, N, 5, (uint64_t)i, 0, three, NULL, NULL, NULL);
+        double y = spectral_grid_luminance(&sky->atm.grid, whole);
+        double y3 = spectral_grid_luminance(&sky->atm.grid, later);
+        print_message("elevation %2.0f azimuth %3.0f: orders >= 3 %.1f%% of the table's light\n", dirs[i][0],
+                      dirs[i][1], 100.0 * y3 / y);
+        assert_true(y3 > 0.1 * y && y3 < 0.9 * y);
+        double off[3] = {0.0, 0.0, 0.0}; /* the largest differences over the wavelengths, relative to the whole */
+        for (int k = 0; k < K; k++) {
+            off[0] = fmax(off[0], fabs(parted[k] - whole[k]) / whole[k]);
+            off[1] = fmax(off[1], fabs(parted[k] - later[k] - two[k]) / whole[k]);
+            off[2] = fmax(off[2], fabs(later[k] - three[k]) / whole[k]);
+        }
+        check_abs(off[0], 0.0, 1e-12, "the parted node's whole against the node's");
+        check_abs(off[1], 0.0, 1e-12, "order 2 against the paths cut at order 2");
+        check_abs(off[2], 0.0, 1e-12, "orders >= 3 against the paths counted from order 3");
+        /* the squared luminances of the parts: each at least the square of its mean (Cauchy-Schwarz) */
+        double y2 = spectral_grid_luminance(&sky->atm.grid, two) / N, y3m = y3 / N;
+        assert_true(orders.yy[0] / N >= y2 * y2 && orders.yy[1] / N >= y3m * y3m);
+    }
+    fm_sky_destroy(sky);
+}
+
+/* A row of table nodes through the sun (elevation 30, 13 relative azimuths 0..180 degrees): the
+ * cosine coefficient m of the row, over its mean, for order 2 and for the orders above (trapezoid
+ * rule over the uniform columns, which makes the cosines orthogonal). */
+static void aureole_is_order_two(void **state)
+{
+    path_context pc;
+    fm_sky *sky = desert_dust_sky(&pc, 2, 0);
+    enum { COLS = 13, N = 4096, M = 5 };
+    double row[2][COLS];
+    for (int j = 0; j < COLS; j++) {
+        vec3 d = direction_from_elevation_azimuth(30.0 * FM_DEG, (180.0 - 180.0 * j / (COLS - 1)) * FM_DEG);
+        double whole[FM_MAX_WAVELENGTHS] = {0}, later[FM_MAX_WAVELENGTHS] = {0};
+        node_orders orders = {later, {0.0, 0.0}};
+        twilight_node_paths(sky, &pc, d, N, 9, (uint64_t)(100 + j), 0, whole, NULL, NULL, &orders);
+        row[1][j] = spectral_grid_luminance(&sky->atm.grid, later);
+        row[0][j] = spectral_grid_luminance(&sky->atm.grid, whole) - row[1][j];
+    }
+    double share[2];
+    for (int o = 0; o < 2; o++) {
+        double c[2] = {0.0, 0.0}, norm[2] = {0.0, 0.0};
+        for (int j = 0; j < COLS; j++) {
+            double t = j == 0 || j == COLS - 1 ? 0.5 : 1.0, cm = cos(FM_PI * M * j / (COLS - 1));
+            c[0] += t * row[o][j];
+            norm[0] += t;
+            c[1] += t * cm * row[o][j];
+            norm[1] += t * cm * cm;
+        }
+        share[o] = (c[1] / norm[1]) / (c[0] / norm[0]);
+    }
+    print_message("desert dust, sun 30, the row through the sun: cosine %d over the mean %.3f for order 2, %.3f "
+                  "for orders >= 3\n",
+                  M, share[0], share[1]);
+    /* measured 0.29 and 0.03 at 16 times the final table's paths (render.c, fit_table) */
+    assert_true(share[0] > 0.15);
+    assert_true(fabs(share[1]) < 0.08);
+    fm_sky_destroy(sky);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(second_order_matches_quadrature),
+        cmocka_unit_test(table_orders_part_the_same_paths),
+        cmocka_unit_test(aureole_is_order_two),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -292,10 +292,17 @@ static int split_copies(double m, int splits_left)
     return copies - 1 < splits_left ? copies : splits_left + 1;
 }
 
+/* Where a contribution of the given order goes: L_later, if given, takes orders 3 and up. */
+static double *order_sink(double *L, double *L_later, int order)
+{
+    return L_later && order > 2 ? L_later : L;
+}
+
 /* The path from origin along dir; with first_weight, it begins with a scattering at origin (arrived
  * along dir) whose spectral weights are first_weight; with resume, it goes on as a copy of a split
- * path from origin along dir. */
-static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L,
+ * path from origin along dir.  Contributions go to L, or those of orders 3 and up to L_later when it
+ * is given. */
+static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L, double *L_later,
                   const double *first_weight, const path_resume *resume)
 {
     const atmosphere *atm = ctx->atm;
@@ -368,9 +375,9 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
         if (along) {
             double S[FM_MAX_WAVELENGTHS] = {0};
             segment_sunlight(ctx, &seg, umbra0, umbra1, r, S);
-            double scale = W / average(q, K);
+            double scale = W / average(q, K), *sink = order_sink(L, L_later, order + 1);
             for (int k = 0; k < K; k++)
-                L[k] += scale * q[k] * w[k] * S[k];
+                sink[k] += scale * q[k] * w[k] * S[k];
             if (ctx->max_order > 0 && order + 1 >= ctx->max_order)
                 return;
         }
@@ -458,9 +465,9 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
                 double mu_s = v3_dot(x, ctx->sun_dir) / rad;
                 sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, rad, mu_s, tbar);
                 medium_phase(atm, n, v3_dot(d, ctx->sun_dir), phase, NULL);
-                double scale = W / average(q, K);
+                double scale = W / average(q, K), *sink = order_sink(L, L_later, order);
                 for (int k = 0; k < K; k++)
-                    L[k] += scale * q[k] * w[k] * phase[k] * E0[k] * tbar[k];
+                    sink[k] += scale * q[k] * w[k] * phase[k] * E0[k] * tbar[k];
             }
             if (ctx->max_order > 0 && order >= ctx->max_order)
                 return;
@@ -475,7 +482,7 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
                 splits_left -= copies - 1;
                 const path_resume copy = {q, w, W, start_light, order, splits_left, 1};
                 for (int c = 1; c < copies; c++)
-                    trace(ctx, x, d, hero, r, L, NULL, &copy);
+                    trace(ctx, x, d, hero, r, L, L_later, NULL, &copy);
             }
             vec3 nd = scatter_direction(ctx, x, n, sig_s, d, h, r, q, w);
             renormalise(q, K);
@@ -487,7 +494,7 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
                 splits_left -= copies - 1;
                 const path_resume copy = {q, w, W, start_light, order, splits_left, 0};
                 for (int c = 1; c < copies; c++)
-                    trace(ctx, pos, d, hero, r, L, NULL, &copy);
+                    trace(ctx, pos, d, hero, r, L, L_later, NULL, &copy);
             }
         } else if (seg.hits_ground) {
             vec3 x = v3_madd(seg.origin, seg.dir, seg.t_end);
@@ -500,9 +507,9 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
                 double mu_s = v3_dot(normal, ctx->sun_dir);
                 double *thor = phase; /* reuse: horizontal transmittance */
                 sun_irradiance_lookup_ground(ctx->sun_table, atm, ctx->sun, mu_s, tbar, thor);
-                double scale = W / average(q, K);
+                double scale = W / average(q, K), *sink = order_sink(L, L_later, order);
                 for (int k = 0; k < K; k++)
-                    L[k] += scale * q[k] * w[k] * atm->ground_albedo[k] / FM_PI * E0[k] * thor[k];
+                    sink[k] += scale * q[k] * w[k] * atm->ground_albedo[k] / FM_PI * E0[k] * thor[k];
             }
             if (ctx->max_order > 0 && order >= ctx->max_order)
                 return;
@@ -524,10 +531,11 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
 
 void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L)
 {
-    trace(ctx, origin, dir, hero, r, L, NULL, NULL);
+    trace(ctx, origin, dir, hero, r, L, NULL, NULL, NULL);
 }
 
-void path_trace_from(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r, double *L)
+void path_trace_from(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r, double *L,
+                     double *L_later)
 {
-    trace(ctx, x, dir, hero, r, L, weight, NULL);
+    trace(ctx, x, dir, hero, r, L, L_later, weight, NULL);
 }

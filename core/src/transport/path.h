@@ -91,8 +91,11 @@ typedef struct path_context {
 void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L);
 
 /* The same for a path that begins with a scattering at x (arrived along dir, counted as order 1)
- * with spectral weights weight[k] (the caller's f/p of placing the vertex there). */
-void path_trace_from(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r, double *L);
+ * with spectral weights weight[k] (the caller's f/p of placing the vertex there).  L_later, if not
+ * NULL, receives the contributions of orders 3 and up instead of L (the same path, its light
+ * parted by order). */
+void path_trace_from(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r, double *L,
+                     double *L_later);
 
 /* Mixture phase function sigma_s-weighted over species at densities n: fills p[k] for every grid
  * wavelength (returns the scattering coefficients in sigma_s[k]). */

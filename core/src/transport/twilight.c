@@ -77,7 +77,7 @@ path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *t
 }
 
 void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
-                         uint64_t item, int offset, double *L, node_moments *m, double *shape)
+                         uint64_t item, int offset, double *L, node_moments *m, double *shape, node_orders *orders)
 {
     const int K = sky->atm.grid.count;
     /* First vertices stratified along the view ray (view_ray_vertices.h), by day too: against delta
@@ -95,13 +95,23 @@ void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int 
     for (int p = 0; p < paths; p++) {
         rng r = rng_for_qmc(seed, item, (uint64_t)p, (uint64_t)paths);
         rng_use_scramble(&r, &scramble);
-        double own[FM_MAX_WAVELENGTHS] = {0}, *Lp = m ? own : L;
+        double own[FM_MAX_WAVELENGTHS] = {0}, later[FM_MAX_WAVELENGTHS] = {0}, *Lp = m || orders ? own : L;
         double weight[FM_MAX_WAVELENGTHS];
         vec3 x = view_ray_vertex(&v, pc, (p + rng_uniform(&r)) / paths, weight);
-        path_trace_from(pc, x, d, weight, (p + offset) % K, &r, Lp);
-        if (m) {
+        path_trace_from(pc, x, d, weight, (p + offset) % K, &r, Lp, orders ? later : NULL);
+        if (orders) {
+            double y2 = spectral_grid_luminance(&sky->atm.grid, own), y3 = spectral_grid_luminance(&sky->atm.grid, later);
+            orders->yy[0] += y2 * y2;
+            orders->yy[1] += y3 * y3;
+            for (int k = 0; k < K; k++) {
+                orders->later[k] += later[k];
+                own[k] += later[k];
+            }
+        }
+        if (Lp == own)
             for (int k = 0; k < K; k++)
                 L[k] += own[k];
+        if (m) {
             double xyz[3] = {0.0, own[0], 0.0}; /* Y: the luminance, or a monochromatic sky's value */
             if (sky->atm.grid.colour) {
                 double *batch = m->batch_xyz[(int)((int64_t)p * NODE_BATCHES / paths)];

@@ -41,13 +41,22 @@ typedef struct node_moments {
     double batch_xyz[NODE_BATCHES][3];
 } node_moments;
 
+/* A node's light parted by order (render.c fits the parts apart by day): `later` (K values) the sum
+ * of the paths' orders 3 and up, yy[0] and yy[1] the sums over the paths of the squared luminance
+ * of their order 2 and of their orders 3 and up. */
+typedef struct node_orders {
+    double *later;
+    double yy[2];
+} node_orders;
+
 /* The fast path's estimate of orders >= 2 toward d at one table node: adds the sum of `paths` path
  * estimates (K values) to L, their first vertices stratified along the view ray
  * (view_ray_vertices.h) and, with twilight sampling (pc carries a guide), the guide's directions
  * after them.  m, if not NULL, receives their moments, for standard errors; shape, if not NULL,
- * the view ray's light_integral (view_ray_vertices.h: > 0 in deep twilight, else 0). */
+ * the view ray's light_integral (view_ray_vertices.h: > 0 in deep twilight, else 0); orders, if not
+ * NULL, the same light parted by order (L still gets all of it). */
 void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
-                         uint64_t item, int offset, double *L, node_moments *m, double *shape);
+                         uint64_t item, int offset, double *L, node_moments *m, double *shape, node_orders *orders);
 
 /* The node's ratio of means X / Y (c = 0) or Z / Y (c = 2) and its variance by the jackknife over
  * the batches (deleting one at a time); NAN for both when a batch's deletion leaves no light. */
