@@ -37,28 +37,40 @@ static void scattering_paths(const atmosphere *atm, vec3 observer, vec3 d, int k
  * forward peak about d and the field's aureole about the sun.  It is parted between them,
  * f = a_d f + a_s f with a_x = A_x / (A_d + A_s), A_x = 1 / (1 - d' . x + floor), and each part
  * integrated on polar rings crowded toward its own centre, where its only peak is. */
+/* sum_c tau_c p_c(mu) */
+static double phase_sum(const atmosphere *atm, const double *tau, int k, double mu)
+{
+    double p = 0.0;
+    for (int c = 0; c < atm->scattering_count; c++)
+        if (tau[c] > 0.0)
+            p += tau[c] * phase_evaluate(&atm->species[c].phase, k, mu);
+    return p;
+}
+
 double next_order_shape(const atmosphere *atm, vec3 observer, vec3 d, vec3 sun_dir, int k, radiance_field F,
                         void *ctx)
 {
-    double tau[FM_MAX_SPECIES];
+    double tau[FM_MAX_SPECIES], cos_phi[AZIMUTHS], sin_phi[AZIMUTHS];
     scattering_paths(atm, observer, d, k, tau);
+    for (int j = 0; j < AZIMUTHS; j++) {
+        double phi = 2.0 * FM_PI * (j + 0.5) / AZIMUTHS;
+        cos_phi[j] = cos(phi);
+        sin_phi[j] = sin(phi);
+    }
     const vec3 centres[2] = {d, sun_dir};
     double sum = 0.0;
     for (int centre = 0; centre < 2; centre++) {
         const frame f = frame_from_normal(centres[centre]);
         for (int i = 0; i < POLAR; i++) {
-            double v = (i + 0.5) / POLAR, theta = FM_PI * v * v;
-            double ring = sin(theta) * (2.0 * FM_PI * v / POLAR) * (2.0 * FM_PI / AZIMUTHS); /* d omega */
+            double v = (i + 0.5) / POLAR, theta = FM_PI * v * v, st = sin(theta), ct = cos(theta);
+            double ring = st * (2.0 * FM_PI * v / POLAR) * (2.0 * FM_PI / AZIMUTHS); /* d omega */
+            double p_ring = centre == 0 ? phase_sum(atm, tau, k, ct) : 0.0; /* about d: the same on the ring */
             for (int j = 0; j < AZIMUTHS; j++) {
-                double phi = 2.0 * FM_PI * (j + 0.5) / AZIMUTHS;
-                vec3 dp = frame_to_world(&f, v3(sin(theta) * cos(phi), sin(theta) * sin(phi), cos(theta)));
+                vec3 dp = frame_to_world(&f, v3(st * cos_phi[j], st * sin_phi[j], ct));
                 double to_d = 1.0 / (1.0 - v3_dot(dp, d) + PARTITION_FLOOR);
                 double to_sun = 1.0 / (1.0 - v3_dot(dp, sun_dir) + PARTITION_FLOOR);
                 double share = (centre == 0 ? to_d : to_sun) / (to_d + to_sun);
-                double mu = clamp_cosine(v3_dot(dp, d)), p = 0.0;
-                for (int c = 0; c < atm->scattering_count; c++)
-                    if (tau[c] > 0.0)
-                        p += tau[c] * phase_evaluate(&atm->species[c].phase, k, mu);
+                double p = centre == 0 ? p_ring : phase_sum(atm, tau, k, clamp_cosine(v3_dot(dp, d)));
                 sum += ring * share * p * F(ctx, dp);
             }
         }

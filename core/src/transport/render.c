@@ -347,9 +347,7 @@ static double table_field(void *ctx, vec3 d)
     const shape_field *f = ctx;
     double elevation = asin(clamp_cosine(d.z));
     const sky_grid *g = elevation > f->job->ms.horizon_elevation ? f->above : &f->job->ss;
-    float v[FM_MAX_WAVELENGTHS];
-    sky_grid_lookup(g, elevation, relative_azimuth(f->job->sky, atan2(d.x, d.y)), v);
-    return v[f->channel];
+    return sky_grid_lookup_channel(g, elevation, relative_azimuth(f->job->sky, atan2(d.x, d.y)), f->channel);
 }
 
 /* Work item: the shape (next_order_shape.h) of one sky node of a table part, into ms_shape. */

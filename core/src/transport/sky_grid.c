@@ -85,7 +85,9 @@ void sky_grid_irradiance_weights(const sky_grid *g, double *w)
     }
 }
 
-void sky_grid_lookup(const sky_grid *g, double elevation, double rel_azimuth, float *out)
+/* The bilinear cell of (elevation, relative azimuth): the offset of its first value (row r0, column c0)
+ * in g->values and the weights tr, tc of its next row and column. */
+static size_t cell_of(const sky_grid *g, double elevation, double rel_azimuth, double *tr, double *tc)
 {
     double u;
     int first, rows;
@@ -102,21 +104,37 @@ void sky_grid_lookup(const sky_grid *g, double elevation, double rel_azimuth, fl
     int r0 = (int)fr;
     if (r0 > rows - 2)
         r0 = rows - 2;
-    double tr = fr - r0;
+    *tr = fr - r0;
     double fc = clamp_between(rel_azimuth / FM_PI, 0.0, 1.0) * (g->cols - 1);
     int c0 = (int)fc;
     if (c0 > g->cols - 2)
         c0 = g->cols - 2;
-    double tc = fc - c0;
-    const int C = g->channels;
-    const float *v00 = &g->values[((size_t)(first + r0) * g->cols + c0) * C];
-    const float *v01 = v00 + C;
-    const float *v10 = v00 + (size_t)g->cols * C;
-    const float *v11 = v10 + C;
-    for (int c = 0; c < C; c++) {
-        double v = (1 - tr) * ((1 - tc) * v00[c] + tc * v01[c]) + tr * ((1 - tc) * v10[c] + tc * v11[c]);
-        out[c] = (float)(g->logarithmic ? exp(v) : v);
-    }
+    *tc = fc - c0;
+    return ((size_t)(first + r0) * g->cols + c0) * g->channels;
+}
+
+/* Channel c of the cell at v00 (cell_of), interpolated. */
+static double interpolate(const sky_grid *g, const float *v00, double tr, double tc, int c)
+{
+    const size_t C = (size_t)g->channels, next_row = (size_t)g->cols * C;
+    double v = (1 - tr) * ((1 - tc) * v00[c] + tc * v00[C + c]) + tr * ((1 - tc) * v00[next_row + c] +
+                                                                          tc * v00[next_row + C + c]);
+    return g->logarithmic ? exp(v) : v;
+}
+
+void sky_grid_lookup(const sky_grid *g, double elevation, double rel_azimuth, float *out)
+{
+    double tr, tc;
+    const float *v00 = &g->values[cell_of(g, elevation, rel_azimuth, &tr, &tc)];
+    for (int c = 0; c < g->channels; c++)
+        out[c] = (float)interpolate(g, v00, tr, tc, c);
+}
+
+double sky_grid_lookup_channel(const sky_grid *g, double elevation, double rel_azimuth, int c)
+{
+    double tr, tc;
+    const float *v00 = &g->values[cell_of(g, elevation, rel_azimuth, &tr, &tc)];
+    return (float)interpolate(g, v00, tr, tc, c);
 }
 
 void sky_grid_average_poles(sky_grid *g)

@@ -51,4 +51,7 @@ void sky_grid_irradiance_weights(const sky_grid *g, double *w);
 /* Interpolated value at (elevation, relative azimuth in [0, pi]). */
 void sky_grid_lookup(const sky_grid *g, double elevation, double rel_azimuth, float *out);
 
+/* Its channel c alone (the same value as sky_grid_lookup's). */
+double sky_grid_lookup_channel(const sky_grid *g, double elevation, double rel_azimuth, int c);
+
 #endif
