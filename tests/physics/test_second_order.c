@@ -98,7 +98,7 @@ static void second_order_matches_quadrature(void **state)
 
 /* The table's paths (render.c's ms_nodes: orders >= 2, first vertices along the view ray, the
  * ground seen directly left to single scattering) for desert dust, the sun 30 degrees up in the
- * south. */
+ * south; in colour, or at the one wavelength lambda_nm if it is positive. */
 static fm_sky *desert_dust_sky(path_context *pc, int min_order, int max_order, double lambda_nm)
 {
     fm_sky_params p = test_params(30.0, lambda_nm);
