@@ -213,7 +213,8 @@ static void second_order_shape_carries_the_aureole(void **state)
         double L[1] = {0.0};
         twilight_node_paths(sky, &pc, d, N, 9, (uint64_t)(200 + j), 0, L, NULL, NULL, NULL);
         two[j] = L[0] / N;
-        ratio[j] = two[j] / next_order_shape(&sky->atm, sky->observer, d, sky->sun_dir, 0, observer_single_scatter, sky);
+        double shape = next_order_shape(&sky->atm, sky->observer, d, sky->sun_dir, 0, observer_single_scatter, sky);
+        ratio[j] = two[j] / shape;
         print_message("azimuth %5.1f from the sun: order 2 / shape %.3f\n", 180.0 * j / (COLS - 1), ratio[j]);
         assert_true(ratio[j] > 0.6 && ratio[j] < 1.2);
     }

@@ -7,7 +7,8 @@
 #include <math.h>
 
 #define RAY_STEPS 64 /* midpoints along the view ray, crowded toward the observer (t = t_end u^2) */
-#define POLAR 48     /* rings about each centre of the sphere's quadrature, crowded toward it (theta = pi v^2) */
+#define POLAR 48     /* rings about each centre of the sphere's quadrature, crowded toward it
+                      * (theta = pi v^2) */
 #define AZIMUTHS 24  /* points per ring */
 /* 1 - cos of the angle (0.8 degrees) within which the partition of the sphere (below) no longer
  * sharpens: both peaks are narrower than the table's nodes are apart */
@@ -33,10 +34,6 @@ static void scattering_paths(const atmosphere *atm, vec3 observer, vec3 d, int k
     }
 }
 
-/* The sphere's integral of f(d') = sum_c tau_c p_c(d . d') F(d') has two peaks: the phase functions'
- * forward peak about d and the field's aureole about the sun.  It is parted between them,
- * f = a_d f + a_s f with a_x = A_x / (A_d + A_s), A_x = 1 / (1 - d' . x + floor), and each part
- * integrated on polar rings crowded toward its own centre, where its only peak is. */
 /* sum_c tau_c p_c(mu) */
 static double phase_sum(const atmosphere *atm, const double *tau, int k, double mu)
 {
@@ -47,6 +44,10 @@ static double phase_sum(const atmosphere *atm, const double *tau, int k, double 
     return p;
 }
 
+/* The sphere's integral of f(d') = sum_c tau_c p_c(d . d') F(d') has two peaks: the phase functions'
+ * forward peak about d and the field's aureole about the sun.  It is parted between them,
+ * f = a_d f + a_s f with a_x = A_x / (A_d + A_s), A_x = 1 / (1 - d' . x + floor), and each part
+ * integrated on polar rings crowded toward its own centre, where its only peak is. */
 double next_order_shape(const atmosphere *atm, vec3 observer, vec3 d, vec3 sun_dir, int k, radiance_field F,
                         void *ctx)
 {

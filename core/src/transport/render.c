@@ -379,9 +379,10 @@ static fm_status fit_part(render_job *job, sky_grid *part, const sky_grid *above
 
 /* The table's noise averaged over many nodes where a smooth fit is expected to be closer to the
  * truth than the nodes themselves (sky_grid_fit.h).  By day and in twilight down to deep twilight
- * (the sun 4.5 degrees down) order 2 and the orders above it are fitted apart and added: the aerosols' aureole is order 2's (desert dust at sun 30, 16 times the
- * paths: in the sky row nearest the sun the 5th cosine of the azimuth is 0.29 of the row's mean in
- * order 2, 0.03 in the orders above), and each part is fitted divided by its shape
+ * (the sun 4.5 degrees down) order 2 and the orders above it are fitted apart and added: the
+ * aerosols' aureole is order 2's (desert dust at sun 30, 16 times the paths: in the sky row nearest
+ * the sun the 5th cosine of the azimuth is 0.29 of the row's mean in order 2, 0.03 in the orders
+ * above), and each part is fitted divided by its shape
  * (next_order_shape.h: order 2's from the single-scattering table, the orders above from the fitted
  * order 2), which holds the aureole, so that SURE keeps few cosines for either.  1024 x 512 final
  * maps at sun 30, five seeds, RMS error against 16 times the samples, fitted whole / apart / order

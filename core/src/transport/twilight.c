@@ -100,7 +100,8 @@ void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int 
         vec3 x = view_ray_vertex(&v, pc, (p + rng_uniform(&r)) / paths, weight);
         path_trace_from(pc, x, d, weight, (p + offset) % K, &r, Lp, orders ? later : NULL);
         if (orders) {
-            double y2 = spectral_grid_luminance(&sky->atm.grid, own), y3 = spectral_grid_luminance(&sky->atm.grid, later);
+            double y2 = spectral_grid_luminance(&sky->atm.grid, own);
+            double y3 = spectral_grid_luminance(&sky->atm.grid, later);
             orders->yy[0] += y2 * y2;
             orders->yy[1] += y3 * y3;
             for (int k = 0; k < K; k++) {
