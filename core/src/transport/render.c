@@ -255,7 +255,7 @@ static void ms_finish(render_job *job, int paths)
         double L[FM_MAX_WAVELENGTHS];
         for (int k = 0; k < K; k++)
             L[k] = job->ms_sum[i * K + k] / n;
-        double y = spectral_grid_luminance(&sky->atm.grid, L), yy = job->ms_moments[i].yy;
+        double yy = job->ms_moments[i].yy; /* the whole's, or order 2's once parted */
         if (job->ms_orders) {
             double later[FM_MAX_WAVELENGTHS];
             for (int k = 0; k < K; k++) {
@@ -266,9 +266,9 @@ static void ms_finish(render_job *job, int paths)
             job->ms_later_y[i] = y3;
             job->ms_later_var[i] = variance_of_mean(job->ms_orders[i].yy[1], y3, n);
             to_channels(&sky->atm, job->channels, later, &job->ms_later.values[i * job->channels]);
-            y = spectral_grid_luminance(&sky->atm.grid, L);
             yy = job->ms_orders[i].yy[0];
         }
+        double y = spectral_grid_luminance(&sky->atm.grid, L);
         job->ms_y[i] = y;
         job->ms_var[i] = variance_of_mean(yy, y, n);
         for (int c = 0; c < 2 && job->ms_ratio[0]; c++)
