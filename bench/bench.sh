@@ -30,6 +30,9 @@
 # "equal x" measures the same directly: the biome's wall time over the clear sky's at the sample
 # scale (1 to 1/64, interpolated) where the clear sky's error is the biome's; the clear sky's fixed
 # costs (tables, pixels, output) do not shrink with its paths, which the 1/sqrt law leaves out.
+# "RMS % /4" and "equal /4" are the biome's error and "equal x" at a quarter of the final quality's
+# paths (--sample-scale 0.25): the same question at an error about twice the final map's, where the
+# fixed costs weigh more.
 # "ref cost x" is the same ratio for the path tracer alone, without the fast path's tables and fit:
 # the reference mode at 400 pixels of the map, 2048 paths each (bench/sky_bench.c: time per pixel
 # x its RMS relative noise "ref RSD %" squared), which is what the sampling of the aerosols'
@@ -135,8 +138,22 @@ if [ "${1:-}" = "--biomes" ]; then
         echo "$rms $sec"
     done | sort -g >"$out/clear-curve.txt"
     echo "the clear sky's curve (RMS % : wall s):" $(awk '{ printf "%s:%s ", $1, $2 }' "$out/clear-curve.txt")
-    printf '%-28s %-10s %8s %7s %7s %8s %8s %9s %12s\n' sky size "wall s" "RMS %" "p99 %" "cost x" "equal x" "ref RSD %" \
-        "ref cost x"
+    # the clear sky's time at the error $1 (RMS %): log time linear in log error between the curve's
+    # points; below its smallest error 1 / error^2 from there, above its largest the fastest time
+    clear_time_at() {
+        awk -v e="$1" 'NR == 1 { e0 = $1; t0 = $2 } { r[NR] = $1; t[NR] = $2 }
+            END {
+                if (e <= r[1]) { print t0 * (e0 / e) ^ 2; exit }
+                for (i = 2; i <= NR; i++)
+                    if (e <= r[i]) {
+                        f = log(e / r[i - 1]) / log(r[i] / r[i - 1])
+                        print exp(log(t[i - 1]) + f * log(t[i] / t[i - 1])); exit
+                    }
+                m = t[1]; for (i = 2; i <= NR; i++) if (t[i] < m) m = t[i]; print m
+            }' "$out/clear-curve.txt"
+    }
+    printf '%-28s %-10s %8s %7s %7s %8s %8s %9s %12s %8s %8s\n' sky size "wall s" "RMS %" "p99 %" "cost x" "equal x" \
+        "ref RSD %" "ref cost x" "RMS % /4" "equal /4"
     clear_cost=""
     clear_ref=""
     for b in none background desert-dust maritime-clean maritime-mineral polar-antarctic polar-arctic \
@@ -151,22 +168,14 @@ if [ "${1:-}" = "--biomes" ]; then
         read -r _ t_ref _ e_ref _ <<<"$("$SB" speed "biome:$b" 1024 2048)"
         ref=$(awk -v t="$t_ref" -v e="$e_ref" 'BEGIN { print t * e * e }')
         [ -z "$clear_ref" ] && clear_ref=$ref
-        # the clear sky's time at this error: log time linear in log error between the curve's points;
-        # below its smallest error 1 / error^2 from there, above its largest the fastest time
-        clear_sec=$(awk -v e="$rms" 'NR == 1 { e0 = $1; t0 = $2 } { r[NR] = $1; t[NR] = $2 }
-            END {
-                if (e <= r[1]) { print t0 * (e0 / e) ^ 2; exit }
-                for (i = 2; i <= NR; i++)
-                    if (e <= r[i]) {
-                        f = log(e / r[i - 1]) / log(r[i] / r[i - 1])
-                        print exp(log(t[i - 1]) + f * log(t[i] / t[i - 1])); exit
-                    }
-                m = t[1]; for (i = 2; i <= NR; i++) if (t[i] < m) m = t[i]; print m
-            }' "$out/clear-curve.txt")
-        printf '%-28s %-10s %8.2f %7.3f %7.3f %8.2f %8.2f %9.3f %12.2f\n' "$b (sun 30)" 1024x512 "$sec" "$rms" "$p99" \
-            "$(awk -v c="$cost" -v c0="$clear_cost" 'BEGIN { print c / c0 }')" \
-            "$(awk -v s="$sec" -v c="$clear_sec" 'BEGIN { print s / c }')" \
-            "$(awk -v e="$e_ref" 'BEGIN { print 100 * e }')" "$(awk -v c="$ref" -v c0="$clear_ref" 'BEGIN { print c / c0 }')"
+        # the same at a quarter of the paths, an error nearer the preview's
+        read -r sec4 _ <<<"$(timed "$b-q" --width 1024 --sun-elevation 30 --biome "$b" --sample-scale 0.25)"
+        read -r rms4 _ <<<"$(three_seeds "$b-q" "$b-16x" --width 1024 --sun-elevation 30 --biome "$b" --sample-scale 0.25)"
+        printf '%-28s %-10s %8.2f %7.3f %7.3f %8.2f %8.2f %9.3f %12.2f %8.3f %8.2f\n' "$b (sun 30)" 1024x512 "$sec" "$rms" \
+            "$p99" "$(awk -v c="$cost" -v c0="$clear_cost" 'BEGIN { print c / c0 }')" \
+            "$(awk -v s="$sec" -v c="$(clear_time_at "$rms")" 'BEGIN { print s / c }')" \
+            "$(awk -v e="$e_ref" 'BEGIN { print 100 * e }')" "$(awk -v c="$ref" -v c0="$clear_ref" 'BEGIN { print c / c0 }')" \
+            "$rms4" "$(awk -v s="$sec4" -v c="$(clear_time_at "$rms4")" 'BEGIN { print s / c }')"
     done
     exit 0
 fi
