@@ -4,6 +4,7 @@
 #include <stdarg.h>
 #include <sys/resource.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
@@ -150,12 +151,42 @@ void reporter_series_done(reporter *r, int frames, int night_frames, const char 
     }
 }
 
+/* s with its control characters written as escapes (\n, \t, \r, \xNN): a name or path that holds
+ * a newline would otherwise break an error's one line in two. */
+static void put_escaped(FILE *f, const char *s)
+{
+    for (; *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '\n')
+            fputs("\\n", f);
+        else if (c == '\t')
+            fputs("\\t", f);
+        else if (c == '\r')
+            fputs("\\r", f);
+        else if (c < 0x20 || c == 0x7f)
+            fprintf(f, "\\x%02x", c);
+        else
+            fputc(c, f);
+    }
+}
+
 void report_error(const char *fmt, ...)
 {
-    va_list ap;
+    va_list ap, size_ap;
     va_start(ap, fmt);
+    va_copy(size_ap, ap);
+    int n = vsnprintf(NULL, 0, fmt, size_ap);
+    va_end(size_ap);
+    char small[1024], *line = n >= 0 && (size_t)n < sizeof small ? small : malloc(n >= 0 ? (size_t)n + 1 : 1);
     fputs("firmament: ", stderr);
-    vfprintf(stderr, fmt, ap);
+    if (line && n >= 0) {
+        vsnprintf(line, (size_t)n + 1, fmt, ap);
+        put_escaped(stderr, line);
+    } else {
+        vfprintf(stderr, fmt, ap); /* no memory for the line: as it comes */
+    }
     fputc('\n', stderr);
+    if (line != small)
+        free(line);
     va_end(ap);
 }

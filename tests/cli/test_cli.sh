@@ -26,6 +26,10 @@ expect_usage_error "altitude above 20 km" render --altitude 30000
 expect_usage_error "negative ozone" render --ozone-du -1
 expect_usage_error "unknown biome" render --biome jungle
 grep -q 'known: none, background, desert-dust' "$work/stderr" && ok || fail "unknown biome lists the names: $(cat "$work/stderr")"
+# a name or path holding a newline stays on the error's one line, the newline escaped
+expect_usage_error "unknown biome with a newline" render --biome $'jun\ngle'
+if grep -qF "'jun\ngle'" "$work/stderr"; then ok; else fail "newline not escaped: $(cat "$work/stderr")"; fi
+expect_usage_error "unwritable output with a newline" render --width 8 -o $'/nonexistent/a\nb.exr'
 expect_usage_error "negative turbidity" render --turbidity -0.5
 grep -q -- '--turbidity' "$work/stderr" && ok || fail "turbidity message names the flag"
 expect_usage_error "absurd turbidity" render --turbidity 1e6
