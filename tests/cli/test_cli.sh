@@ -125,6 +125,13 @@ rm -rf "$work/out" && mkdir -p "$work/out"
 if "$FM" render --width 32 --quality preview --progress none -o "$work/out/sky.exr"; then ok; else fail "small render"; fi
 [ -s "$work/out/sky.exr" ] && [ -s "$work/out/sky.json" ] && ok || fail "render wrote sky.exr and sky.json"
 [ "$(ls -A "$work/out" | wc -l)" -eq 2 ] && ok || fail "no temporary file left: $(ls -A "$work/out")"
+# a file name of 251 bytes (of the 255 a name may have): its temporary file's name is cut short
+long=$(printf 'a%.0s' $(seq 1 247)).exr
+mkdir -p "$work/long"
+if "$FM" render --width 8 --quality preview --progress none -o "$work/long/$long" 2>"$work/stderr" &&
+    [ -s "$work/long/$long" ] && [ "$(ls -A "$work/long" | wc -l)" -eq 2 ]; then ok; else
+    fail "a 251-byte file name: $(cat "$work/stderr") $(ls -A "$work/long")"
+fi
 [ "$(head -c 4 "$work/out/sky.exr" | od -An -tx1 | tr -d ' ')" = "762f3101" ] && ok || fail "EXR magic number"
 grep -q '"direct_normal_irradiance_rgb"' "$work/out/sky.json" && grep -q '"diffuse_horizontal_illuminance_lux"' "$work/out/sky.json" && ok || fail "sidecar keys"
 # a custom sidecar path, and a name without an extension

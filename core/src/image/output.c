@@ -46,7 +46,12 @@ static double largest_value(const fm_image *img)
     return m;
 }
 
-/* Creates "<dir>/.<name>.XXXXXX" and returns its path (malloc'd), or NULL with err filled. */
+/* The temporary file's name holds at most this much of the output's: "." + it + ".XXXXXX" stays
+ * within the 255 bytes of a file name, so an output named up to that length is written too. */
+#define TEMP_NAME_PART 240
+
+/* Creates "<dir>/.<name>.XXXXXX" (name cut to TEMP_NAME_PART bytes) and returns its path (malloc'd),
+ * or NULL with err filled. */
 char *image_reserve_temp(const char *path, fm_error *err)
 {
     struct stat st;
@@ -71,7 +76,9 @@ char *image_reserve_temp(const char *path, fm_error *err)
         fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
         return NULL;
     }
-    snprintf(tmp, n, "%.*s.%s.XXXXXX", (int)dir_len, path, path + dir_len);
+    size_t name_len = strlen(path + dir_len);
+    int part = name_len > TEMP_NAME_PART ? TEMP_NAME_PART : (int)name_len;
+    snprintf(tmp, n, "%.*s.%.*s.XXXXXX", (int)dir_len, path, part, path + dir_len);
     int fd = mkstemp(tmp);
     if (fd < 0) {
         fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
