@@ -177,7 +177,9 @@ void report_error(const char *fmt, ...)
     va_copy(size_ap, ap);
     int n = vsnprintf(NULL, 0, fmt, size_ap);
     va_end(size_ap);
-    char small[1024], *line = n >= 0 && (size_t)n < sizeof small ? small : malloc(n >= 0 ? (size_t)n + 1 : 1);
+    char small[1024], *line = small;
+    if (n >= 0 && (size_t)n >= sizeof small)
+        line = malloc((size_t)n + 1);
     fputs("firmament: ", stderr);
     if (line && n >= 0) {
         vsnprintf(line, (size_t)n + 1, fmt, ap);

@@ -16,8 +16,8 @@ void image_set_wavelengths(fm_image *img, int n, const double *lambda_nm, const 
 void image_colour_to_xyz(const fm_image *img, const double v[3], double xyz[3]);
 
 /* Creates an empty "<dir>/.<name>.XXXXXX" beside path (a long name cut short), for writing and
- * renaming over path;
- * returns its malloc'd name, or NULL with err filled (also when path is a directory). */
+ * renaming over path; returns its malloc'd name, or NULL with err filled (also when path is a
+ * directory). */
 char *image_reserve_temp(const char *path, fm_error *err);
 
 #endif
