@@ -16,7 +16,7 @@
 #include "base/units.h"
 #include "spectrum/spectral_grid.h"
 #include "transport/ground_irradiance.h"
-#include "transport/render.h"
+#include "render/render.h"
 #include "transport/twilight.h"
 
 #include <math.h>

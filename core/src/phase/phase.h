@@ -7,6 +7,7 @@
 #define FM_PHASE_PHASE_H
 
 #include "firmament/firmament.h"
+#include "phase/phase_table.h"
 #include "spectrum/spectral_grid.h"
 
 typedef enum phase_kind {
@@ -15,21 +16,6 @@ typedef enum phase_kind {
     PHASE_HENYEY_GREENSTEIN, /* param: asymmetry parameter g in (-1, 1) */
     PHASE_TABULATED          /* table: per grid wavelength, piecewise linear in cos_theta */
 } phase_kind;
-
-/* A phase function tabulated at angles theta_j (ascending from 0 to pi) for every grid wavelength,
- * linear in cos_theta between nodes and normalised so that the piecewise-linear function integrates
- * to exactly 1; sampling inverts its cumulative distribution exactly (bin by the table, then the
- * linear density inside the bin). */
-typedef struct phase_table {
-    int wavelength_count; /* K */
-    int angle_count;      /* n >= 2 */
-    double *mu;           /* [n] cos(theta_j), descending from 1 to -1 */
-    double *value;        /* [n][K] sr^-1: a node's values for all wavelengths side by side, which
-                           * evaluating every wavelength at one angle reads (phase_table_eval_all) */
-    double *cdf;          /* [K][n] probability of cos_theta >= mu_j */
-    int *first_bin;       /* [2n - 1]: the bin at the start of each of 2n - 2 equal steps of
-                           * u = (sin(theta / 2))^(1/2) (phase_table_bin) */
-} phase_table;
 
 typedef struct phase_function {
     phase_kind kind;

@@ -3,6 +3,7 @@
 #include "base/status.h"
 #include "base/units.h"
 #include "base/vec.h"
+#include "spectrum/spectral_grid.h"
 
 #include <math.h>
 #include <stdarg.h>

@@ -1,13 +1,28 @@
-/* Tabulated phase functions (phase_table, declared in phase/phase.h): building a table from values
- * at angles theta_j, evaluating it (linear in cos_theta between nodes), sampling it by exact
- * inversion of its cumulative distribution, and its exact asymmetry parameter.
+/* Tabulated phase functions (phase_table): building a table from values at angles theta_j,
+ * evaluating it (linear in cos_theta between nodes), sampling it by exact inversion of its
+ * cumulative distribution, and its exact asymmetry parameter.
  * Per wavelength k the function is p_k(mu) = v_kj + (v_k,j+1 - v_kj) (mu_j - mu) / (mu_j - mu_j+1)
  * on [mu_j+1, mu_j]; the stored values are scaled so that 2 pi times the trapezoid sum in mu (the
  * exact integral of that function over the sphere) is 1. */
 #ifndef FM_PHASE_PHASE_TABLE_H
 #define FM_PHASE_PHASE_TABLE_H
 
-#include "phase/phase.h"
+#include "firmament/firmament.h"
+
+/* A phase function tabulated at angles theta_j (ascending from 0 to pi) for every grid wavelength,
+ * linear in cos_theta between nodes and normalised so that the piecewise-linear function integrates
+ * to exactly 1; sampling inverts its cumulative distribution exactly (bin by the table, then the
+ * linear density inside the bin). */
+typedef struct phase_table {
+    int wavelength_count; /* K */
+    int angle_count;      /* n >= 2 */
+    double *mu;           /* [n] cos(theta_j), descending from 1 to -1 */
+    double *value;        /* [n][K] sr^-1: a node's values for all wavelengths side by side, which
+                           * evaluating every wavelength at one angle reads (phase_table_eval_all) */
+    double *cdf;          /* [K][n] probability of cos_theta >= mu_j */
+    int *first_bin;       /* [2n - 1]: the bin at the start of each of 2n - 2 equal steps of
+                           * u = (sin(theta / 2))^(1/2) (phase_table_bin) */
+} phase_table;
 
 /* Builds *out from values[k * angle_count + j] at theta_rad[j]; checks the inputs as
  * phase_init_tabulated documents.  *out is set only on success. */

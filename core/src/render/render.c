@@ -1,4 +1,4 @@
-#include "transport/render.h"
+#include "render/render.h"
 
 #include "atmosphere/optical_depth.h"
 #include "base/rng.h"

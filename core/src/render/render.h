@@ -7,8 +7,8 @@
  * its footprint.  The ground's reflection of skylight goes with the deterministic part, through the
  * diffuse ground irradiance (transport/ground_irradiance.h).  Reference: every pixel path-traces all orders itself, no table of radiance.
  * Both then add the sun disk, integrated over each pixel's footprint. */
-#ifndef FM_TRANSPORT_RENDER_H
-#define FM_TRANSPORT_RENDER_H
+#ifndef FM_RENDER_RENDER_H
+#define FM_RENDER_RENDER_H
 
 #include "firmament/firmament.h"
 
