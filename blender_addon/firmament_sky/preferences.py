@@ -14,8 +14,8 @@ class FirmamentSkyPreferences(bpy.types.AddonPreferences):
 
     executable: StringProperty(
         name="firmament Executable", subtype="FILE_PATH", default="",
-        description="Path to the firmament executable; empty: $FIRMAMENT_EXECUTABLE, then firmament on PATH, "
-                    "then a copy next to the add-on")
+        description="Path to a firmament executable to use instead of the one bundled with the add-on "
+                    "(empty: $FIRMAMENT_EXECUTABLE, then the bundled one, then firmament on PATH)")
 
     def draw(self, context):
         layout = self.layout
@@ -34,12 +34,29 @@ def preferences(context=None):
     return addon.preferences if addon else None
 
 
+BUNDLED = os.path.join(ADDON_DIR, "bin", "firmament")  # scripts/build-addon puts it there
+
+
 def _is_executable(path):
     return bool(path) and os.path.isfile(path) and os.access(path, os.X_OK)
 
 
+def bundled_executable():
+    """The executable shipped in the add-on's zip, or None.  Installing from a zip may drop the
+    executable bit (Blender's extension installer extracts with Python's zipfile): restore it."""
+    if not os.path.isfile(BUNDLED):
+        return None
+    if not os.access(BUNDLED, os.X_OK):
+        try:
+            os.chmod(BUNDLED, os.stat(BUNDLED).st_mode | 0o755)
+        except OSError:
+            return None
+    return BUNDLED if os.access(BUNDLED, os.X_OK) else None
+
+
 def find_executable(configured=""):
-    """(path, where it came from) or (None, why not)."""
+    """(path, where it came from) or (None, why not).  Order: the preference (an override), then
+    $FIRMAMENT_EXECUTABLE, then the executable bundled with the add-on, then firmament on PATH."""
     if configured:
         path = bpy.path.abspath(configured)
         if _is_executable(path):
@@ -50,10 +67,10 @@ def find_executable(configured=""):
         if _is_executable(env):
             return env, "$FIRMAMENT_EXECUTABLE"
         return None, "$FIRMAMENT_EXECUTABLE=%s is not an executable file" % env
+    bundled = bundled_executable()
+    if bundled:
+        return bundled, "bundled with the add-on"
     on_path = shutil.which("firmament")
     if on_path:
         return on_path, "PATH"
-    for candidate in (os.path.join(ADDON_DIR, "bin", "firmament"), os.path.join(ADDON_DIR, "firmament")):
-        if _is_executable(candidate):
-            return candidate, "add-on folder"
-    return None, "not in the preferences, $FIRMAMENT_EXECUTABLE, PATH or the add-on folder"
+    return None, "no executable bundled with the add-on, in the preferences, $FIRMAMENT_EXECUTABLE or PATH"

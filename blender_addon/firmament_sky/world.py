@@ -8,7 +8,7 @@ import math
 import os
 
 import bpy
-from mathutils import Vector
+from mathutils import Color, Vector
 
 TAG = "firmament_sky"
 NODE_PREFIX = "Firmament "
@@ -141,7 +141,7 @@ def _env_node(nodes, links, mapping, image, name, x, y):
 
 
 def build_world_nodes(world, sky_image, disk_image, rotation_z):
-    if hasattr(world, "use_nodes") and not world.use_nodes:
+    if world.node_tree is None:  # before 5.0 a new world has no tree until use_nodes (deprecated in 5.0)
         world.use_nodes = True
     nodes, links = world.node_tree.nodes, world.node_tree.links
     for n in [n for n in nodes if n.name.startswith(NODE_PREFIX)]:
@@ -178,9 +178,11 @@ def build_world_nodes(world, sky_image, disk_image, rotation_z):
 def setup_lamp(scene, sun, north_offset):
     obj = _ensure_lamp(scene)
     light = obj.data
-    rgb = sun["irradiance_rgb"]
+    # strength x colour = the direct normal irradiance, in the map's units (Blender W/m^2), converted
+    # from the map's linear Rec.709 to the scene's working space (5.0: Rec.2020 or ACEScg) the way
+    # Blender converts the map tagged Linear Rec.709
+    rgb = list(Color(sun["irradiance_rgb"]).from_rec709_linear_to_scene_linear())
     peak = max(rgb)
-    # strength x colour = the direct normal irradiance, in the map's units (Blender W/m^2)
     light.energy = max(peak, 0.0)
     light.color = [c / peak for c in rgb] if peak > 0.0 else (1.0, 1.0, 1.0)
     light.angle = math.radians(sun["angular_diameter_deg"])
