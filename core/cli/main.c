@@ -127,16 +127,6 @@ static int open_colour(const options *opt, fm_colour_config **cfg)
     return -1;
 }
 
-/* The preview PNG of a written map, when asked for. */
-static fm_status write_preview(const options *opt, const fm_image *img, const fm_colour_config *colour,
-                               const char *path, fm_error *err)
-{
-    if (!path)
-        return FM_OK;
-    double ev = opt->have_exposure ? opt->exposure_ev : fm_image_auto_exposure(img);
-    return fm_image_write_preview(img, colour, path, ev, err);
-}
-
 /* path with its directory resolved (links, ".", ".."), so that two spellings of one file compare
  * equal; a copy of path itself where the directory cannot be resolved (malloc'd, NULL: no memory) */
 static char *resolved_path(const char *path)
@@ -186,24 +176,20 @@ static int check_outputs(const char *const *paths, const char *const *names, int
     return 0;
 }
 
-/* --spectral and --preview, written before the map itself, so that the caller can remove them
- * (the flags say which are in place) when a later step fails or is interrupted: all or nothing. */
-static fm_status write_extras(const options *opt, const fm_sky *sky, const fm_image *spectral, const fm_image *img,
-                              const fm_colour_config *colour, const char *preview, int *spectral_written,
-                              int *preview_written, fm_error *err)
+/* --spectral and --preview, staged with the map: they appear when it does, or not at all. */
+static fm_status stage_extras(const options *opt, fm_output *out, const fm_sky *sky, const fm_image *spectral,
+                              const fm_image *img, const fm_colour_config *colour, const char *preview, fm_error *err)
 {
     fm_status s;
-    if (opt->spectral) {
-        if ((s = fm_output_write_spectral(opt->spectral, sky, &opt->render, spectral, img, &cancel_signal, err)))
-            return s;
-        *spectral_written = 1;
-    }
+    if (opt->spectral &&
+        (s = fm_output_stage_spectral(out, opt->spectral, sky, &opt->render, spectral, img, &cancel_signal, err)))
+        return s;
     if (preview) {
         if (atomic_load(&cancel_signal))
             return FM_ERR_CANCELLED; /* reported as an interruption, not through err */
-        if ((s = write_preview(opt, img, colour, preview, err)))
+        double ev = opt->have_exposure ? opt->exposure_ev : fm_image_auto_exposure(img);
+        if ((s = fm_output_stage_preview(out, preview, img, colour, ev, err)))
             return s;
-        *preview_written = 1;
     }
     return FM_OK;
 }
@@ -289,7 +275,6 @@ static int run_series(options *opt, const fm_colour_config *colour)
             int dark = sp->sun_elevation_deg < -18.0;
             night += dark;
             reporter_frame_start(&rep, i, opt->frames, when, sp->sun_elevation_deg, sp->sun_azimuth_deg, dark);
-            int no_spectral = 0, preview_written = 0;
             if ((s = fm_output_open(exr, json, &out, &err))) {
                 report_library_error(&err);
                 code = s == FM_ERR_IO ? EXIT_USAGE : exit_code_for(s);
@@ -297,11 +282,10 @@ static int run_series(options *opt, const fm_colour_config *colour)
                        (s = fm_render(sky, &opt->render, &img, &err)) ||
                        (img->content == FM_IMAGE_XYZ &&
                         (s = fm_image_to_colorspace(img, colour, opt->colorspace, &err))) ||
-                       (s = write_extras(opt, sky, NULL, img, colour, preview, &no_spectral, &preview_written, &err)) ||
-                       (s = fm_output_commit(out, sky, &opt->render, img, &cancel_signal, &err))) {
+                       (s = stage_extras(opt, out, sky, NULL, img, colour, preview, &err)) ||
+                       (s = fm_output_stage(out, sky, &opt->render, img, &cancel_signal, &err)) ||
+                       (s = fm_output_publish(&out, 1, &err))) {
                 reporter_finish_line(&rep);
-                if (preview_written) /* the frame's files all or none */
-                    unlink(preview);
                 if (s == FM_ERR_CANCELLED)
                     report_error("interrupted; frame %d was not written (%d before it were)", i, written);
                 else
@@ -332,17 +316,16 @@ static int run_series(options *opt, const fm_colour_config *colour)
     return code;
 }
 
-/* --sun-disk-map: writes the map with the disk to its own file, then takes the disk out of img,
- * which the main output then holds without it.  *written is set once the disk map is in place. */
+/* --sun-disk-map: stages the map with the disk for its own file, then takes the disk out of img,
+ * which the main output then holds without it. */
 static int run_render_options(int argc, char **argv);
 
-static fm_status commit_disk_map(fm_output *disk_out, const fm_sky *sky, fm_render_params *params, fm_image *img,
-                                 int *written, fm_error *err)
+static fm_status stage_disk_map(fm_output *disk_out, const fm_sky *sky, fm_render_params *params, fm_image *img,
+                                fm_error *err)
 {
-    fm_status s = fm_output_commit(disk_out, sky, params, img, &cancel_signal, err);
+    fm_status s = fm_output_stage(disk_out, sky, params, img, &cancel_signal, err);
     if (s)
         return s;
-    *written = 1;
     size_t n = (size_t)img->width * (size_t)img->height * (size_t)img->channels;
     for (size_t i = 0; i < n; i++)
         img->pixels[i] -= img->sun_disk[i];
@@ -408,7 +391,7 @@ static int run_render_options(int argc, char **argv)
     fm_output *out = NULL, *disk_out = NULL;
     fm_image *img = NULL, *spectral = NULL; /* spectral: the --spectral map, img made from it */
     char *disk_sidecar = opt.sun_disk_map ? default_sidecar(opt.sun_disk_map) : NULL;
-    int code = 0, disk_written = 0, spectral_written = 0, preview_written = 0;
+    int code = 0;
     if (opt.sun_disk_map && !disk_sidecar) {
         report_error("out of memory");
         free(sidecar);
@@ -445,19 +428,11 @@ static int run_render_options(int argc, char **argv)
         (s = fm_render(sky, &opt.render, &img, &err)) ||
         (opt.spectral && (spectral = img, img = NULL, s = fm_image_spectral_to_xyz(spectral, &img, &err))) ||
         (img->content == FM_IMAGE_XYZ && (s = fm_image_to_colorspace(img, colour, opt.colorspace, &err))) ||
-        (disk_out && (s = commit_disk_map(disk_out, sky, &opt.render, img, &disk_written, &err))) ||
-        (s = write_extras(&opt, sky, spectral, img, colour, opt.preview, &spectral_written, &preview_written,
-                          &err)) ||
-        (s = fm_output_commit(out, sky, &opt.render, img, &cancel_signal, &err))) {
+        (disk_out && (s = stage_disk_map(disk_out, sky, &opt.render, img, &err))) ||
+        (s = stage_extras(&opt, out, sky, spectral, img, colour, opt.preview, &err)) ||
+        (s = fm_output_stage(out, sky, &opt.render, img, &cancel_signal, &err)) ||
+        (s = fm_output_publish((fm_output *const[]){out, disk_out}, disk_out ? 2 : 1, &err))) {
         reporter_finish_line(&rep);
-        if (disk_written) { /* all or nothing: the disk map, spectral map and preview go too */
-            unlink(opt.sun_disk_map);
-            unlink(disk_sidecar);
-        }
-        if (spectral_written)
-            unlink(opt.spectral);
-        if (preview_written)
-            unlink(opt.preview);
         if (s == FM_ERR_CANCELLED)
             report_error("interrupted; nothing was written");
         else

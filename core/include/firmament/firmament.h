@@ -457,6 +457,21 @@ fm_status fm_output_commit(fm_output *output, const fm_sky *sky, const fm_render
                            const fm_image *image, const atomic_int *cancel, fm_error *err);
 /* Removes any temporary file left and frees the handle (accepts NULL). */
 void fm_output_close(fm_output *output);
+/* fm_output_commit in two steps, for files that appear together: _stage writes the EXR and sidecar
+ * into their temporary files; _stage_spectral and _stage_preview add a spectral map or a preview PNG
+ * (as fm_output_write_spectral and fm_image_write_preview write them) to the output's files; then
+ * fm_output_publish renames every staged file of n outputs into place, the sidecars last.  Nothing
+ * is renamed until all are complete, and when a rename fails the files replaced before it are put
+ * back (from hard links to them; a file system without links loses those) and the new ones removed:
+ * all appear, or none, and no existing file is lost. */
+fm_status fm_output_stage(fm_output *output, const fm_sky *sky, const fm_render_params *params,
+                          const fm_image *image, const atomic_int *cancel, fm_error *err);
+fm_status fm_output_stage_spectral(fm_output *output, const char *path, const fm_sky *sky,
+                                   const fm_render_params *params, const fm_image *spectral, const fm_image *colour,
+                                   const atomic_int *cancel, fm_error *err);
+fm_status fm_output_stage_preview(fm_output *output, const char *path, const fm_image *image,
+                                  const fm_colour_config *cfg, double exposure_ev, fm_error *err);
+fm_status fm_output_publish(fm_output *const *outputs, int n, fm_error *err);
 /* Fails (FM_ERR_IO, one line naming the path) where an output could not be written: an empty path,
  * a directory, an existing file that is not a regular file (a device such as /dev/null, which the
  * final rename would replace), or a directory that refuses a new file.  Leaves nothing behind; for

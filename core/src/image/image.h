@@ -20,4 +20,9 @@ void image_colour_to_xyz(const fm_image *img, const double v[3], double xyz[3]);
  * directory). */
 char *image_reserve_temp(const char *path, fm_error *err);
 
+/* The preview PNG (fm_image_write_preview) written into file as is; path is the name it will have,
+ * for the messages. */
+fm_status image_write_preview_file(const fm_image *img, const fm_colour_config *cfg, const char *file,
+                                   const char *path, double exposure_ev, fm_error *err);
+
 #endif

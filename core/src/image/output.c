@@ -1,6 +1,7 @@
-/* fm_output: the EXR and its sidecar reach their final names together, complete, or not at all.
- * Both are written to temporary files beside their destinations (same directory, so rename() is
- * atomic) and renamed only after both are complete. */
+/* fm_output: the EXR, its sidecar and the files published with them (preview, spectral map, a
+ * second output's pair) reach their final names together, complete, or not at all.  Each is written
+ * to a temporary file beside its destination (same directory, so rename() is atomic) and renamed
+ * only after all are complete; a rename that fails puts back the files replaced before it. */
 #define _POSIX_C_SOURCE 200809L
 #include "base/status.h"
 #include "image/image.h"
@@ -11,15 +12,25 @@
 #include <errno.h>
 #include <math.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+/* A file written to tmp, to be renamed over path. */
+typedef struct staged_file {
+    char *path, *tmp; /* tmp NULL once renamed or removed */
+} staged_file;
+
+/* the map, its sidecar, and the preview and spectral map published with them */
+enum { FILE_EXR, FILE_JSON, MAX_FILES = 4 };
+
 struct fm_output {
-    char *exr_path, *json_path;
-    char *exr_tmp, *json_tmp; /* NULL once renamed or removed */
+    staged_file files[MAX_FILES];
+    int count;  /* files reserved */
+    int staged; /* the map and sidecar are written into their temporaries */
     int half;
     fm_exr_compression compression;
 };
@@ -70,6 +81,18 @@ char *image_reserve_temp(const char *path, fm_error *err)
     }
     const char *slash = strrchr(path, '/');
     size_t dir_len = slash ? (size_t)(slash - path + 1) : 0;
+    /* the final name too, not only the temporary's shortened one: else the rename fails after the
+     * render, and for a pair, after its first file replaced the old one */
+    if (strlen(path) >= PATH_MAX) {
+        fm_fail(err, FM_ERR_IO, "cannot write '%s': the path is %zu bytes, longer than the %d a path may have",
+                path, strlen(path), PATH_MAX - 1);
+        return NULL;
+    }
+    if (strlen(path + dir_len) > NAME_MAX) {
+        fm_fail(err, FM_ERR_IO, "cannot write '%s': the file name is %zu bytes, longer than the %d a name may have",
+                path, strlen(path + dir_len), NAME_MAX);
+        return NULL;
+    }
     size_t n = strlen(path) + 16;
     char *tmp = malloc(n);
     if (!tmp) {
@@ -114,6 +137,26 @@ static char *copy_string(const char *s)
     return c;
 }
 
+/* Adds path to o's files with a temporary reserved beside it; returns its index, or -1 with err. */
+static int reserve_file(fm_output *o, const char *path, fm_error *err)
+{
+    if (o->count == MAX_FILES) {
+        fm_fail(err, FM_ERR_INVALID_ARGUMENT, "too many files in one output");
+        return -1;
+    }
+    staged_file *f = &o->files[o->count];
+    if (!(f->path = copy_string(path))) {
+        fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
+        return -1;
+    }
+    if (!(f->tmp = image_reserve_temp(path, err))) {
+        free(f->path);
+        f->path = NULL;
+        return -1;
+    }
+    return o->count++;
+}
+
 fm_status fm_output_open(const char *exr_path, const char *json_path, fm_output **out, fm_error *err)
 {
     *out = NULL;
@@ -126,13 +169,7 @@ fm_status fm_output_open(const char *exr_path, const char *json_path, fm_output 
     fm_output *o = calloc(1, sizeof *o);
     if (!o)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
-    o->exr_path = copy_string(exr_path);
-    o->json_path = copy_string(json_path);
-    if (!o->exr_path || !o->json_path) {
-        fm_output_close(o);
-        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
-    }
-    if (!(o->exr_tmp = image_reserve_temp(exr_path, err)) || !(o->json_tmp = image_reserve_temp(json_path, err))) {
+    if (reserve_file(o, exr_path, err) != FILE_EXR || reserve_file(o, json_path, err) != FILE_JSON) {
         fm_output_close(o);
         return err ? err->status : FM_ERR_IO;
     }
@@ -160,11 +197,11 @@ static fm_status write_dwaa(const char *path, const fm_image *image, const metad
     return s;
 }
 
-fm_status fm_output_commit(fm_output *o, const fm_sky *sky, const fm_render_params *params, const fm_image *image,
-                           const atomic_int *cancel, fm_error *err)
+fm_status fm_output_stage(fm_output *o, const fm_sky *sky, const fm_render_params *params, const fm_image *image,
+                          const atomic_int *cancel, fm_error *err)
 {
-    if (!o->exr_tmp || !o->json_tmp)
-        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "output already committed");
+    if (o->staged || !o->files[FILE_EXR].tmp)
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "output already written");
     /* 65504 is the largest finite half; rounding to it starts at 65520.  DWA quantises colour
      * channels through half precision even when they are stored as 32-bit float. */
     if (o->half || o->compression == FM_EXR_DWAA) {
@@ -181,42 +218,146 @@ fm_status fm_output_commit(fm_output *o, const fm_sky *sky, const fm_render_para
                                                          "zip or piz",
                                      m);
     }
+    const char *exr_tmp = o->files[FILE_EXR].tmp, *exr_path = o->files[FILE_EXR].path;
     metadata meta;
-    metadata_collect(&meta, sky, params, image, o->exr_path);
+    metadata_collect(&meta, sky, params, image, exr_path);
     fm_status s = o->compression == FM_EXR_DWAA
-                      ? write_dwaa(o->exr_tmp, image, &meta, o->half, params->threads, cancel, err)
-                      : image_write_exr(o->exr_tmp, image, &meta, o->half, o->compression, params->threads, cancel,
-                                        err);
+                      ? write_dwaa(exr_tmp, image, &meta, o->half, params->threads, cancel, err)
+                      : image_write_exr(exr_tmp, image, &meta, o->half, o->compression, params->threads, cancel, err);
     if (!s)
-        s = sidecar_write(o->json_tmp, &meta, err);
+        s = sidecar_write(o->files[FILE_JSON].tmp, &meta, err);
     if (!s && cancel && atomic_load(cancel))
         s = fm_fail(err, FM_ERR_CANCELLED, "cancelled before the files were complete");
-    if (s)
-        return s; /* the temporary files are removed by fm_output_close */
-    /* Past this point nothing checks for cancellation: both renames happen. */
-    if (rename(o->exr_tmp, o->exr_path) != 0)
-        return fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", o->exr_path, strerror(errno));
-    free(o->exr_tmp);
-    o->exr_tmp = NULL;
-    if (rename(o->json_tmp, o->json_path) != 0)
-        return fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", o->json_path, strerror(errno));
-    free(o->json_tmp);
-    o->json_tmp = NULL;
+    if (!s)
+        o->staged = 1;
+    return s; /* after a failure the temporary files are removed by fm_output_close */
+}
+
+/* The spectral map into file (path: the name it will have, for its metadata). */
+static fm_status write_spectral_file(const char *file, const char *path, const fm_sky *sky,
+                                     const fm_render_params *params, const fm_image *spectral, const fm_image *colour,
+                                     const atomic_int *cancel, fm_error *err)
+{
+    if (spectral->content != FM_IMAGE_SPECTRAL_GRID)
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "not a spectral map");
+    metadata meta;
+    metadata_collect(&meta, sky, params, colour, path);
+    fm_status s = image_write_exr(file, spectral, &meta, 0, FM_EXR_ZIP, params->threads, cancel, err);
+    if (!s && cancel && atomic_load(cancel))
+        s = fm_fail(err, FM_ERR_CANCELLED, "cancelled while writing '%s'", path);
+    return s;
+}
+
+fm_status fm_output_stage_spectral(fm_output *o, const char *path, const fm_sky *sky, const fm_render_params *params,
+                                   const fm_image *spectral, const fm_image *colour, const atomic_int *cancel,
+                                   fm_error *err)
+{
+    int i = reserve_file(o, path, err);
+    if (i < 0)
+        return err ? err->status : FM_ERR_IO;
+    return write_spectral_file(o->files[i].tmp, path, sky, params, spectral, colour, cancel, err);
+}
+
+fm_status fm_output_stage_preview(fm_output *o, const char *path, const fm_image *image, const fm_colour_config *cfg,
+                                  double exposure_ev, fm_error *err)
+{
+    int i = reserve_file(o, path, err);
+    if (i < 0)
+        return err ? err->status : FM_ERR_IO;
+    return image_write_preview_file(image, cfg, o->files[i].tmp, path, exposure_ev, err);
+}
+
+/* A hard link to path's current file under a new hidden name beside it (malloc'd), to put it back
+ * if a later rename fails; NULL when there is no file at path or the file system has no links
+ * (then that one old file cannot be restored). */
+static char *keep_old(const char *path)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0)
+        return NULL;
+    char *backup = image_reserve_temp(path, NULL);
+    if (backup && (unlink(backup) != 0 || link(path, backup) != 0)) {
+        unlink(backup);
+        free(backup);
+        backup = NULL;
+    }
+    return backup;
+}
+
+/* Renames the n files in order; on a failure, undoes the renames made (old files put back, new ones
+ * removed) and fails naming the file. */
+static fm_status publish_files(staged_file *const *files, int n, fm_error *err)
+{
+    char *backup[2 * MAX_FILES] = {0};
+    int done = 0, e = 0;
+    for (; done < n; done++) {
+        backup[done] = keep_old(files[done]->path);
+        if (rename(files[done]->tmp, files[done]->path) != 0) {
+            e = errno;
+            break;
+        }
+    }
+    if (done < n) {
+        if (backup[done])
+            unlink(backup[done]);
+        free(backup[done]);
+        for (int i = done - 1; i >= 0; i--) {
+            if (backup[i])
+                rename(backup[i], files[i]->path);
+            else
+                unlink(files[i]->path);
+            free(backup[i]);
+            /* the new file is gone: nothing left for fm_output_close to remove */
+            free(files[i]->tmp);
+            files[i]->tmp = NULL;
+        }
+        return fm_fail(err, FM_ERR_IO, "cannot write '%s': %s; nothing was written", files[done]->path, strerror(e));
+    }
+    for (int i = 0; i < n; i++) {
+        if (backup[i])
+            unlink(backup[i]);
+        free(backup[i]);
+        free(files[i]->tmp);
+        files[i]->tmp = NULL;
+    }
     return FM_OK;
+}
+
+fm_status fm_output_publish(fm_output *const *outputs, int n, fm_error *err)
+{
+    staged_file *files[2 * MAX_FILES];
+    int count = 0;
+    for (int k = 0; k < n; k++) {
+        if (!outputs[k]->staged || !outputs[k]->files[FILE_EXR].tmp)
+            return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "output not written, or already published");
+        if (count + outputs[k]->count > 2 * MAX_FILES)
+            return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "too many outputs published together");
+        /* the extras first, the map's sidecar last: a reader that sees the sidecar sees its map */
+        for (int i = FILE_JSON + 1; i < outputs[k]->count; i++)
+            files[count++] = &outputs[k]->files[i];
+        files[count++] = &outputs[k]->files[FILE_EXR];
+        files[count++] = &outputs[k]->files[FILE_JSON];
+    }
+    return publish_files(files, count, err);
+}
+
+fm_status fm_output_commit(fm_output *o, const fm_sky *sky, const fm_render_params *params, const fm_image *image,
+                           const atomic_int *cancel, fm_error *err)
+{
+    fm_status s = fm_output_stage(o, sky, params, image, cancel, err);
+    return s ? s : fm_output_publish(&o, 1, err);
 }
 
 void fm_output_close(fm_output *o)
 {
     if (!o)
         return;
-    if (o->exr_tmp)
-        unlink(o->exr_tmp);
-    if (o->json_tmp)
-        unlink(o->json_tmp);
-    free(o->exr_tmp);
-    free(o->json_tmp);
-    free(o->exr_path);
-    free(o->json_path);
+    for (int i = 0; i < o->count; i++) {
+        if (o->files[i].tmp)
+            unlink(o->files[i].tmp);
+        free(o->files[i].tmp);
+        free(o->files[i].path);
+    }
     free(o);
 }
 
@@ -224,14 +365,10 @@ fm_status fm_output_write_spectral(const char *path, const fm_sky *sky, const fm
                                    const fm_image *spectral, const fm_image *colour, const atomic_int *cancel,
                                    fm_error *err)
 {
-    if (spectral->content != FM_IMAGE_SPECTRAL_GRID)
-        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "not a spectral map");
     char *tmp = image_reserve_temp(path, err);
     if (!tmp)
         return err ? err->status : FM_ERR_IO;
-    metadata meta;
-    metadata_collect(&meta, sky, params, colour, path);
-    fm_status s = image_write_exr(tmp, spectral, &meta, 0, FM_EXR_ZIP, params->threads, cancel, err);
+    fm_status s = write_spectral_file(tmp, path, sky, params, spectral, colour, cancel, err);
     if (!s && rename(tmp, path) != 0)
         s = fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
     if (s)

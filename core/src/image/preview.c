@@ -106,8 +106,8 @@ static int write_png(const char *path, const uint8_t *rgb, int width, int height
     return 0;
 }
 
-fm_status fm_image_write_preview(const fm_image *img, const fm_colour_config *cfg, const char *path,
-                                 double exposure_ev, fm_error *err)
+fm_status image_write_preview_file(const fm_image *img, const fm_colour_config *cfg, const char *file,
+                                   const char *path, double exposure_ev, fm_error *err)
 {
     if (img->channels != 3 || img->content == FM_IMAGE_SPECTRAL_RADIANCE)
         return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "a preview needs a colour image, not a monochromatic one");
@@ -129,24 +129,31 @@ fm_status fm_image_write_preview(const fm_image *img, const fm_colour_config *cf
                       : img->content == FM_IMAGE_RGB_REC709 ? "Linear Rec.709"
                                                              : NULL;
     fm_status s = fm_colour_display(cfg, src, "sRGB", "Standard", buf, n, err);
-    char *tmp = s ? NULL : image_reserve_temp(path, err);
-    if (!s && !tmp)
-        s = err ? err->status : FM_ERR_IO;
     if (!s) {
         for (size_t i = 0; i < 3 * n; i++) {
             float v = buf[i] != buf[i] ? 0.0f : fminf(fmaxf(buf[i], 0.0f), 1.0f); /* NaN -> 0 */
             bytes[i] = (uint8_t)lrintf(v * 255.0f);
         }
         png_failure f = {{0}};
-        if (write_png(tmp, bytes, img->width, img->height, &f))
+        if (write_png(file, bytes, img->width, img->height, &f))
             s = fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, f.message);
-        else if (rename(tmp, path) != 0)
-            s = fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
-        if (s)
-            unlink(tmp);
     }
-    free(tmp);
     free(buf);
     free(bytes);
+    return s;
+}
+
+fm_status fm_image_write_preview(const fm_image *img, const fm_colour_config *cfg, const char *path,
+                                 double exposure_ev, fm_error *err)
+{
+    char *tmp = image_reserve_temp(path, err);
+    if (!tmp)
+        return err ? err->status : FM_ERR_IO;
+    fm_status s = image_write_preview_file(img, cfg, tmp, path, exposure_ev, err);
+    if (!s && rename(tmp, path) != 0)
+        s = fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
+    if (s)
+        unlink(tmp);
+    free(tmp);
     return s;
 }

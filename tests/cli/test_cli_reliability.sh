@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# The defects an adversarial run found (issue 50), each one case: existing outputs never lost, names
+# checked before the render, hostile numbers refused or rendered finite, signals acted on quickly.
+# Usage: test_cli_reliability.sh path/to/firmament
+set -u
+FM=$(realpath "$1")
+here=$(cd "$(dirname "$0")" && pwd)
+. "$here/harness.sh"
+
+# old_files NAME...: each file in $work/out holds "old NAME"
+old_files() {
+    rm -rf "$work/out" && mkdir -p "$work/out"
+    for f in "$@"; do printf 'old %s' "$f" >"$work/out/$f"; done
+}
+# expect_old WHAT NAME...: those files still hold "old NAME", and nothing else is in $work/out
+expect_old() {
+    local what=$1 f
+    shift
+    for f in "$@"; do
+        printf 'old %s' "$f" | cmp -s - "$work/out/$f" && ok || fail "$what: '$f' was replaced or removed"
+    done
+    [ "$(ls -A "$work/out" | wc -l)" -eq $# ] && ok || fail "$what: files left: $(ls -A "$work/out" | tr '\n' ' ')"
+}
+
+# --- 1. a render that fails after its extras were made keeps the old extras ----------------------
+# --half refuses the map (the sun disk beyond 65504) after the preview and spectral map are rendered
+old_files p.png sp.exr
+(cd "$work/out" && "$FM" render --width 256 --quality preview --preview p.png --spectral sp.exr --half \
+    -o s.exr >/dev/null 2>"$work/stderr")
+rc=$?
+[ $rc -eq 2 ] && ok || fail "--half refused: exit $rc, expected 2"
+expect_old "--half refused after the extras" p.png sp.exr
+# the main map's write fails (a file-size limit: EFBIG, as a full disk gives ENOSPC) after the
+# preview, which is small enough, was made
+write_limited() { (trap '' XFSZ && ulimit -f 100 && cd "$work/out" && exec "$FM" "$@" >/dev/null 2>"$work/stderr"); }
+old_files p.png
+write_limited render --width 512 --quality preview --sample-scale 0.2 --preview p.png -o s.exr
+rc=$?
+[ $rc -eq 1 ] && ok || fail "write beyond the size limit: exit $rc, expected 1: $(cat "$work/stderr")"
+expect_old "main map's write failed" p.png
+# the same in a time series: the failing frame's old preview stays
+old_files p_0000.png
+write_limited render --width 512 --quality preview --sample-scale 0.2 --date 2024-06-21 --latitude 45 \
+    --longitude 7 --time-start 12:00 --time-end 12:00 --step 10 --preview p.png -o s.exr
+rc=$?
+[ $rc -eq 1 ] && ok || fail "series beyond the size limit: exit $rc, expected 1: $(cat "$work/stderr")"
+expect_old "series frame's write failed" p_0000.png
+# Ctrl-C while the main map is written, after the disk map and its sidecar were made: all four old
+# files stay (or, if the signal came too late, the render finished and all four are new)
+old_files s.exr s.json d.exr d.json
+"$FM" render --width 1024 --quality preview --sample-scale 0.05 --progress none --sun-disk-map "$work/out/d.exr" \
+    -o "$work/out/s.exr" 2>/dev/null &
+pid=$!
+for _ in $(seq 1 3000); do
+    f=$(ls -A "$work/out" | grep '^\.s\.exr\.' | head -n 1)
+    [ -n "$f" ] && [ -s "$work/out/$f" ] && break
+    sleep 0.01
+done
+kill -INT $pid
+wait $pid
+rc=$?
+if [ $rc -eq 0 ]; then
+    echo "note: the render finished before SIGINT"
+    ok
+else
+    [ $rc -eq 130 ] && ok || fail "SIGINT during the main map: exit $rc, expected 130"
+    expect_old "SIGINT during the main map after the disk map" s.exr s.json d.exr d.json
+fi
+
+# --- 2. final names over 255 bytes are refused before the render ---------------------------------
+long=$(printf 'a%.0s' $(seq 1 253))
+old_files "$long.e"
+# the sidecar "$long.json" would be 258 bytes
+expect_usage_error_keeping() {
+    local what=$1
+    shift
+    (cd "$work/out" && "$FM" "$@" >/dev/null 2>"$work/stderr")
+    local rc=$?
+    [ $rc -eq 2 ] && [ "$(wc -l <"$work/stderr")" -eq 1 ] && ok ||
+        fail "$what: exit $rc, expected 2 and one line: $(cat "$work/stderr")"
+}
+expect_usage_error_keeping "derived sidecar name over 255 bytes" render --width 16 --quality preview -o "$long.e"
+grep -q 'longer than the 255' "$work/stderr" && ok || fail "long sidecar: message: $(cat "$work/stderr")"
+expect_old "derived sidecar name over 255 bytes" "$long.e"
+expect_usage_error "--sidecar name over 255 bytes" render --width 16 --quality preview --sidecar "${long}xxx.json"
+expect_usage_error "--sun-disk-map name over 255 bytes" render --width 16 --quality preview \
+    --sun-disk-map "${long}xxx.exr"
+expect_usage_error "numbered series name over 255 bytes" render --width 16 --quality preview --date 2024-06-21 \
+    --latitude 45 --longitude 7 --time-start 12:00 --time-end 12:10 --step 10 -o "${long:0:250}.exr"
+expect_usage_error "path over 4095 bytes" render --width 16 --quality preview \
+    -o "$(printf 'd/%.0s' $(seq 1 2100))s.exr"
+
+echo "$checks checks passed, $failures failed"
+[ $failures -eq 0 ]
