@@ -116,6 +116,16 @@ char *image_reserve_temp(const char *path, fm_error *err)
     return tmp;
 }
 
+fm_status image_finish_temp(char *tmp, const char *path, fm_status s, fm_error *err)
+{
+    if (!s && rename(tmp, path) != 0)
+        s = fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
+    if (s)
+        unlink(tmp);
+    free(tmp);
+    return s;
+}
+
 fm_status fm_output_check_path(const char *path, fm_error *err)
 {
     if (!path)
@@ -368,11 +378,6 @@ fm_status fm_output_write_spectral(const char *path, const fm_sky *sky, const fm
     char *tmp = image_reserve_temp(path, err);
     if (!tmp)
         return err ? err->status : FM_ERR_IO;
-    fm_status s = write_spectral_file(tmp, path, sky, params, spectral, colour, cancel, err);
-    if (!s && rename(tmp, path) != 0)
-        s = fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
-    if (s)
-        unlink(tmp);
-    free(tmp);
-    return s;
+    return image_finish_temp(tmp, path, write_spectral_file(tmp, path, sky, params, spectral, colour, cancel, err),
+                             err);
 }

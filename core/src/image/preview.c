@@ -149,11 +149,5 @@ fm_status fm_image_write_preview(const fm_image *img, const fm_colour_config *cf
     char *tmp = image_reserve_temp(path, err);
     if (!tmp)
         return err ? err->status : FM_ERR_IO;
-    fm_status s = image_write_preview_file(img, cfg, tmp, path, exposure_ev, err);
-    if (!s && rename(tmp, path) != 0)
-        s = fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
-    if (s)
-        unlink(tmp);
-    free(tmp);
-    return s;
+    return image_finish_temp(tmp, path, image_write_preview_file(img, cfg, tmp, path, exposure_ev, err), err);
 }
