@@ -7,6 +7,7 @@
 #include "report.h"
 #include "sun_command.h"
 #include "time_args.h"
+#include "revision.h" /* FIRMAMENT_REVISION, written at build time (cmake/revision.cmake) */
 
 #include "firmament/firmament.h"
 
@@ -343,7 +344,7 @@ static int run_render(int argc, char **argv)
     const char *presets = getenv("FIRMAMENT_PRESETS");
     struct stat st;
     if (presets && presets[0] && !(stat(presets, &st) == 0 && S_ISDIR(st.st_mode))) {
-        report_error("FIRMAMENT_PRESETS: '%s' is not a directory (unset it to use the installed presets)", presets);
+        report_error("FIRMAMENT_PRESETS: '%s' is not a directory (unset it to use the presets shipped with firmament)", presets);
         return EXIT_USAGE;
     }
     if (preset_args_expand(argc, argv, &pre, msg, sizeof msg)) {
@@ -556,7 +557,8 @@ static int run_command(int argc, char **argv)
         return 0;
     }
     if (strcmp(cmd, "--version") == 0) {
-        printf("firmament %s\n", FIRMAMENT_VERSION);
+        printf("firmament %s (%s, %s, %s)\n", FIRMAMENT_VERSION, FIRMAMENT_REVISION, FIRMAMENT_BUILD_TYPE,
+               FIRMAMENT_TARGET);
         return 0;
     }
     if (strcmp(cmd, "render") == 0)

@@ -128,7 +128,7 @@ static fm_status add_aerosols(fm_sky *sky, const fm_sky_params *p, double ozone_
     if (!has_biome(p))
         return compute_composition(sky, NULL, 0.0, 0.0, ozone_du, ozone_t_eff_k, err);
     biome b;
-    fm_status s = biome_load(p->biome, presets_dir(p->presets_dir), &b, err);
+    fm_status s = biome_load(p->biome, p->presets_dir, &b, err);
     if (s)
         return s;
     double humidity = p->humidity_percent == FM_HUMIDITY_BIOME_DEFAULT ? b.humidity_percent : p->humidity_percent;

@@ -1,5 +1,8 @@
 #include "presets.h"
 
+#include "base/executable.h"
+#include "base/status.h"
+
 #include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,14 +15,39 @@ static int is_directory(const char *path)
     return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
 }
 
-const char *presets_dir(const char *given)
+/* A presets folder is recognised by its biomes/ (every render with a named biome reads it). */
+static int holds_presets(const char *dir)
 {
-    if (given && given[0])
-        return given;
+    char sub[1100];
+    return snprintf(sub, sizeof sub, "%s/biomes", dir) < (int)sizeof sub && is_directory(sub);
+}
+
+/* Relative to the executable's folder: a copy with presets/ beside it, the add-on zip and the
+ * package (bin/firmament, presets/), an installation (bin/, share/firmament/presets/). */
+static const char *const beside_executable[] = {"presets", "../presets", "../share/firmament/presets"};
+
+fm_status presets_locate(const char *given, char *out, size_t size, fm_error *err)
+{
     const char *env = getenv("FIRMAMENT_PRESETS");
-    if (env && env[0])
-        return env;
-    return is_directory(FIRMAMENT_SOURCE_PRESETS) ? FIRMAMENT_SOURCE_PRESETS : FIRMAMENT_INSTALLED_PRESETS;
+    const char *chosen = given && given[0] ? given : env && env[0] ? env : NULL;
+    if (chosen) {
+        if ((size_t)snprintf(out, size, "%s", chosen) >= size)
+            return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "presets folder path too long: '%.200s...'", chosen);
+        return FM_OK;
+    }
+    char exe[900];
+    int have_exe = executable_dir(exe, sizeof exe) == 0;
+    for (size_t i = 0; have_exe && i < sizeof beside_executable / sizeof beside_executable[0]; i++)
+        if ((size_t)snprintf(out, size, "%s/%s", exe, beside_executable[i]) < size && holds_presets(out))
+            return FM_OK;
+    const char *source = FIRMAMENT_SOURCE_PRESETS; /* "" in the portable build (scripts/package) */
+    if (source[0] && holds_presets(source) && (size_t)snprintf(out, size, "%s", source) < size)
+        return FM_OK;
+    out[0] = '\0';
+    return fm_fail(err, FM_ERR_INVALID_ARGUMENT,
+                   "firmament's presets were not found (no presets/ holding biomes/ beside the executable in "
+                   "'%.300s' nor one level up%s%.300s): set FIRMAMENT_PRESETS to that folder",
+                   have_exe ? exe : "(unknown)", source[0] ? ", nor " : "", source);
 }
 
 void presets_list(const char *dir, const char *what, char *out, size_t size)

@@ -1,11 +1,16 @@
-/* Where the shared presets (biomes, skies) live: the caller's directory, else $FIRMAMENT_PRESETS,
- * else the source tree's presets/ (a build that was not installed), else the installed copy. */
+/* Where the shared presets (biomes, skies, ocio/config.ocio) live. */
 #ifndef FM_PRESETS_H
 #define FM_PRESETS_H
 
+#include "firmament/firmament.h"
+
 #include <stddef.h>
 
-const char *presets_dir(const char *given);
+/* Writes into out the first of: given (when not NULL or empty), $FIRMAMENT_PRESETS, a presets/ holding
+ * biomes/ beside the executable (EXE_DIR/presets, EXE_DIR/../presets, EXE_DIR/../share/firmament/
+ * presets), the source tree's presets/ (a development build).  None: FM_ERR_INVALID_ARGUMENT with one
+ * line naming where it looked (docs/packaging.md). */
+fm_status presets_locate(const char *given, char *out, size_t size, fm_error *err);
 
 /* "background, desert-dust, ..." : the names of the .json files in dir, sorted and comma-separated,
  * for messages that list what is known ("no <what> files found in <dir>" when there are none). */

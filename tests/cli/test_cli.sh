@@ -10,7 +10,10 @@ here=$(cd "$(dirname "$0")" && pwd)
 # --- help and version -------------------------------------------------------------------------
 "$FM" --help >"$work/help" 2>&1 && grep -q -- '--sun-elevation' "$work/help" && ok || fail "--help"
 "$FM" render --help >"$work/help" 2>&1 && grep -q -- '--wavelength' "$work/help" && ok || fail "render --help"
-"$FM" --version | grep -Eq '^firmament [0-9]+\.[0-9]+\.[0-9]+$' && ok || fail "--version"
+# "firmament 0.2.0 (abc1234, release, linux-x64)": the version is CMake's project VERSION
+version=$(sed -n 's/^project(firmament VERSION \([0-9.]*\) .*/\1/p' "$here/../../CMakeLists.txt")
+"$FM" --version | grep -Eq "^firmament ${version//./\\.} \(([0-9a-f]{7}(-dirty)?|unknown), [a-z]+, [a-z]+-[a-z0-9]+\)$" && ok ||
+    fail "--version: $("$FM" --version)"
 
 # --- bad input: exit 2, one line, nothing written ----------------------------------------------
 expect_usage_error "no command"

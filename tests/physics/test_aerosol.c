@@ -43,7 +43,7 @@ static biome load(const char *name)
 {
     biome b;
     fm_error err;
-    if (biome_load(name, presets_dir(NULL), &b, &err))
+    if (biome_load(name, NULL, &b, &err))
         fail_msg("%s", err.message);
     return b;
 }

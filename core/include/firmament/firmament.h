@@ -117,7 +117,8 @@ typedef struct fm_sky_params {
     /* A custom atmosphere (README, "Custom atmospheres"): replaces the built-in molecules, ozone and
      * aerosols.  NULL = the built-in Earth atmosphere. */
     const char *atmosphere_file;
-    /* Where biome names are looked up; NULL = $FIRMAMENT_PRESETS, else the installed presets. */
+    /* Where biome names are looked up; NULL = $FIRMAMENT_PRESETS, else the presets/ shipped beside the
+     * executable, else the source tree's (docs/packaging.md). */
     const char *presets_dir;
 } fm_sky_params;
 
@@ -140,8 +141,8 @@ typedef struct fm_sky_preset {
     fm_preset_setting settings[32];
 } fm_sky_preset;
 
-/* presets_dir: where names are looked up (NULL: $FIRMAMENT_PRESETS, else the source tree's or the
- * installed presets/); a malformed file fails with "preset: FILE: $.key: problem". */
+/* presets_dir: where names are looked up (NULL: $FIRMAMENT_PRESETS, else the presets/ shipped beside
+ * the executable, else the source tree's); a malformed file fails with "preset: FILE: $.key: problem". */
 fm_status fm_sky_preset_load(const char *name_or_path, const char *presets_dir, fm_sky_preset *out, fm_error *err);
 
 typedef struct fm_sky fm_sky;

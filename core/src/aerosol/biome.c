@@ -141,7 +141,10 @@ fm_status biome_load(const char *name_or_path, const char *presets_dir, biome *o
         snprintf(path, sizeof path, "%s", name_or_path);
     } else {
         char dir[900];
-        snprintf(dir, sizeof dir, "%s/biomes", presets_dir);
+        fm_status found = presets_locate(presets_dir, dir, sizeof dir - 8, err);
+        if (found)
+            return found;
+        strcat(dir, "/biomes");
         int valid = name_or_path[0] != '\0';
         for (const char *c = name_or_path; *c; c++)
             valid = valid && ((*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9') || *c == '-' || *c == '_');

@@ -31,8 +31,8 @@ typedef struct biome {
     biome_layer layer[BIOME_MAX_LAYERS];
 } biome;
 
-/* Loads a biome by name (from presets_dir/biomes/NAME.json) or from a path (anything containing a
- * '/' or ending in ".json").  An unknown name fails listing the known ones. */
+/* Loads a biome by name (from PRESETS/biomes/NAME.json, PRESETS = presets_dir or, where NULL, the
+ * one presets_locate finds) or from a path (anything containing a '/' or ending in ".json").  An unknown name fails listing the known ones. */
 fm_status biome_load(const char *name_or_path, const char *presets_dir, biome *out, fm_error *err);
 
 /* The OPAC component codes a biome may use (NULL-terminated). */

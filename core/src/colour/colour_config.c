@@ -28,8 +28,14 @@ fm_status fm_colour_config_open(const char *path, fm_colour_config **out, fm_err
         snprintf(c->path, sizeof c->path, "%s", path);
     else if (env && env[0])
         snprintf(c->path, sizeof c->path, "%s", env);
-    else
-        snprintf(c->path, sizeof c->path, "%s/ocio/config.ocio", presets_dir(NULL));
+    else {
+        fm_status found = presets_locate(NULL, c->path, sizeof c->path - 20, err);
+        if (found) {
+            free(c);
+            return found;
+        }
+        strcat(c->path, "/ocio/config.ocio");
+    }
     char msg[480];
     c->ocio = ocio_config_open(c->path, msg, sizeof msg);
     if (!c->ocio) {

@@ -124,7 +124,10 @@ fm_status fm_sky_preset_load(const char *name_or_path, const char *presets_direc
         snprintf(out->path, sizeof out->path, "%s", name_or_path);
     } else {
         char dir[900];
-        snprintf(dir, sizeof dir, "%s/skies", presets_dir(presets_directory));
+        fm_status found = presets_locate(presets_directory, dir, sizeof dir - 8, err);
+        if (found)
+            return found;
+        strcat(dir, "/skies");
         snprintf(out->path, sizeof out->path, "%s/%s.json", dir, name_or_path);
         FILE *f = valid_name(name_or_path) ? fopen(out->path, "r") : NULL;
         if (!f) {

@@ -1,0 +1,67 @@
+#!/usr/bin/env python3
+"""The contents of a platform's extension zip (scripts/build-addon PLATFORM; docs/packaging.md):
+its name and manifest carry CMake's version and the one platform, the executable is there and
+executable, the presets and OpenColorIO config are there, and (Linux) every shared library the
+executable needs is either bundled in bin/lib, found there through RUNPATH, or one of the base
+system's (scripts/linux-base-libs).
+Usage: check_zip.py ZIP PLATFORM SOURCE_DIR"""
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import zipfile
+
+zip_path, platform, source = sys.argv[1:4]
+failures = []
+
+
+def check(cond, what):
+    if not cond:
+        failures.append(what)
+
+
+version = re.search(r"project\(firmament VERSION ([0-9.]+) ", open(os.path.join(source, "CMakeLists.txt")).read())[1]
+check(os.path.basename(zip_path) == f"firmament_sky-{version}-{platform.replace('-', '_')}.zip",
+      f"zip name {os.path.basename(zip_path)} does not carry version {version} and platform {platform}")
+z = zipfile.ZipFile(zip_path)
+names = set(z.namelist())
+manifest = z.read("firmament_sky/blender_manifest.toml").decode()
+check(re.search(r'(?m)^version = "%s"$' % re.escape(version), manifest), f"manifest version is not {version}")
+check(re.findall(r"(?m)^platforms = (.*)$", manifest) == [f'["{platform}"]'],
+      f"manifest platforms: {re.findall(r'(?m)^platforms = .*$', manifest)}, expected [\"{platform}\"]")
+init = z.read("firmament_sky/__init__.py").decode()
+check('"version": (%s)' % ", ".join(version.split(".")) in init, f"bl_info version is not {version}")
+
+exe = "firmament_sky/bin/" + ("firmament.exe" if platform.startswith("windows") else "firmament")
+check(exe in names, f"{exe} missing")
+if exe in names:
+    check((z.getinfo(exe).external_attr >> 16) & 0o111 == 0o111, f"{exe} is not executable (mode in the zip)")
+for d in ("biomes", "skies", "atmospheres"):
+    want = sorted(f for f in os.listdir(os.path.join(source, "presets", d)) if f.endswith(".json"))
+    have = sorted(n.rsplit("/", 1)[1] for n in names if n.startswith(f"firmament_sky/presets/{d}/") and n.endswith(".json"))
+    check(have == want, f"presets/{d}: {have}, expected {want}")
+check("firmament_sky/presets/ocio/config.ocio" in names, "the OpenColorIO config is missing")
+
+if platform == "linux-x64" and exe in names:
+    base = {l.strip() for l in open(os.path.join(source, "scripts", "linux-base-libs")) if l.strip() and not l.startswith("#")}
+    with tempfile.TemporaryDirectory() as tmp:
+        bundled = sorted(n for n in names if n.startswith("firmament_sky/bin/lib/") and not n.endswith("/"))
+        for n in [exe] + bundled:
+            z.extract(n, tmp)
+        for n in [exe] + bundled:
+            dyn = subprocess.run(["readelf", "-d", os.path.join(tmp, n)], capture_output=True, text=True, check=True).stdout
+            runpath = re.findall(r"\((?:RUNPATH|RPATH)\).*\[(.*)\]", dyn)
+            check(runpath == (["$ORIGIN/lib"] if n == exe else ["$ORIGIN"]), f"{n}: runpath {runpath}")
+            for need in re.findall(r"\(NEEDED\).*\[(.*)\]", dyn):
+                check(need in base or f"firmament_sky/bin/lib/{need}" in names,
+                      f"{n} needs {need}: neither bundled in bin/lib nor in the base system")
+        for n in bundled:
+            check(os.path.basename(n) not in base, f"{n} is a base system library and must not be bundled")
+        check(any("libOpenColorIO" in n for n in bundled), "OpenColorIO is not bundled")
+
+for f in failures:
+    print("FAIL:", f)
+print(f"{os.path.basename(zip_path)}: {len(names)} files, {os.path.getsize(zip_path) / 1e6:.1f} MB, "
+      f"{len(failures)} failures")
+sys.exit(1 if failures else 0)
