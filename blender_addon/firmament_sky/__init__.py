@@ -17,7 +17,7 @@ import atexit
 
 import bpy
 
-from . import operators, panels, preferences, properties
+from . import maps, operators, panels, preferences, properties
 
 _classes = (preferences.FirmamentSkyPreferences, properties.FirmamentSkySettings) + operators.classes + panels.classes
 
@@ -27,12 +27,15 @@ def register():
         bpy.utils.register_class(cls)
     properties.register()
     bpy.app.handlers.load_pre.append(operators.cancel_running)
+    bpy.app.handlers.save_post.append(maps.on_save_post)
     atexit.register(operators.cancel_running)  # quitting Blender ends a running child too
 
 
 def unregister():
     operators.cancel_running()
     atexit.unregister(operators.cancel_running)
+    if maps.on_save_post in bpy.app.handlers.save_post:
+        bpy.app.handlers.save_post.remove(maps.on_save_post)
     if operators.cancel_running in bpy.app.handlers.load_pre:
         bpy.app.handlers.load_pre.remove(operators.cancel_running)
     properties.unregister()

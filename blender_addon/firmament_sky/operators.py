@@ -3,13 +3,12 @@ menu's load / add / remove, and applying the suggested exposure."""
 
 import os
 import shutil
-import uuid
 
 import bpy
 from bpy.props import StringProperty
 from bl_operators.presets import AddPresetBase
 
-from . import command, preferences, properties, runner, sky_presets, world
+from . import command, maps, preferences, properties, runner, sky_presets, world
 
 ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
 SHIPPED_PRESETS = os.path.join(ADDON_DIR, "presets", "skies")
@@ -18,24 +17,12 @@ PRESET_SUBDIR = "firmament_sky"
 _active = {"runner": None}  # the one generation in flight (UI mode)
 
 
-def cache_dir():
-    """Where the maps are written: the extension's user folder (4.2+) or the user data folder."""
-    try:
-        base = bpy.utils.extension_path_user(__package__, create=True)
-    except (AttributeError, ValueError):
-        base = bpy.utils.user_resource("DATAFILES", path="firmament_sky", create=True)
-    path = os.path.join(base, "skies")
-    os.makedirs(path, exist_ok=True)
-    return path
-
-
 class Job:
     """One generation: its own folder in the cache, removed unless the result is applied."""
 
     def __init__(self, settings, executable):
         self.settings = settings
-        self.folder = os.path.join(cache_dir(), uuid.uuid4().hex[:12])
-        os.makedirs(self.folder)
+        self.folder = maps.new_folder()
         self.exr = os.path.join(self.folder, "sky.exr")
         self.sidecar = os.path.join(self.folder, "sky.json")
         self.disk = os.path.join(self.folder, "sky_disk.exr") if settings["sun_mode"] == "LAMP_CAMERA_DISK" else None
@@ -45,15 +32,6 @@ class Job:
 
     def discard(self):
         shutil.rmtree(self.folder, ignore_errors=True)
-
-
-def _remove_stale(paths):
-    """Deletes the folders of previous maps, only inside the cache."""
-    root = os.path.abspath(cache_dir())
-    for p in paths:
-        folder = os.path.dirname(os.path.abspath(p))
-        if os.path.dirname(folder) == root:
-            shutil.rmtree(folder, ignore_errors=True)
 
 
 def prepare(context, op):
@@ -88,13 +66,14 @@ def finish(context, op, job):
         op.report({"ERROR"}, "Firmament failed (exit %s): %s" % (r.returncode, r.error_text()))
         return {"CANCELLED"}
     try:
-        sun, stale, exposure = world.apply(context.scene, job.settings, job.exr, job.sidecar, job.disk)
+        sun, exposure = world.apply(context.scene, job.settings, job.exr, job.sidecar, job.disk)
     except world.SetupError as e:
         job.discard()
         props.last_message = str(e)
         op.report({"ERROR"}, "Firmament: %s" % e)
         return {"CANCELLED"}
-    _remove_stale(stale)
+    for img in maps.our_images():  # relative to a saved .blend (the previous maps stay on disk)
+        maps.reference(img, bpy.path.abspath(img.filepath))
     props.has_result = True
     if sun["suggested_exposure_ev"] is not None:
         props.suggested_exposure_ev = sun["suggested_exposure_ev"]
@@ -278,6 +257,25 @@ class FIRMAMENT_OT_apply_exposure(bpy.types.Operator):
         return {"FINISHED"}
 
 
+class FIRMAMENT_OT_clean_maps(bpy.types.Operator):
+    """Delete the maps that this file does not use, from the add-on's cache and from //firmament/
+    beside this .blend (folders another .blend of the same folder names are kept)"""
+    bl_idname = "firmament_sky.clean_maps"
+    bl_label = "Clean Unused Maps"
+    bl_options = {"REGISTER"}
+
+    def invoke(self, context, event):
+        return context.window_manager.invoke_confirm(self, event)
+
+    def execute(self, context):
+        found = maps.unused()
+        for path, _size in found:
+            shutil.rmtree(path, ignore_errors=True)
+        self.report({"INFO"}, "Firmament: removed %d unused maps (%.1f MB); %s" % (
+            len(found), sum(s for _p, s in found) / 1e6, maps.summary()))
+        return {"FINISHED"}
+
+
 @bpy.app.handlers.persistent
 def cancel_running(*_args):
     """load_pre handler: a new file must not receive the old scene's sky."""
@@ -287,4 +285,5 @@ def cancel_running(*_args):
         _active["runner"] = None
 
 
-classes = (FIRMAMENT_OT_generate, FIRMAMENT_OT_load_preset, FIRMAMENT_OT_add_preset, FIRMAMENT_OT_apply_exposure)
+classes = (FIRMAMENT_OT_generate, FIRMAMENT_OT_load_preset, FIRMAMENT_OT_add_preset, FIRMAMENT_OT_apply_exposure,
+           FIRMAMENT_OT_clean_maps)

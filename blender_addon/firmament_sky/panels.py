@@ -4,7 +4,7 @@ import os
 
 import bpy
 
-from . import operators, sky_presets
+from . import maps, operators, sky_presets
 
 
 class FIRMAMENT_MT_presets(bpy.types.Menu):
@@ -89,6 +89,12 @@ def draw_settings(layout, context):
         row = layout.row(align=True)
         row.label(text="Suggested exposure %.2f EV" % p.suggested_exposure_ev)
         row.operator("firmament_sky.apply_exposure", text="Apply")
+    box = layout.box()
+    box.prop(p, "keep_maps_with_file")
+    row = box.row()
+    row.label(text="Maps: //%s/ beside the .blend" % maps.FOLDER if bpy.data.filepath else "Maps: the add-on's cache until saved",
+              icon="FILE_FOLDER")
+    row.operator("firmament_sky.clean_maps", text="Clean Unused", icon="TRASH")
     if p.last_message:
         for line in p.last_message.splitlines()[:3]:
             layout.label(text=line)

@@ -79,6 +79,10 @@ class FirmamentSkySettings(bpy.types.PropertyGroup):
     apply_exposure: BoolProperty(name="Set Exposure", default=True,
                                  description="Set the scene's film exposure to the sky's suggested exposure "
                                              "(reported when applied)")
+    keep_maps_with_file: BoolProperty(
+        name="Keep Maps With the File", default=True,
+        description="On save, copy the maps beside the .blend (//firmament/) and reference them by relative "
+                    "paths, so that the project can be moved or sent as one folder")
     threads: IntProperty(name="Threads", min=0, max=256, default=0, description="0 = all cores")
     # results, for the panel
     suggested_exposure_ev: FloatProperty(name="Suggested Exposure", default=0.0)

@@ -5,7 +5,6 @@ property "firmament_sky", nodes are named "Firmament ...") so that re-generating
 
 import json
 import math
-import os
 
 import bpy
 from mathutils import Color, Vector
@@ -194,8 +193,8 @@ def setup_lamp(scene, sun, north_offset):
 
 
 def apply(scene, settings, exr_path, sidecar_path, disk_path=None):
-    """Sets up the world (and lamp) from a finished render.  Returns (sidecar dict, files of the
-    previous sky that are no longer used, exposure applied or None)."""
+    """Sets up the world (and lamp) from a finished render.  Returns (sidecar dict, exposure applied
+    or None).  The previous maps' images are removed from the file, never their files from disk."""
     sun = read_sidecar(sidecar_path)
     mode = settings["sun_mode"]
     if mode == "LAMP" and sun["contains_sun_disk"]:
@@ -225,10 +224,7 @@ def apply(scene, settings, exr_path, sidecar_path, disk_path=None):
         world.cycles.sample_map_resolution = max(world.cycles.sample_map_resolution, sky_image.size[0] // 2)
     if hasattr(world, "sun_threshold"):  # EEVEE (4.2+): extract a sun from the map only when it has one
         world.sun_threshold = 10.0 if mode == "DISK" else 0.0
-    stale = []
     for img in previous:
-        if img.filepath:
-            stale.append(bpy.path.abspath(img.filepath))
         bpy.data.images.remove(img)
     sky_image.name = "Firmament Sky"  # the names the previous images held
     if disk_image is not None:
@@ -237,4 +233,4 @@ def apply(scene, settings, exr_path, sidecar_path, disk_path=None):
     if settings.get("apply_exposure") and sun["suggested_exposure_ev"] is not None:
         exposure = float(sun["suggested_exposure_ev"])
         scene.view_settings.exposure = exposure
-    return sun, [p for p in stale if os.path.abspath(p) not in (os.path.abspath(exr_path), os.path.abspath(disk_path or ""))], exposure
+    return sun, exposure

@@ -246,3 +246,28 @@ def classify(scene, cam, w, hgt):
 
 def mean_luminance(px, idx):
     return sum(luminance(px[k:k + 3]) for k in idx) / max(1, len(idx))
+
+
+RENDER_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "render_file.py")
+
+
+def render_in_new_process(blend, out=None):
+    """Renders a saved .blend in a fresh Blender process, where the add-on is not enabled: the
+    still to OUT (an EXR), or without OUT the animation to the file's own output path (3.4: the
+    command line `blender -b FILE.blend -a`).  render_file.py first checks that every map of the
+    file is referenced relative to it and exists."""
+    import subprocess
+    mode = "still" if out else "animation"
+    if LEGACY:
+        cmds = [[bpy.app.binary_path, "-b", blend, "--python-exit-code", "1", "-P", RENDER_FILE, "--", blend,
+                 mode if out else "check", out or ""]]
+        if not out:
+            cmds.append([bpy.app.binary_path, "-b", blend, "-a"])
+    else:
+        cmds = [[sys.executable, RENDER_FILE, "--", blend, mode, out or ""]]
+    for cmd in cmds:
+        print("$ " + " ".join(cmd))
+        r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        lines = [ln for ln in r.stdout.splitlines() if not ln.startswith("Fra:")]
+        check(r.returncode == 0, "%s in a new process (exit %d)%s" % (
+            mode, r.returncode, "" if r.returncode == 0 else ":\n" + "\n".join(lines[-15:])))

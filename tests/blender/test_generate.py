@@ -162,8 +162,12 @@ h.check(len([l for l in bpy.data.lights if l.name.startswith("Firmament")]) == 1
 nodes = scene.world.node_tree.nodes
 h.check(len([n for n in nodes if n.name.startswith("Firmament")]) == 4, "four Firmament nodes (%d)" %
         len([n for n in nodes if n.name.startswith("Firmament")]))
-# stale maps were deleted from the cache, only the current one remains
-from firmament_sky import operators  # noqa: E402
-folders = os.listdir(operators.cache_dir())
-h.check(len(folders) == 1, "one map folder left in the cache (%d)" % len(folders))
+# Generate deletes no map (a saved file may use it); Clean Unused Maps keeps only the one in use
+from firmament_sky import maps  # noqa: E402
+folders = os.listdir(maps.cache_dir())
+h.check(len(folders) == 6, "every generated map is still in the cache (%d)" % len(folders))
+bpy.ops.firmament_sky.clean_maps()
+folders = os.listdir(maps.cache_dir())
+h.check(folders == [os.path.basename(os.path.dirname(bpy.path.abspath(h.world_images()[0].filepath)))],
+        "Clean Unused Maps leaves the map in use (%d folders)" % len(folders))
 h.finish()

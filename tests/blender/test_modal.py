@@ -38,7 +38,7 @@ def step():
 def _step():
     if state["phase"] == "start":
         h.install_and_enable()
-    from firmament_sky import operators
+    from firmament_sky import maps, operators
     win = bpy.context.window_manager.windows[0]
     scene = win.scene
     if state["phase"] == "start":
@@ -70,7 +70,7 @@ def _step():
         h.check(scene.firmament_sky.last_message.startswith("sun 5.15 deg up"), "result message: %s" % scene.firmament_sky.last_message)
         # second run, cancelled with Esc
         state["before"] = snapshot(scene)
-        state["folders"] = sorted(os.listdir(operators.cache_dir()))
+        state["folders"] = sorted(os.listdir(maps.cache_dir()))
         scene.firmament_sky.resolution = 4096
         scene.firmament_sky.quality = "final"
         with bpy.context.temp_override(window=win, screen=win.screen, area=win.screen.areas[0]):
@@ -93,7 +93,7 @@ def _step():
         h.check(r.state == "cancelled" and r.returncode in (143, -15), "Esc cancelled the child: %s, exit %s" % (r.state, r.returncode))
         h.check(operators._active["runner"] is None, "the modal operator ended")
         h.check(snapshot(scene) == state["before"], "the previous world is untouched")
-        h.check(sorted(os.listdir(operators.cache_dir())) == state["folders"], "the cancelled run's folder was removed")
+        h.check(sorted(os.listdir(maps.cache_dir())) == state["folders"], "the cancelled run's folder was removed")
         print("%d checks passed, %d failed" % (h._checks["passed"], len(h._checks["failed"])))
         sys.stdout.flush()
         os._exit(1 if h._checks["failed"] else 0)

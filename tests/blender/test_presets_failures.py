@@ -13,7 +13,7 @@ import harness as h  # noqa: E402
 import bpy  # noqa: E402
 
 h.install_and_enable()
-from firmament_sky import operators, runner, sky_presets  # noqa: E402
+from firmament_sky import maps, operators, runner, sky_presets  # noqa: E402
 
 scene = bpy.context.scene
 p = h.fast_settings(scene)
@@ -104,7 +104,7 @@ os.symlink(os.path.join(h.ROOT, "presets", "ocio"), os.path.join(empty, "ocio"))
 os.environ["FIRMAMENT_PRESETS"] = empty
 expect_failure("executable exits 2", "(exit 2): firmament: --biome: unknown biome 'remote-continental'")
 del os.environ["FIRMAMENT_PRESETS"]
-h.check(len(os.listdir(operators.cache_dir())) == 1, "the failed run left no folder in the cache")
+h.check(len(os.listdir(maps.cache_dir())) == 1, "the failed run left no folder in the cache")
 # values validated before anything runs
 p.month, p.day = 2, 30
 expect_failure("impossible date", "not a real date")
