@@ -3,7 +3,8 @@
 its name and manifest carry CMake's version and the one platform, the executable is there and
 executable, the presets and OpenColorIO config are there, and (Linux) every shared library the
 executable needs is either bundled in bin/lib, found there through RUNPATH, or one of the base
-system's (scripts/linux-base-libs).
+system's (scripts/linux-base-libs), no file needs a glibc or libstdc++ newer than Ubuntu 22.04's, and
+the relinked libexpat parses XML.
 Usage: check_zip.py ZIP PLATFORM SOURCE_DIR"""
 import os
 import re
@@ -59,6 +60,26 @@ if platform == "linux-x64" and exe in names:
         for n in bundled:
             check(os.path.basename(n) not in base, f"{n} is a base system library and must not be bundled")
         check(any("libOpenColorIO" in n for n in bundled), "OpenColorIO is not bundled")
+        # the oldest base system named (Ubuntu 22.04): glibc 2.35, libstdc++ of GCC 12 (GLIBCXX_3.4.30)
+        newest = {"GLIBC": (2, 35), "GLIBCXX": (3, 4, 30)}
+        for n in [exe] + bundled:
+            syms = subprocess.run(["objdump", "-T", os.path.join(tmp, n)], capture_output=True, text=True, check=True).stdout
+            for lib, ver in set(re.findall(r"\b(GLIBC|GLIBCXX)_([0-9.]+)\b", syms)):
+                check(tuple(map(int, ver.split("."))) <= newest[lib], f"{n} needs {lib}_{ver}, newer than Ubuntu 22.04's")
+        expat = os.path.join(tmp, "firmament_sky/bin/lib/libexpat.so.1")
+        if os.path.exists(expat):  # the relinked one (scripts/package) parses XML
+            import ctypes
+            lib = ctypes.CDLL(expat)
+            lib.XML_ParserCreate.restype = ctypes.c_void_p
+            lib.XML_Parse.argtypes = [ctypes.c_void_p, ctypes.c_char_p, ctypes.c_int, ctypes.c_int]
+            lib.XML_ParserFree.argtypes = [ctypes.c_void_p]
+            parser = lib.XML_ParserCreate(None)
+            doc = b'<ProcessList id="x"><Matrix/></ProcessList>'
+            check(parser and lib.XML_Parse(parser, doc, len(doc), 1) == 1, "the bundled libexpat does not parse XML")
+            bad = lib.XML_ParserCreate(None)
+            check(lib.XML_Parse(bad, b"<a><b></a>", 10, 1) == 0, "the bundled libexpat accepts malformed XML")
+            lib.XML_ParserFree(parser)
+            lib.XML_ParserFree(bad)
 
 for f in failures:
     print("FAIL:", f)
