@@ -1,6 +1,7 @@
-/* Command-line parsing for `firmament render`: one options struct, filled by getopt_long.  Value
- * syntax is checked here (a number where a number is expected); physical ranges are checked by the
- * library, which names the field, and options_flag_for() turns that field back into the flag. */
+/* Command-line parsing for `firmament render`: one options struct, filled by getopt_long from the
+ * table of options (option_table.h).  Each value is checked as it is read, against the library's
+ * range for its field; what the library refuses later names the field, and options_flag_for()
+ * turns that field back into the flag. */
 #ifndef FM_CLI_ARGS_H
 #define FM_CLI_ARGS_H
 
@@ -33,6 +34,9 @@ typedef struct options {
 } options;
 
 typedef enum parse_result { PARSE_RUN, PARSE_EXIT_OK, PARSE_ERROR } parse_result;
+
+/* The defaults of every option (before parsing). */
+void options_set_defaults(options *opt);
 
 /* Parses argv (after the subcommand).  On PARSE_ERROR, msg holds one line. */
 parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_t msg_size);

@@ -3,6 +3,7 @@
 #define _XOPEN_SOURCE 700 /* realpath */
 #include "args.h"
 #include "numbers.h"
+#include "option_table.h"
 #include "preset_args.h"
 #include "report.h"
 #include "sun_command.h"
@@ -545,6 +546,17 @@ int main(int argc, char **argv)
     return code;
 }
 
+/* `firmament options --json`: the table of render options, for programs such as the add-on. */
+static int run_options(int argc, char **argv)
+{
+    if (argc != 2 || strcmp(argv[1], "--json") != 0) {
+        report_error("usage: firmament options --json");
+        return EXIT_USAGE;
+    }
+    option_print_json(stdout);
+    return 0;
+}
+
 static int run_command(int argc, char **argv)
 {
     if (argc < 2) {
@@ -563,6 +575,8 @@ static int run_command(int argc, char **argv)
     }
     if (strcmp(cmd, "render") == 0)
         return run_render(argc - 1, argv + 1);
+    if (strcmp(cmd, "options") == 0)
+        return run_options(argc - 1, argv + 1);
     if (strcmp(cmd, "compare") == 0)
         return run_compare(argc - 1, argv + 1);
     if (strcmp(cmd, "info") == 0)

@@ -10,6 +10,7 @@
 #include "atmosphere/rayleigh.h"
 #include "presets.h"
 
+#include "base/param_range.h"
 #include "base/status.h"
 #include "base/units.h"
 #include "base/vec.h"
@@ -18,11 +19,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* Observers from the ground to aircraft and balloons.  Higher up, the upper limb (light scattered
- * from the bright atmosphere below into very thin air) makes the path tracer's estimates
- * heavy-tailed; until it samples that light directly, the fast path is verified to 20 km. */
-#define FM_MAX_OBSERVER_ALTITUDE_M 20000.0
 
 /* Table resolutions (checked against direct evaluation in tests/physics). */
 #define COLUMN_TABLE_R 128
@@ -62,13 +58,6 @@ fm_sky_params fm_sky_params_default(void)
         .temperature_c = 10.0,
         .delta_t_s = FM_DELTA_T_ESTIMATE,
     };
-}
-
-static fm_status check_range(fm_error *err, const char *field, double v, double lo, double hi, const char *unit)
-{
-    if (!isfinite(v) || v < lo || v > hi)
-        return fm_fail_parameter(err, field, "%g is outside [%g, %g]%s%s", v, lo, hi, unit[0] ? " " : "", unit);
-    return FM_OK;
 }
 
 static fm_status validate_date(const fm_sky_params *p, fm_error *err)
@@ -202,21 +191,20 @@ static fm_status custom_atmosphere(fm_sky *sky, const fm_sky_params *p, const sp
 static fm_status validate(const fm_sky_params *p, fm_error *err)
 {
     fm_status s;
-    if ((s = check_range(err, "sun_elevation_deg", p->sun_elevation_deg, -90.0, 90.0, "degrees")) ||
-        (s = check_range(err, "sun_azimuth_deg", p->sun_azimuth_deg, -360.0, 360.0, "degrees")) ||
-        (s = check_range(err, "observer_altitude_m", p->observer_altitude_m, 0.0, FM_MAX_OBSERVER_ALTITUDE_M, "m")) ||
-        (s = check_range(err, "ground_albedo", p->ground_albedo, 0.0, 1.0, "")) ||
-        (s = check_range(err, "latitude_deg", p->latitude_deg, -90.0, 90.0, "degrees")) ||
-        (s = check_range(err, "longitude_deg", p->longitude_deg, -180.0, 180.0, "degrees")) ||
-        (s = check_range(err, "turbidity", p->turbidity, 0.0, 50.0, "")) ||
-        (s = check_range(err, "earth_sun_distance_au", p->earth_sun_distance_au, 0.95, 1.05, "AU")))
+    if ((s = param_check(err, "sun_elevation_deg", p->sun_elevation_deg)) ||
+        (s = param_check(err, "sun_azimuth_deg", p->sun_azimuth_deg)) ||
+        (s = param_check(err, "observer_altitude_m", p->observer_altitude_m)) ||
+        (s = param_check(err, "ground_albedo", p->ground_albedo)) ||
+        (s = param_check(err, "latitude_deg", p->latitude_deg)) ||
+        (s = param_check(err, "longitude_deg", p->longitude_deg)) ||
+        (s = param_check(err, "turbidity", p->turbidity)) ||
+        (s = param_check(err, "earth_sun_distance_au", p->earth_sun_distance_au)))
         return s;
-    if (p->wavelength_nm != 0.0 && (s = check_range(err, "wavelength_nm", p->wavelength_nm, 300.0, 1000.0, "nm")))
+    if (p->wavelength_nm != 0.0 && (s = param_check(err, "wavelength_nm", p->wavelength_nm)))
         return s;
-    if (p->ozone_column_du != FM_OZONE_FROM_CLIMATOLOGY &&
-        (s = check_range(err, "ozone_column_du", p->ozone_column_du, 0.0, 1000.0, "DU")))
+    if (p->ozone_column_du != FM_OZONE_FROM_CLIMATOLOGY && (s = param_check(err, "ozone_column_du", p->ozone_column_du)))
         return s;
-    if (p->aod550 != 0.0 && (s = check_range(err, "aod550", p->aod550, 1e-6, 10.0, "")))
+    if (p->aod550 != 0.0 && (s = param_check(err, "aod550", p->aod550)))
         return s;
     /* aod550 sets the turbidity: a second, different value would be silently dropped */
     if (p->aod550 != 0.0 && p->turbidity != 1.0)
@@ -224,15 +212,13 @@ static fm_status validate(const fm_sky_params *p, fm_error *err)
     if (p->biome && !p->biome[0])
         return fm_fail_parameter(err, "biome", "the name is empty (none for no aerosols)");
     if (p->humidity_percent != FM_HUMIDITY_BIOME_DEFAULT &&
-        (s = check_range(err, "humidity_percent", p->humidity_percent, 0.0, 99.0, "%")))
+        (s = param_check(err, "humidity_percent", p->humidity_percent)))
         return s;
     if (p->aerosol_phase != FM_AEROSOL_PHASE_MIE && p->aerosol_phase != FM_AEROSOL_PHASE_HG)
         return fm_fail_parameter(err, "aerosol_phase", "%d is not a known phase model", (int)p->aerosol_phase);
     if ((s = validate_date(p, err)))
         return s;
-    if (p->threads < 0 || p->threads > 256)
-        return fm_fail_parameter(err, "threads", "%d is outside [0, 256]", p->threads);
-    return FM_OK;
+    return param_check(err, "threads", p->threads);
 }
 
 /* The sun guide (path.h): the phase function of the aerosol species with the largest scattering

@@ -79,3 +79,15 @@ void presets_list(const char *dir, const char *what, char *out, size_t size)
     if (count == 0)
         snprintf(out, size, "no %s files found in %.400s", what, dir);
 }
+
+void fm_biome_names(const char *presets_directory, char *out, size_t size)
+{
+    char dir[900];
+    fm_error err;
+    if (presets_locate(presets_directory, dir, sizeof dir - 8, &err) != FM_OK) {
+        snprintf(out, size, "%s", err.message);
+        return;
+    }
+    strcat(dir, "/biomes");
+    presets_list(dir, "biome", out, size);
+}

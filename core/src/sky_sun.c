@@ -11,6 +11,7 @@
 #include "sky.h"
 
 #include "base/date.h"
+#include "base/param_range.h"
 #include "base/status.h"
 #include "base/units.h"
 #include "base/vec.h"
@@ -107,10 +108,10 @@ static void apply_sun(fm_sky *sky, double elevation_deg, double azimuth_deg)
 
 fm_status fm_sky_set_sun(fm_sky *sky, double elevation_deg, double azimuth_deg, fm_error *err)
 {
-    if (!isfinite(elevation_deg) || elevation_deg < -90.0 || elevation_deg > 90.0)
-        return fm_fail_parameter(err, "sun_elevation_deg", "%g is outside [-90, 90] degrees", elevation_deg);
-    if (!isfinite(azimuth_deg) || azimuth_deg < -360.0 || azimuth_deg > 360.0)
-        return fm_fail_parameter(err, "sun_azimuth_deg", "%g is outside [-360, 360] degrees", azimuth_deg);
+    fm_status s;
+    if ((s = param_check(err, "sun_elevation_deg", elevation_deg)) ||
+        (s = param_check(err, "sun_azimuth_deg", azimuth_deg)))
+        return s;
     apply_sun(sky, elevation_deg, azimuth_deg);
     sky->sun_computed &= ~(FM_SUN_COMPUTED_ELEVATION | FM_SUN_COMPUTED_AZIMUTH);
     return FM_OK;

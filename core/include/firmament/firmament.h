@@ -54,6 +54,19 @@ typedef struct fm_error {
 /* Name of a status code, e.g. "invalid argument". */
 const char *fm_status_name(fm_status status);
 
+/* The range of a numeric parameter, by the name fm_error.parameter gives it ("sun_elevation_deg",
+ * "width", "camera.fov_deg"): the one table that the library's validation, the sky-preset reader
+ * and the executable's options (`firmament options --json`) read. */
+typedef struct fm_param_range {
+    const char *field;
+    double min, max;
+    int min_open;     /* nonzero: min itself is outside, (min, max] */
+    const char *unit; /* "degrees", "m", ... or "" */
+} fm_param_range;
+
+/* NULL when the library checks no interval for field. */
+const fm_param_range *fm_param_range_of(const char *field);
+
 /* ---------------------------------------------------------------------------------------------
  * The sky: atmosphere, sun and observer.  Shared read-only by render threads; only fm_sky_set_sun and
  * fm_sky_set_time (below) change it, between renders. */
@@ -144,6 +157,12 @@ typedef struct fm_sky_preset {
 /* presets_dir: where names are looked up (NULL: $FIRMAMENT_PRESETS, else the presets/ shipped beside
  * the executable, else the source tree's); a malformed file fails with "preset: FILE: $.key: problem". */
 fm_status fm_sky_preset_load(const char *name_or_path, const char *presets_dir, fm_sky_preset *out, fm_error *err);
+/* The keys a preset may hold besides "name" and "description", NULL-terminated: each is an option of
+ * `firmament render` written with '_' for '-' ("sun_elevation" for --sun-elevation). */
+const char *const *fm_sky_preset_keys(void);
+/* "background, desert-dust, ...": the names of the built-in biomes (presets/biomes/), sorted;
+ * presets_dir as in fm_sky_params. */
+void fm_biome_names(const char *presets_dir, char *out, size_t size);
 
 typedef struct fm_sky fm_sky;
 

@@ -1,6 +1,7 @@
 #include "atmosphere/ozone_climatology.h"
 
 #include "base/date.h"
+#include "base/param_range.h"
 #include "base/status.h"
 #include "base/units.h"
 
@@ -35,10 +36,9 @@ fm_status ozone_climatology_for_date(int year, int month, int day, double latitu
     if (!date_is_valid(year, month, day))
         return fm_fail_parameter(err, "date", "%04d-%02d-%02d is not a Gregorian date in %d-%d", year, month, day,
                                  FM_DATE_MIN_YEAR, FM_DATE_MAX_YEAR);
-    if (!isfinite(latitude_deg) || latitude_deg < -90.0 || latitude_deg > 90.0)
-        return fm_fail_parameter(err, "latitude_deg", "%g is outside [-90, 90] degrees", latitude_deg);
-    if (!isfinite(longitude_deg) || longitude_deg < -180.0 || longitude_deg > 180.0)
-        return fm_fail_parameter(err, "longitude_deg", "%g is outside [-180, 180] degrees", longitude_deg);
+    fm_status s;
+    if ((s = param_check(err, "latitude_deg", latitude_deg)) || (s = param_check(err, "longitude_deg", longitude_deg)))
+        return s;
     *column_du = ozone_climatology_column_du(latitude_deg, longitude_deg, date_day_of_year(year, month, day));
     return FM_OK;
 }

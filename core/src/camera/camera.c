@@ -1,19 +1,20 @@
 #include "camera/camera.h"
 
+#include "base/param_range.h"
 #include "base/status.h"
 #include "base/units.h"
 #include "camera/equirect.h"
 
 #include <math.h>
 
-#define FM_MAX_IMAGE_SIZE 16384
-
+/* The height is bound like the width. */
 static int pinhole_height(const fm_camera *p, int width)
 {
+    const fm_param_range *size = fm_param_range_of("width");
     if (!isfinite(p->aspect) || !(p->aspect > 0.0))
         return 0;
     double h = 2.0 * round(0.5 * width / p->aspect); /* even, like the width */
-    return h >= 8.0 && h <= FM_MAX_IMAGE_SIZE ? (int)h : 0;
+    return h >= size->min && h <= size->max ? (int)h : 0;
 }
 
 int fm_camera_height(const fm_camera *params, int width)
@@ -39,13 +40,6 @@ const char *camera_fisheye_projection_name(fm_fisheye_projection projection)
     return projection == FM_FISHEYE_EQUISOLID ? "equisolid" : "equidistant";
 }
 
-static fm_status check_degrees(fm_error *err, const char *field, double v, double lo, double hi)
-{
-    if (!isfinite(v) || v < lo || v > hi)
-        return fm_fail_parameter(err, field, "%g is outside [%g, %g] degrees", v, lo, hi);
-    return FM_OK;
-}
-
 fm_status camera_init(camera *c, const fm_camera *p, int width, fm_error *err)
 {
     c->type = p->type;
@@ -63,18 +57,18 @@ fm_status camera_init(camera *c, const fm_camera *p, int width, fm_error *err)
         return FM_OK;
     case FM_CAMERA_PINHOLE: {
         fm_status s;
-        if (!isfinite(p->fov_deg) || !(p->fov_deg > 0.0) || p->fov_deg > 170.0)
-            return fm_fail_parameter(err, "camera.fov_deg", "%g is outside (0, 170] degrees", p->fov_deg);
-        if ((s = check_degrees(err, "camera.look_azimuth_deg", p->look_azimuth_deg, -360.0, 360.0)) ||
-            (s = check_degrees(err, "camera.look_elevation_deg", p->look_elevation_deg, -90.0, 90.0)))
+        if ((s = param_check(err, "camera.fov_deg", p->fov_deg)) ||
+            (s = param_check(err, "camera.look_azimuth_deg", p->look_azimuth_deg)) ||
+            (s = param_check(err, "camera.look_elevation_deg", p->look_elevation_deg)))
             return s;
         if (!isfinite(p->aspect) || !(p->aspect > 0.0))
             return fm_fail_parameter(err, "camera.aspect", "%g is not a positive width / height ratio", p->aspect);
         c->height = pinhole_height(p, width);
         if (c->height == 0)
             return fm_fail_parameter(err, "camera.aspect",
-                                     "%g gives a height of %.4g pixels for width %d, outside [8, %d]", p->aspect,
-                                     2.0 * round(0.5 * width / p->aspect), width, FM_MAX_IMAGE_SIZE);
+                                     "%g gives a height of %.4g pixels for width %d, outside [%g, %g]", p->aspect,
+                                     2.0 * round(0.5 * width / p->aspect), width, fm_param_range_of("width")->min,
+                                     fm_param_range_of("width")->max);
         pinhole_init(&c->pin, width, c->height, p->fov_deg * FM_DEG, p->look_azimuth_deg * FM_DEG,
                      p->look_elevation_deg * FM_DEG);
         return FM_OK;

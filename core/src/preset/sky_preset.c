@@ -13,49 +13,48 @@
 #include <stdio.h>
 #include <string.h>
 
-typedef enum { VALUE_STRING, VALUE_NUMBER } value_kind;
-
-/* Every key a preset may hold besides name and description: the option it stands for, its type and,
- * for numbers, the range the library accepts (repeated here so the message names the file). */
+/* Every key a preset may hold besides name and description, in the order settings come back; a
+ * number's range is the library's for its field (fm_param_range_of), checked here so that the
+ * message names the file. */
 typedef struct preset_key {
     const char *key;
-    value_kind kind;
-    json_interval range;
+    const char *number_field; /* NULL: a string */
 } preset_key;
 
 static const preset_key keys[] = {
-    {"date", VALUE_STRING, {0, 0, 0, 0}},
-    {"time", VALUE_STRING, {0, 0, 0, 0}},
-    {"utc_offset", VALUE_STRING, {0, 0, 0, 0}},
-    {"latitude", VALUE_NUMBER, {-90.0, 90.0, 0, 0}},
-    {"longitude", VALUE_NUMBER, {-180.0, 180.0, 0, 0}},
-    {"sun_elevation", VALUE_NUMBER, {-90.0, 90.0, 0, 0}},
-    {"sun_azimuth", VALUE_NUMBER, {-360.0, 360.0, 0, 0}},
-    {"biome", VALUE_STRING, {0, 0, 0, 0}},
-    {"turbidity", VALUE_NUMBER, {0.0, 50.0, 0, 0}},
-    {"aod550", VALUE_NUMBER, {0.0, 10.0, 1, 0}},
-    {"humidity", VALUE_NUMBER, {0.0, 99.0, 0, 0}},
-    {"ozone_du", VALUE_NUMBER, {0.0, 1000.0, 0, 0}},
-    {"albedo", VALUE_NUMBER, {0.0, 1.0, 0, 0}},
-    {"altitude", VALUE_NUMBER, {0.0, 20000.0, 0, 0}},
+    {"date", NULL},
+    {"time", NULL},
+    {"utc_offset", NULL},
+    {"latitude", "latitude_deg"},
+    {"longitude", "longitude_deg"},
+    {"sun_elevation", "sun_elevation_deg"},
+    {"sun_azimuth", "sun_azimuth_deg"},
+    {"biome", NULL},
+    {"turbidity", "turbidity"},
+    {"aod550", "aod550"},
+    {"humidity", "humidity_percent"},
+    {"ozone_du", "ozone_column_du"},
+    {"albedo", "ground_albedo"},
+    {"altitude", "observer_altitude_m"},
     /* the view: a job such as a figure of scenes/thesis/ (the add-on, which always makes a world
      * map, leaves these out) */
-    {"camera", VALUE_STRING, {0, 0, 0, 0}},
-    {"fisheye_projection", VALUE_STRING, {0, 0, 0, 0}},
-    {"fov", VALUE_NUMBER, {0.0, 170.0, 1, 0}},
-    {"look_azimuth", VALUE_NUMBER, {-360.0, 360.0, 0, 0}},
-    {"look_elevation", VALUE_NUMBER, {-90.0, 90.0, 0, 0}},
-    {"aspect", VALUE_STRING, {0, 0, 0, 0}},
-    {"width", VALUE_NUMBER, {8.0, 16384.0, 0, 0}},
+    {"camera", NULL},
+    {"fisheye_projection", NULL},
+    {"fov", "camera.fov_deg"},
+    {"look_azimuth", "camera.look_azimuth_deg"},
+    {"look_elevation", "camera.look_elevation_deg"},
+    {"aspect", NULL},
+    {"width", "width"},
 };
 #define KEY_COUNT ((int)(sizeof keys / sizeof keys[0]))
 
-static const char *const allowed[] = {"name",      "description", "date",      "time",     "utc_offset",
-                                      "latitude",  "longitude",   "sun_elevation", "sun_azimuth",
-                                      "biome",     "turbidity",   "aod550",    "humidity", "ozone_du",
-                                      "albedo",    "altitude",    "camera",    "fisheye_projection",
-                                      "fov",       "look_azimuth", "look_elevation", "aspect", "width",
-                                      NULL};
+const char *const *fm_sky_preset_keys(void)
+{
+    static const char *names[KEY_COUNT + 1];
+    for (int i = 0; i < KEY_COUNT; i++)
+        names[i] = keys[i].key;
+    return names;
+}
 
 static int is_path(const char *s)
 {
@@ -75,6 +74,9 @@ static fm_status parse_preset(const json_reader *rd, const cJSON *root, fm_sky_p
 {
     fm_status s;
     const char *name = NULL, *description = NULL;
+    const char *allowed[KEY_COUNT + 3] = {"name", "description"};
+    for (int i = 0; i < KEY_COUNT; i++)
+        allowed[i + 2] = keys[i].key;
     if ((s = json_require_object(rd, root, "$")) || (s = json_check_keys(rd, root, "$", allowed)) ||
         (s = json_get_string(rd, root, "$", "name", 1, &name)) ||
         (s = json_get_string(rd, root, "$", "description", 0, &description)))
@@ -90,7 +92,7 @@ static fm_status parse_preset(const json_reader *rd, const cJSON *root, fm_sky_p
         json_child_path(path, "$", ".%s", keys[i].key);
         fm_preset_setting *set = &out->settings[out->count];
         snprintf(set->key, sizeof set->key, "%s", keys[i].key);
-        if (keys[i].kind == VALUE_STRING) {
+        if (!keys[i].number_field) {
             if (!cJSON_IsString(v))
                 return json_bad(rd, path, "must be a string, not %s", json_type_name(v));
             if (strlen(v->valuestring) == 0 || strlen(v->valuestring) >= sizeof set->value)
@@ -103,8 +105,9 @@ static fm_status parse_preset(const json_reader *rd, const cJSON *root, fm_sky_p
                 return json_bad(rd, path, "'%s' is not a date YYYY-MM-DD between %d and %d", v->valuestring,
                                 FM_DATE_MIN_YEAR, FM_DATE_MAX_YEAR);
         } else {
+            const fm_param_range *r = fm_param_range_of(keys[i].number_field);
             double x;
-            if ((s = json_get_number(rd, v, path, keys[i].range, &x)))
+            if ((s = json_get_number(rd, v, path, (json_interval){r->min, r->max, r->min_open, 0}, &x)))
                 return s;
             snprintf(set->value, sizeof set->value, "%.17g", x);
         }

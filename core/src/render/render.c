@@ -1,6 +1,7 @@
 #include "render/render.h"
 
 #include "atmosphere/optical_depth.h"
+#include "base/param_range.h"
 #include "base/rng.h"
 #include "base/status.h"
 #include "base/threads.h"
@@ -770,25 +771,22 @@ static fm_status render_sun_disk(const fm_sky *sky, const camera *cam, fm_image 
 
 static fm_status validate(const fm_render_params *p, camera *cam, fm_error *err)
 {
-    if (p->width < 8 || p->width > 16384)
-        return fm_fail_parameter(err, "width", "%d is outside [8, 16384] pixels", p->width);
+    fm_status s;
+    if ((s = param_check(err, "width", p->width)))
+        return s;
     if (p->width % 2)
         return fm_fail_parameter(err, "width", "%d is odd (it must be even)", p->width);
-    fm_status s = camera_init(cam, &p->camera, p->width, err);
-    if (s)
+    if ((s = camera_init(cam, &p->camera, p->width, err)))
         return s;
     if (p->spectral && p->camera.type != FM_CAMERA_EQUIRECT)
         return fm_fail_parameter(err, "spectral", "spectral maps are equirectangular only (the camera is %s)",
                                  camera_type_name(p->camera.type));
     if (p->quality < FM_QUALITY_PREVIEW || p->quality > FM_QUALITY_REFERENCE)
         return fm_fail_parameter(err, "quality", "unknown level %d", (int)p->quality);
-    if (p->threads < 0 || p->threads > 256)
-        return fm_fail_parameter(err, "threads", "%d is outside [0, 256]", p->threads);
-    if (!(p->sample_scale > 0.0) || p->sample_scale > 1024.0)
-        return fm_fail_parameter(err, "sample_scale", "%g is outside (0, 1024]", p->sample_scale);
-    if (p->reference_samples < 0 || p->reference_samples > 1 << 24)
-        return fm_fail_parameter(err, "reference_samples", "%d is outside [0, 16777216]", p->reference_samples);
-    return FM_OK;
+    if ((s = param_check(err, "threads", p->threads)) || (s = param_check(err, "sample_scale", p->sample_scale)))
+        return s;
+    /* 0: the quality level's default */
+    return p->reference_samples == 0 ? FM_OK : param_check(err, "reference_samples", p->reference_samples);
 }
 
 fm_render_params fm_render_params_default(void)

@@ -1,5 +1,6 @@
 #include "sun/solar_position.h"
 
+#include "base/param_range.h"
 #include "base/status.h"
 #include "base/units.h"
 #include "data/spa_terms.h"
@@ -318,13 +319,13 @@ fm_status spa_validate(const fm_solar_params *p, fm_error *err)
                                  p->minute, p->second);
     if (p->utc_offset_min < -720 || p->utc_offset_min > 840)
         return fm_fail_parameter(err, "utc_offset_min", "%+d min is outside [-12:00, +14:00]", p->utc_offset_min);
-    if ((s = check(err, "latitude_deg", p->latitude_deg, -90.0, 90.0, "degrees")) ||
-        (s = check(err, "longitude_deg", p->longitude_deg, -180.0, 180.0, "degrees")) ||
+    if ((s = param_check(err, "latitude_deg", p->latitude_deg)) ||
+        (s = param_check(err, "longitude_deg", p->longitude_deg)) ||
         (s = check(err, "elevation_m", p->elevation_m, -1000.0, 100000.0, "m")) ||
-        (s = check(err, "pressure_mbar", p->pressure_mbar, 0.0, 2000.0, "mbar")) ||
-        (s = check(err, "temperature_c", p->temperature_c, -100.0, 100.0, "C")))
+        (s = param_check(err, "pressure_mbar", p->pressure_mbar)) ||
+        (s = param_check(err, "temperature_c", p->temperature_c)))
         return s;
-    if (p->delta_t_s != FM_DELTA_T_ESTIMATE && (s = check(err, "delta_t_s", p->delta_t_s, -8000.0, 8000.0, "s")))
+    if (p->delta_t_s != FM_DELTA_T_ESTIMATE && (s = param_check(err, "delta_t_s", p->delta_t_s)))
         return s;
     return FM_OK;
 }

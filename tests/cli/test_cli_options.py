@@ -1,0 +1,140 @@
+#!/usr/bin/env python3
+"""`firmament options --json` against what the executable enforces.
+
+Usage: test_cli_options.py FIRMAMENT [README.md]
+
+For every option with a numeric range in the JSON, the command line and a sky preset (when the
+option has a preset key) accept the range's ends (or just inside an open end) and refuse just
+outside with exit status 2 and one line naming the option; every choice word is accepted and an
+unknown one refused; every option appears in `--help` and, when given, in the README.  Values are
+checked by parsing only: `--list-colorspaces` exits after the options are read, before any render.
+"""
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+FIRMAMENT = os.path.abspath(sys.argv[1])
+README = sys.argv[2] if len(sys.argv) > 2 else None
+
+# What an option needs beside it to be valid at all (the rules between options, not the ranges).
+TIME = ["--date", "2024-06-21", "--time", "12:00", "--latitude", "45", "--longitude", "7"]
+CONTEXT = {
+    "--latitude": ["--date", "2024-06-21"],
+    "--longitude": ["--date", "2024-06-21", "--latitude", "45"],
+    "--pressure": TIME,
+    "--temperature": TIME,
+    "--delta-t": TIME,
+    "--refraction": TIME,
+    "--utc-offset": TIME,
+    "--step": ["--date", "2024-06-21", "--latitude", "45", "--longitude", "7", "--time-start", "12:00",
+               "--time-end", "12:00"],
+    "--fov": ["--camera", "pinhole"],
+    "--look-azimuth": ["--camera", "pinhole"],
+    "--look-elevation": ["--camera", "pinhole"],
+    "--fisheye-projection": ["--camera", "fisheye"],
+    "--samples": ["--quality", "reference"],
+    "--exposure": ["--preview", "p.png"],
+}
+PRESET_CONTEXT = {
+    "latitude": {"date": "2024-06-21"},
+    "longitude": {"date": "2024-06-21", "latitude": 45},
+    "fov": {"camera": "pinhole"},
+    "look_azimuth": {"camera": "pinhole"},
+    "look_elevation": {"camera": "pinhole"},
+}
+
+checks = failures = 0
+
+
+def check(ok, what):
+    global checks, failures
+    checks += 1
+    if not ok:
+        failures += 1
+        print("FAIL:", what)
+
+
+def run(args, cwd):
+    p = subprocess.run([FIRMAMENT] + args, cwd=cwd, capture_output=True, text=True, timeout=60)
+    return p.returncode, p.stderr
+
+
+def number(x, whole):
+    return str(int(x)) if whole else repr(float(x))
+
+
+def values(o):
+    """(accepted, refused) values at the range's ends."""
+    lo, hi, whole = o["min"], o["max"], o["kind"] == "whole"
+    step = 1 if whole else max(abs(hi - lo), 1.0) * 1e-6
+    inside_lo = lo + step if o["min_open"] else lo
+    return [inside_lo, hi], [lo if o["min_open"] else lo - step, hi + step]
+
+
+def expect_refused(args, flag, what, cwd):
+    code, err = run(args, cwd)
+    lines = err.strip().splitlines()
+    check(code == 2 and len(lines) == 1 and flag in lines[0],
+          f"{what}: exit {code}, stderr {err.strip()!r} (want 2 and one line naming {flag})")
+
+
+def main():
+    out = subprocess.run([FIRMAMENT, "options", "--json"], capture_output=True, text=True, check=True).stdout
+    try:
+        table = json.loads(out)
+    except ValueError as e:
+        print("FAIL: options --json is not JSON:", e)
+        return 1
+    options = table["options"]
+    check(len(options) > 40, f"{len(options)} options")
+    usage = subprocess.run([FIRMAMENT, "--help"], capture_output=True, text=True, check=True).stdout
+    readme = open(README).read() if README else None
+    with tempfile.TemporaryDirectory() as work:
+        for o in options:
+            flag = o["flag"]
+            check(flag + " " in usage or flag + "\n" in usage, f"{flag} is not in --help")
+            if readme is not None:
+                check(re.search(re.escape(flag) + r"(?![\w-])", readme), f"{flag} is not in the README")
+            ctx = CONTEXT.get(flag, [])
+            if "min" in o:
+                whole = o["kind"] == "whole"
+                good, bad = values(o)
+                for v in good:
+                    code, err = run(["render"] + ctx + [flag, number(v, whole), "--list-colorspaces"], work)
+                    check(code == 0, f"{flag} {number(v, whole)} (in {o['min']}..{o['max']}) refused: {err.strip()}")
+                for v in bad:
+                    expect_refused(["render"] + ctx + [flag, number(v, whole), "--list-colorspaces"], flag,
+                                   f"{flag} {number(v, whole)}", work)
+                key = o["preset_key"]
+                if key:
+                    for v, ok in [(x, True) for x in good] + [(x, False) for x in bad]:
+                        preset = dict(PRESET_CONTEXT.get(key, {}), name="range", **{key: v})
+                        path = os.path.join(work, "p.json")
+                        with open(path, "w") as f:
+                            json.dump(preset, f)
+                        args = ["render", "--preset", path, "--list-colorspaces"]
+                        if ok:
+                            code, err = run(args, work)
+                            check(code == 0, f"preset {key}: {v} refused: {err.strip()}")
+                        else:
+                            expect_refused(args, "$." + key, f"preset {key}: {v}", work)
+            if o["kind"] == "choice":
+                for word in o["choices"]:
+                    code, err = run(["render"] + ctx + [flag, word, "--list-colorspaces"], work)
+                    check(code == 0, f"{flag} {word} refused: {err.strip()}")
+                expect_refused(["render"] + ctx + [flag, "no-such-word", "--list-colorspaces"], flag, f"{flag} no-such-word", work)
+        biome = next(o for o in options if o["flag"] == "--biome")
+        on_disk = sorted(f[:-5] for f in os.listdir(os.path.join(os.path.dirname(__file__), "../../presets/biomes"))
+                         if f.endswith(".json"))
+        check(biome["choices"] == ["none"] + on_disk, f"--biome choices {biome['choices']} vs presets/biomes {on_disk}")
+        quality = next(o for o in options if o["flag"] == "--quality")
+        check(quality["choices"] == ["preview", "final", "reference"], f"--quality choices {quality['choices']}")
+    print(f"{checks - failures} checks passed, {failures} failed")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
