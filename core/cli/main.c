@@ -179,12 +179,11 @@ static int check_outputs(const char *const *paths, const char *const *names, int
 }
 
 /* --spectral and --preview, staged with the map: they appear when it does, or not at all. */
-static fm_status stage_extras(const options *opt, fm_output *out, const fm_sky *sky, const fm_image *spectral,
-                              const fm_image *img, const fm_colour_config *colour, const char *preview, fm_error *err)
+static fm_status stage_extras(const options *opt, fm_output *out, const fm_image *spectral, const fm_image *img,
+                              const fm_colour_config *colour, const char *preview, fm_error *err)
 {
     fm_status s;
-    if (opt->spectral &&
-        (s = fm_output_stage_spectral(out, opt->spectral, sky, &opt->render, spectral, img, &cancel_signal, err)))
+    if (opt->spectral && (s = fm_output_stage_spectral(out, opt->spectral, spectral, img, &cancel_signal, err)))
         return s;
     if (preview) {
         if (atomic_load(&cancel_signal))
@@ -284,8 +283,8 @@ static int run_series(options *opt, const fm_colour_config *colour)
                        (s = fm_render(sky, &opt->render, &img, &err)) ||
                        (img->content == FM_IMAGE_XYZ &&
                         (s = fm_image_to_colorspace(img, colour, opt->colorspace, &err))) ||
-                       (s = stage_extras(opt, out, sky, NULL, img, colour, preview, &err)) ||
-                       (s = fm_output_stage(out, sky, &opt->render, img, &cancel_signal, &err)) ||
+                       (s = stage_extras(opt, out, NULL, img, colour, preview, &err)) ||
+                       (s = fm_output_stage(out, img, &cancel_signal, &err)) ||
                        (s = fm_output_publish(&out, 1, &err))) {
                 reporter_finish_line(&rep);
                 if (s == FM_ERR_CANCELLED)
@@ -322,18 +321,12 @@ static int run_series(options *opt, const fm_colour_config *colour)
  * which the main output then holds without it. */
 static int run_render_options(int argc, char **argv);
 
-static fm_status stage_disk_map(fm_output *disk_out, const fm_sky *sky, fm_render_params *params, fm_image *img,
-                                fm_error *err)
+static fm_status stage_disk_map(fm_output *disk_out, fm_image *img, fm_error *err)
 {
-    fm_status s = fm_output_stage(disk_out, sky, params, img, &cancel_signal, err);
+    fm_status s = fm_output_stage(disk_out, img, &cancel_signal, err);
     if (s)
         return s;
-    size_t n = (size_t)img->width * (size_t)img->height * (size_t)img->channels;
-    for (size_t i = 0; i < n; i++)
-        img->pixels[i] -= img->sun_disk[i];
-    free(img->sun_disk);
-    img->sun_disk = NULL;
-    params->sun_disk = 0;
+    fm_image_remove_sun_disk(img);
     return FM_OK;
 }
 
@@ -430,9 +423,9 @@ static int run_render_options(int argc, char **argv)
         (s = fm_render(sky, &opt.render, &img, &err)) ||
         (opt.spectral && (spectral = img, img = NULL, s = fm_image_spectral_to_xyz(spectral, &img, &err))) ||
         (img->content == FM_IMAGE_XYZ && (s = fm_image_to_colorspace(img, colour, opt.colorspace, &err))) ||
-        (disk_out && (s = stage_disk_map(disk_out, sky, &opt.render, img, &err))) ||
-        (s = stage_extras(&opt, out, sky, spectral, img, colour, opt.preview, &err)) ||
-        (s = fm_output_stage(out, sky, &opt.render, img, &cancel_signal, &err)) ||
+        (disk_out && (s = stage_disk_map(disk_out, img, &err))) ||
+        (s = stage_extras(&opt, out, spectral, img, colour, opt.preview, &err)) ||
+        (s = fm_output_stage(out, img, &cancel_signal, &err)) ||
         (s = fm_output_publish((fm_output *const[]){out, disk_out}, disk_out ? 2 : 1, &err))) {
         reporter_finish_line(&rep);
         if (s == FM_ERR_CANCELLED)

@@ -6,10 +6,10 @@
 #include "aerosol/biome.h"
 #include "atmosphere/atmosphere.h"
 #include "atmosphere/optical_depth.h"
+#include "atmosphere/sun_irradiance.h"
+#include "base/vec.h"
 #include "firmament/firmament.h"
 #include "sun/sun_disk.h"
-#include "transport/path.h"
-#include "transport/sun_irradiance.h"
 
 struct fm_sky {
     fm_sky_params params;
@@ -31,8 +31,5 @@ struct fm_sky {
  * of its date, time and place, which also goes to *solar, *computed and *has_solar. */
 fm_status sky_resolve_sun(const fm_sky_params *in, fm_sky_params *out, fm_solar_position *solar,
                           unsigned *computed, int *has_solar, fm_error *err);
-
-/* A path context for the sky with the given order range. */
-path_context sky_path_context(const fm_sky *sky, int min_order, int max_order);
 
 #endif

@@ -12,6 +12,7 @@
 
 #include "firmament/firmament.h"
 #include "sky.h"
+#include "transport/path.h"
 
 /* |actual - expected| <= rel_tol * |expected| */
 #define check_rel(actual, expected, rel_tol, what) \

@@ -364,7 +364,7 @@ static void camera_in_the_files(void **state)
         assert_int_equal(fm_render(sky, &rp, &img, &err), FM_OK);
         assert_int_equal(fm_image_to_rec709(img, &err), FM_OK);
         assert_int_equal(fm_output_open(exr, json, &out, &err), FM_OK);
-        assert_int_equal(fm_output_commit(out, sky, &rp, img, NULL, &err), FM_OK);
+        assert_int_equal(fm_output_commit(out, img, NULL, &err), FM_OK);
         fm_output_close(out);
 
         exr_context_t c;

@@ -23,6 +23,7 @@
 #include "base/rng.h"
 #include "base/units.h"
 #include "transport/path.h"
+#include "transport/sky_path.h"
 
 #include <math.h>
 

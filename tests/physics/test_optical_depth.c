@@ -3,11 +3,12 @@
 #include "check.h"
 
 #include "atmosphere/optical_depth.h"
+#include "atmosphere/sun_irradiance.h"
 #include "base/rng.h"
 #include "base/threads.h"
 #include "base/units.h"
 #include "transport/free_flight.h"
-#include "transport/sun_irradiance.h"
+#include "transport/sky_path.h"
 #include "transport/view_ray_vertices.h"
 
 #include <math.h>

@@ -23,6 +23,7 @@
 #include "spectrum/spectral_grid.h"
 #include "transport/single_scatter.h"
 #include "transport/next_order_shape.h"
+#include "transport/sky_path.h"
 #include "transport/twilight.h"
 
 #include <math.h>

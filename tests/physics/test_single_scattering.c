@@ -12,6 +12,7 @@
 #include "base/units.h"
 #include "phase/phase_rayleigh.h"
 #include "transport/single_scatter.h"
+#include "transport/sky_path.h"
 
 #include <math.h>
 

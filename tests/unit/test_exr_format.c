@@ -31,20 +31,17 @@ static int teardown(void **state)
     return system(cmd) == 0 ? 0 : -1;
 }
 
-static fm_status write_map(fm_sky *sky, fm_image *img, const char *name, int half, fm_exr_compression c,
+static fm_status write_map(fm_image *img, const char *name, int half, fm_exr_compression c,
                            fm_error *err)
 {
     char exr[300], json[300];
     snprintf(exr, sizeof exr, "%s/%s.exr", dir, name);
     snprintf(json, sizeof json, "%s/%s.json", dir, name);
-    fm_render_params rp = fm_render_params_default();
-    rp.width = img->width;
-    rp.sun_disk = img->sun_disk != NULL;
     fm_output *out = NULL;
     assert_int_equal(fm_output_open(exr, json, &out, err), FM_OK);
     fm_status s = fm_output_set_format(out, half, c, err);
     if (!s)
-        s = fm_output_commit(out, sky, &rp, img, NULL, err);
+        s = fm_output_commit(out, img, NULL, err);
     fm_output_close(out);
     return s;
 }
@@ -70,8 +67,8 @@ static void half_is_float_within_half_precision(void **state)
     fm_image *img = test_render(sky, 64, FM_QUALITY_PREVIEW, 2, 1, 0, 0.25, 0);
     fm_error err = {0};
     assert_int_equal(fm_image_to_rec709(img, &err), FM_OK);
-    assert_int_equal(write_map(sky, img, "float", 0, FM_EXR_ZIP, &err), FM_OK);
-    assert_int_equal(write_map(sky, img, "half", 1, FM_EXR_ZIP, &err), FM_OK);
+    assert_int_equal(write_map(img, "float", 0, FM_EXR_ZIP, &err), FM_OK);
+    assert_int_equal(write_map(img, "half", 1, FM_EXR_ZIP, &err), FM_OK);
     exr_compression_t c;
     exr_pixel_type_t type;
     test_exr f = read_map("float", &c, &type);
@@ -106,7 +103,7 @@ static void half_refuses_the_sun_disk(void **state)
     fm_image *img = test_render(sky, 256, FM_QUALITY_PREVIEW, 2, 1, 0, 0.05, 1);
     fm_error err = {0};
     assert_int_equal(fm_image_to_rec709(img, &err), FM_OK);
-    assert_int_equal(write_map(sky, img, "disk", 1, FM_EXR_ZIP, &err), FM_ERR_INVALID_ARGUMENT);
+    assert_int_equal(write_map(img, "disk", 1, FM_EXR_ZIP, &err), FM_ERR_INVALID_ARGUMENT);
     assert_string_equal(err.parameter, "half");
     assert_non_null(strstr(err.message, "65504"));
     assert_non_null(strstr(err.message, "--no-sun-disk"));
@@ -115,7 +112,7 @@ static void half_refuses_the_sun_disk(void **state)
     struct stat st;
     assert_true(stat(exr, &st) != 0); /* nothing written */
     /* the same map in float is fine */
-    assert_int_equal(write_map(sky, img, "disk", 0, FM_EXR_ZIP, &err), FM_OK);
+    assert_int_equal(write_map(img, "disk", 0, FM_EXR_ZIP, &err), FM_OK);
     fm_image_destroy(img);
     fm_sky_destroy(sky);
 }
@@ -130,7 +127,7 @@ static void compression_methods(void **state)
     const char *names[2] = {"zip", "piz"};
     const exr_compression_t expect[2] = {EXR_COMPRESSION_ZIP, EXR_COMPRESSION_PIZ};
     for (int k = 0; k < 2; k++) {
-        if (write_map(sky, img, names[k], 0, (fm_exr_compression)k, &err))
+        if (write_map(img, names[k], 0, (fm_exr_compression)k, &err))
             fail_msg("%s: %s", names[k], err.message);
         exr_compression_t c;
         exr_pixel_type_t type;
@@ -144,7 +141,7 @@ static void compression_methods(void **state)
         }
         test_exr_free(&t);
     }
-    assert_int_equal(write_map(sky, img, "bad", 0, (fm_exr_compression)7, &err), FM_ERR_INVALID_ARGUMENT);
+    assert_int_equal(write_map(img, "bad", 0, (fm_exr_compression)7, &err), FM_ERR_INVALID_ARGUMENT);
     fm_image_destroy(img);
     fm_sky_destroy(sky);
 }
@@ -202,9 +199,9 @@ static void dwaa(void **state)
     fm_image *img = test_render(sky, 256, FM_QUALITY_PREVIEW, 2, 1, 0, 0.25, 0);
     fm_error err = {0};
     assert_int_equal(fm_image_to_rec709(img, &err), FM_OK);
-    assert_int_equal(write_map(sky, img, "dwaa-float", 0, FM_EXR_DWAA, &err), FM_OK);
-    assert_int_equal(write_map(sky, img, "dwaa-half", 1, FM_EXR_DWAA, &err), FM_OK);
-    assert_int_equal(write_map(sky, img, "zip-half", 1, FM_EXR_ZIP, &err), FM_OK);
+    assert_int_equal(write_map(img, "dwaa-float", 0, FM_EXR_DWAA, &err), FM_OK);
+    assert_int_equal(write_map(img, "dwaa-half", 1, FM_EXR_DWAA, &err), FM_OK);
+    assert_int_equal(write_map(img, "zip-half", 1, FM_EXR_ZIP, &err), FM_OK);
     /* 32-bit float channels are quantised through half precision too (DWA's colour channels) */
     fm_image *f = read_dwa("dwaa-float");
     assert_int_equal(f->width, img->width);
@@ -232,7 +229,7 @@ static void dwaa(void **state)
     /* the sun disk (beyond 65504) is refused, nothing written */
     fm_image *disk = test_render(sky, 256, FM_QUALITY_PREVIEW, 2, 1, 0, 0.05, 1);
     assert_int_equal(fm_image_to_rec709(disk, &err), FM_OK);
-    assert_int_equal(write_map(sky, disk, "dwaa-disk", 0, FM_EXR_DWAA, &err), FM_ERR_INVALID_ARGUMENT);
+    assert_int_equal(write_map(disk, "dwaa-disk", 0, FM_EXR_DWAA, &err), FM_ERR_INVALID_ARGUMENT);
     assert_string_equal(err.parameter, "compression");
     assert_non_null(strstr(err.message, "65504"));
     char path[300];

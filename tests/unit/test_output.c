@@ -62,18 +62,57 @@ static double json_number(cJSON *root, const char *group, const char *key)
     return v->valuedouble;
 }
 
-static void commit_files(fm_sky *sky, fm_image *img, const char *exr, const char *json, const atomic_int *cancel,
+static void commit_files(fm_image *img, const char *exr, const char *json, const atomic_int *cancel,
                   fm_status expect)
 {
     fm_output *out = NULL;
     fm_error err;
-    fm_render_params rp = fm_render_params_default();
-    rp.width = img->width;
     assert_int_equal(fm_output_open(exr, json, &out, &err), FM_OK);
-    fm_status s = fm_output_commit(out, sky, &rp, img, cancel, &err);
+    fm_status s = fm_output_commit(out, img, cancel, &err);
     if (s != expect)
         fail_msg("commit returned %d (%s), expected %d", s, err.message, expect);
     fm_output_close(out);
+}
+
+/* The files report the sky as it was when the map was rendered (its render record), not as it is
+ * at the commit: the sky is moved and then destroyed before the map is written, and the sidecar
+ * still holds the rendered sun and its direct light (fm_sky_sun_light of a sky with those
+ * parameters).  A map whose disk was taken out reports none; an image that no render made has no
+ * record to write and is refused. */
+static void files_report_the_render_not_the_sky(void **state)
+{
+    fm_sky_params p = test_params(20.0, 0.0);
+    fm_sky *sky = test_sky(&p);
+    fm_sun_light light;
+    fm_sky_sun_light(sky, &light);
+    fm_image *img = test_render(sky, 16, FM_QUALITY_PREVIEW, 0, 1, 0, 0.25, 1);
+    fm_error err;
+    assert_int_equal(fm_sky_set_sun(sky, 45.0, 90.0, &err), FM_OK);
+    fm_sky_destroy(sky);
+    fm_image_remove_sun_disk(img);
+    assert_null(img->sun_disk);
+    char exr[300], json[300];
+    snprintf(exr, sizeof exr, "%s/record.exr", dir);
+    snprintf(json, sizeof json, "%s/record.json", dir);
+    commit_files(img, exr, json, NULL, FM_OK);
+    cJSON *j = read_json(json);
+    check_abs(json_number(j, "sun", "elevation_deg"), 20.0, 0.0, "the rendered sun's elevation");
+    double lux = FM_LUMINOUS_EFFICACY * light.normal_irradiance[1];
+    check_rel(json_number(j, "sun", "direct_normal_illuminance_lux"), lux, 1e-12, "the rendered sun's light");
+    assert_true(cJSON_IsFalse(cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(j, "image"),
+                                                               "contains_sun_disk")));
+    cJSON_Delete(j);
+    unlink(exr);
+    unlink(json);
+
+    fm_image blank = *img;
+    blank.record.rendered = 0;
+    fm_output *out = NULL;
+    assert_int_equal(fm_output_open(exr, json, &out, &err), FM_OK);
+    assert_int_equal(fm_output_commit(out, &blank, NULL, &err), FM_ERR_INVALID_ARGUMENT);
+    fm_output_close(out);
+    assert_int_equal(access(exr, F_OK), -1);
+    fm_image_destroy(img);
 }
 
 static void colour_exr_attributes_and_sidecar(void **state)
@@ -87,7 +126,7 @@ static void colour_exr_attributes_and_sidecar(void **state)
     char exr[300], json[300];
     snprintf(exr, sizeof exr, "%s/sky.exr", dir);
     snprintf(json, sizeof json, "%s/sky.json", dir);
-    commit_files(sky, img, exr, json, NULL, FM_OK);
+    commit_files(img, exr, json, NULL, FM_OK);
     assert_int_equal(count_files(), 2); /* no temporary file left */
 
     exr_context_t c;
@@ -170,7 +209,7 @@ static void monochromatic_exr_has_one_channel(void **state)
     fm_sky *sky;
     char exr[300], json[300];
     fm_image *img = small_sky(550.0, "mono", &sky, exr, json);
-    commit_files(sky, img, exr, json, NULL, FM_OK);
+    commit_files(img, exr, json, NULL, FM_OK);
     exr_context_t c;
     test_exr e = test_exr_read(exr, &c);
     assert_int_equal(e.channels, 1);
@@ -203,7 +242,7 @@ static void cancelled_commit_leaves_existing_files_alone(void **state)
     int before = count_files();
     atomic_int cancel;
     atomic_init(&cancel, 1);
-    commit_files(sky, img, exr, json, &cancel, FM_ERR_CANCELLED);
+    commit_files(img, exr, json, &cancel, FM_ERR_CANCELLED);
     assert_int_equal(count_files(), before); /* temporary files removed */
     char buf[32] = {0};
     f = fopen(exr, "r");
@@ -211,7 +250,7 @@ static void cancelled_commit_leaves_existing_files_alone(void **state)
     fclose(f);
     assert_string_equal(buf, "old image");
     /* an uncancelled commit replaces both */
-    commit_files(sky, img, exr, json, NULL, FM_OK);
+    commit_files(img, exr, json, NULL, FM_OK);
     test_exr e = test_exr_read(exr, NULL);
     assert_int_equal(e.width, 16);
     test_exr_free(&e);
@@ -236,6 +275,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(colour_exr_attributes_and_sidecar),
+        cmocka_unit_test(files_report_the_render_not_the_sky),
         cmocka_unit_test(monochromatic_exr_has_one_channel),
         cmocka_unit_test(cancelled_commit_leaves_existing_files_alone),
         cmocka_unit_test(unwritable_paths_are_refused_up_front),

@@ -57,8 +57,7 @@ static void spectral_exr_integrates_to_the_rgb_exr(void **state)
     snprintf(spec_path, sizeof spec_path, "%s/sky-spectral.exr", dir);
     fm_output *out = NULL;
     assert_int_equal(fm_output_open(rgb_path, json_path, &out, &err), FM_OK);
-    if (fm_output_commit(out, sky, &rp, img, NULL, &err) ||
-        fm_output_write_spectral(spec_path, sky, &rp, spectral, img, NULL, &err))
+    if (fm_output_commit(out, img, NULL, &err) || fm_output_write_spectral(spec_path, spectral, img, NULL, &err))
         fail_msg("%s", err.message);
     fm_output_close(out);
 

@@ -14,7 +14,7 @@
  *     fm_image *img;
  *     fm_render(sky, &rp, &img, &err);                    (CIE XYZ or spectral radiance)
  *     fm_image_to_rec709(img, &err);
- *     fm_output_commit(out, sky, &rp, img, NULL, &err);
+ *     fm_output_commit(out, img, NULL, &err);
  *     fm_output_close(out);  fm_image_destroy(img);  fm_sky_destroy(sky);
  *
  * Conventions (ARCHITECTURE.md section 4): right-handed axes, +Z up, +Y north, +X east; azimuth from
@@ -350,6 +350,24 @@ typedef enum fm_image_content {
 
 #define FM_IMAGE_MAX_WAVELENGTHS 48
 
+/* What a map reports of the render that made it (the sidecar and the EXR header): gathered once by
+ * fm_render, from the sky and the render parameters as they were then, and carried by the image,
+ * so that writing the map calls nothing back. */
+typedef struct fm_render_record {
+    int rendered;                /* 1 when fm_render filled it; 0 for an image read from a file */
+    fm_sky_params sky;           /* the sky's resolved parameters, their string fields NULL: */
+    char atmosphere_file[4096];  /* the custom atmosphere's path, "" for the built-in one */
+    fm_composition composition;
+    fm_sun_light sun;            /* direct sunlight at the observer */
+    int has_solar;               /* the sky had a time of day: */
+    fm_solar_position solar;     /* its solar position, and which of the sun's */
+    unsigned sun_computed;       /* parameters came from it (FM_SUN_COMPUTED_* bits) */
+    fm_quality quality;
+    uint64_t seed;
+    double sample_scale;
+    int threads;                 /* the render's worker threads (not reported: the writer's too) */
+} fm_render_record;
+
 typedef struct fm_image {
     int width, height, channels;
     fm_image_content content;
@@ -375,6 +393,7 @@ typedef struct fm_image {
     int wavelengths;
     double lambda_nm[FM_IMAGE_MAX_WAVELENGTHS];
     double xyz_weight[FM_IMAGE_MAX_WAVELENGTHS][3];
+    fm_render_record record;
 } fm_image;
 
 /* Renders the sky through the camera of params (an equirectangular map by default).  The result holds
@@ -389,6 +408,10 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
 fm_status fm_render_pixels(const fm_sky *sky, const fm_render_params *params, int count, const int *x, const int *y,
                            float *out, float *se, fm_error *err);
 void fm_image_destroy(fm_image *image); /* accepts NULL */
+
+/* Takes the sun disk out of a map that holds it: its plane (fm_image.sun_disk) is subtracted from
+ * the pixels and freed; the map then reports no disk.  Nothing to do for a map without one. */
+void fm_image_remove_sun_disk(fm_image *image);
 
 /* The XYZ image of a spectral map (FM_IMAGE_SPECTRAL_GRID): a new image, sun disk plane included,
  * integrated with the image's own weights, so that it equals a colour render's XYZ from the same
@@ -472,9 +495,10 @@ typedef struct fm_output fm_output;
 
 /* Checks that both paths can be created (before a long render) and reserves temporary files. */
 fm_status fm_output_open(const char *exr_path, const char *json_path, fm_output **out, fm_error *err);
-/* Writes the EXR (32-bit float) and the JSON sidecar into the temporary files, then renames both. */
-fm_status fm_output_commit(fm_output *output, const fm_sky *sky, const fm_render_params *params,
-                           const fm_image *image, const atomic_int *cancel, fm_error *err);
+/* Writes the EXR (32-bit float) and the JSON sidecar into the temporary files, then renames both.
+ * The image must come from fm_render (directly or through the conversions above): what the files
+ * report is its record. */
+fm_status fm_output_commit(fm_output *output, const fm_image *image, const atomic_int *cancel, fm_error *err);
 /* Removes any temporary file left and frees the handle (accepts NULL). */
 void fm_output_close(fm_output *output);
 /* fm_output_commit in two steps, for files that appear together: _stage writes the EXR and sidecar
@@ -484,11 +508,9 @@ void fm_output_close(fm_output *output);
  * is renamed until all are complete, and when a rename fails the files replaced before it are put
  * back (from hard links to them; a file system without links loses those) and the new ones removed:
  * all appear, or none, and no existing file is lost. */
-fm_status fm_output_stage(fm_output *output, const fm_sky *sky, const fm_render_params *params,
-                          const fm_image *image, const atomic_int *cancel, fm_error *err);
-fm_status fm_output_stage_spectral(fm_output *output, const char *path, const fm_sky *sky,
-                                   const fm_render_params *params, const fm_image *spectral, const fm_image *colour,
-                                   const atomic_int *cancel, fm_error *err);
+fm_status fm_output_stage(fm_output *output, const fm_image *image, const atomic_int *cancel, fm_error *err);
+fm_status fm_output_stage_spectral(fm_output *output, const char *path, const fm_image *spectral,
+                                   const fm_image *colour, const atomic_int *cancel, fm_error *err);
 fm_status fm_output_stage_preview(fm_output *output, const char *path, const fm_image *image,
                                   const fm_colour_config *cfg, double exposure_ev, fm_error *err);
 fm_status fm_output_publish(fm_output *const *outputs, int n, fm_error *err);
@@ -498,15 +520,12 @@ fm_status fm_output_publish(fm_output *const *outputs, int n, fm_error *err);
  * the outputs written beside the map (preview, spectral map), so that they fail before the render. */
 fm_status fm_output_check_path(const char *path, fm_error *err);
 
-/* Lossless both.  (DWAA is not offered: OpenEXR 3.1's C library, which firmament writes with,
- * cannot encode it.) */
 /* Writes a spectral map (FM_IMAGE_SPECTRAL_GRID) as an EXR in the layout of Fichet, Pacanowski &
  * Wilkie (JCGT 10(3), 2021): one float channel per wavelength, "S0.550,000000nm", header
  * emissiveUnits = "W.m^-2.sr^-1.nm^-1" and spectralLayoutVersion = "1.0", plus the firmament.*
  * attributes of the colour image made from it.  Temporary file renamed: complete or nothing. */
-fm_status fm_output_write_spectral(const char *path, const fm_sky *sky, const fm_render_params *params,
-                                   const fm_image *spectral, const fm_image *colour, const atomic_int *cancel,
-                                   fm_error *err);
+fm_status fm_output_write_spectral(const char *path, const fm_image *spectral, const fm_image *colour,
+                                   const atomic_int *cancel, fm_error *err);
 
 /* Every header attribute of an EXR's first part as text (name, OpenEXR type, value): the standard
  * ones (channels, compression, chromaticities, ...) first, then firmament.*, each alphabetically.

@@ -69,6 +69,7 @@ fm_status fm_image_spectral_to_xyz(const fm_image *s, fm_image **out, fm_error *
     for (int c = 0; c < 3; c++)
         x->sun_direction[c] = s->sun_direction[c];
     x->paths_per_node = s->paths_per_node;
+    x->record = s->record;
     *out = x;
     return FM_OK;
 }
@@ -81,6 +82,17 @@ void fm_image_destroy(fm_image *image)
     free(image->sun_disk);
     free(image->std_error);
     free(image);
+}
+
+void fm_image_remove_sun_disk(fm_image *image)
+{
+    if (!image->sun_disk)
+        return;
+    size_t n = (size_t)image->width * (size_t)image->height * (size_t)image->channels;
+    for (size_t i = 0; i < n; i++)
+        image->pixels[i] -= image->sun_disk[i];
+    free(image->sun_disk);
+    image->sun_disk = NULL;
 }
 
 static void convert_buffer(float *buf, size_t pixels)

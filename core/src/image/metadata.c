@@ -53,11 +53,12 @@ static void clock_text(char *buf, size_t size, double hours)
 }
 
 /* The date's time of day and the solar position it gives (README, "Solar position"). */
-static void collect_solar_position(metadata *m, const fm_sky *sky, const fm_sky_params *sp)
+static void collect_solar_position(metadata *m, const fm_render_record *r)
 {
-    fm_solar_position o;
-    unsigned computed = 0;
-    if (!fm_sky_solar_position(sky, &o, &computed))
+    const fm_sky_params *sp = &r->sky;
+    const fm_solar_position o = r->solar;
+    const unsigned computed = r->sun_computed;
+    if (!r->has_solar)
         return;
     clock_text(m->time_text, sizeof m->time_text, sp->hour + sp->minute / 60.0 + sp->second / 3600.0);
     int off = sp->utc_offset_min < 0 ? -sp->utc_offset_min : sp->utc_offset_min;
@@ -165,16 +166,16 @@ static double suggested_exposure_ev(double global_lux)
     return fmin(32.0, fmax(-32.0, ev));
 }
 
-void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *params, const fm_image *img,
-                      const char *exr_path)
+void metadata_collect(metadata *m, const fm_image *img, const char *exr_path)
 {
     memset(m, 0, sizeof *m);
-    const fm_sky_params *sp = fm_sky_get_params(sky);
+    const fm_render_record *r = &img->record;
+    const fm_sky_params *sp = &r->sky;
     const int colour = img->content != FM_IMAGE_SPECTRAL_RADIANCE;
     const char *slash = strrchr(exr_path, '/');
     snprintf(m->out_name, sizeof m->out_name, "%s", slash ? slash + 1 : exr_path);
-    snprintf(m->seed_text, sizeof m->seed_text, "%llu", (unsigned long long)params->seed);
-    fm_sky_composition(sky, &m->composition);
+    snprintf(m->seed_text, sizeof m->seed_text, "%llu", (unsigned long long)r->seed);
+    m->composition = r->composition;
 
     add_string(m, "", "version", FIRMAMENT_VERSION);
     add_string(m, "image", "file", m->out_name);
@@ -191,7 +192,7 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
         add_string(m, "image", "colorspace", "none (spectral radiance)");
         add_string(m, "image", "units", "spectral radiance, W m^-2 sr^-1 nm^-1");
     }
-    add_int(m, "image", "contains_sun_disk", params->sun_disk ? 1 : 0);
+    add_int(m, "image", "contains_sun_disk", img->sun_disk ? 1 : 0);
 
     add_double(m, "parameters", "sun_elevation_deg", sp->sun_elevation_deg);
     add_double(m, "parameters", "sun_azimuth_deg", sp->sun_azimuth_deg);
@@ -204,12 +205,12 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
     add_double(m, "parameters", "earth_sun_distance_au", sp->earth_sun_distance_au);
     if (!colour)
         add_double(m, "parameters", "wavelength_nm", sp->wavelength_nm);
-    add_string(m, "parameters", "quality", quality_name(params->quality));
-    if (params->seed <= (1ull << 53)) /* exact as a JSON number and an EXR double */
-        add_double(m, "parameters", "seed", (double)params->seed);
+    add_string(m, "parameters", "quality", quality_name(r->quality));
+    if (r->seed <= (1ull << 53)) /* exact as a JSON number and an EXR double */
+        add_double(m, "parameters", "seed", (double)r->seed);
     else
         add_string(m, "parameters", "seed", m->seed_text);
-    add_double(m, "parameters", "sample_scale", params->sample_scale);
+    add_double(m, "parameters", "sample_scale", r->sample_scale);
     if (img->paths_per_node > 0)
         add_int(m, "parameters", "paths_per_node", img->paths_per_node);
     add_string(m, "parameters", "biome", m->composition.biome);
@@ -222,10 +223,10 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
         add_string(m, "parameters", "date", m->date_text);
         add_double(m, "parameters", "latitude_deg", sp->latitude_deg);
         add_double(m, "parameters", "longitude_deg", sp->longitude_deg);
-        collect_solar_position(m, sky, sp);
+        collect_solar_position(m, r);
     }
-    if (sp->atmosphere_file) {
-        add_string(m, "parameters", "atmosphere_file", sp->atmosphere_file);
+    if (r->atmosphere_file[0]) {
+        add_string(m, "parameters", "atmosphere_file", r->atmosphere_file);
         add_string(m, "parameters", "atmosphere", "custom atmosphere file (docs/atmosphere-file.md)");
     } else {
         add_string(m, "parameters", "atmosphere", "U.S. Standard Atmosphere 1976 molecules (Bucholtz Rayleigh), "
@@ -248,8 +249,7 @@ void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *pa
         add_double(m, "atmosphere", "turbidity", c->turbidity);
     }
 
-    fm_sun_light sun;
-    fm_sky_sun_light(sky, &sun);
+    const fm_sun_light sun = r->sun;
     double diffuse[3];
     int hemisphere = fm_image_diffuse_horizontal(img, diffuse); /* 0 for a pinhole view */
     add_vec3(m, "sun", "direction", sun.direction);

@@ -28,8 +28,8 @@ typedef struct metadata {
     char time_text[16], offset_text[8], sunrise_text[16], noon_text[16], sunset_text[16], from_time_text[64];
 } metadata;
 
-/* Gathers parameters and derived quantities (direct sunlight, diffuse horizontal illuminance). */
-void metadata_collect(metadata *m, const fm_sky *sky, const fm_render_params *params, const fm_image *img,
-                      const char *exr_path);
+/* Gathers what the image's render record holds and what the image itself gives (its diffuse
+ * horizontal illuminance). */
+void metadata_collect(metadata *m, const fm_image *img, const char *exr_path);
 
 #endif

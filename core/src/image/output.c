@@ -207,11 +207,21 @@ static fm_status write_dwaa(const char *path, const fm_image *image, const metad
     return s;
 }
 
-fm_status fm_output_stage(fm_output *o, const fm_sky *sky, const fm_render_params *params, const fm_image *image,
-                          const atomic_int *cancel, fm_error *err)
+/* What the files report is the image's render record: an image that no render made has none. */
+static fm_status check_record(const fm_image *image, fm_error *err)
+{
+    return image->record.rendered
+               ? FM_OK
+               : fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the map has no render record (it was not made by fm_render)");
+}
+
+fm_status fm_output_stage(fm_output *o, const fm_image *image, const atomic_int *cancel, fm_error *err)
 {
     if (o->staged || !o->files[FILE_EXR].tmp)
         return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "output already written");
+    fm_status s = check_record(image, err);
+    if (s)
+        return s;
     /* 65504 is the largest finite half; rounding to it starts at 65520.  DWA quantises colour
      * channels through half precision even when they are stored as 32-bit float. */
     if (o->half || o->compression == FM_EXR_DWAA) {
@@ -230,10 +240,11 @@ fm_status fm_output_stage(fm_output *o, const fm_sky *sky, const fm_render_param
     }
     const char *exr_tmp = o->files[FILE_EXR].tmp, *exr_path = o->files[FILE_EXR].path;
     metadata meta;
-    metadata_collect(&meta, sky, params, image, exr_path);
-    fm_status s = o->compression == FM_EXR_DWAA
-                      ? write_dwaa(exr_tmp, image, &meta, o->half, params->threads, cancel, err)
-                      : image_write_exr(exr_tmp, image, &meta, o->half, o->compression, params->threads, cancel, err);
+    metadata_collect(&meta, image, exr_path);
+    const int threads = image->record.threads;
+    s = o->compression == FM_EXR_DWAA
+            ? write_dwaa(exr_tmp, image, &meta, o->half, threads, cancel, err)
+            : image_write_exr(exr_tmp, image, &meta, o->half, o->compression, threads, cancel, err);
     if (!s)
         s = sidecar_write(o->files[FILE_JSON].tmp, &meta, err);
     if (!s && cancel && atomic_load(cancel))
@@ -244,28 +255,29 @@ fm_status fm_output_stage(fm_output *o, const fm_sky *sky, const fm_render_param
 }
 
 /* The spectral map into file (path: the name it will have, for its metadata). */
-static fm_status write_spectral_file(const char *file, const char *path, const fm_sky *sky,
-                                     const fm_render_params *params, const fm_image *spectral, const fm_image *colour,
-                                     const atomic_int *cancel, fm_error *err)
+static fm_status write_spectral_file(const char *file, const char *path, const fm_image *spectral,
+                                     const fm_image *colour, const atomic_int *cancel, fm_error *err)
 {
     if (spectral->content != FM_IMAGE_SPECTRAL_GRID)
         return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "not a spectral map");
+    fm_status s = check_record(colour, err);
+    if (s)
+        return s;
     metadata meta;
-    metadata_collect(&meta, sky, params, colour, path);
-    fm_status s = image_write_exr(file, spectral, &meta, 0, FM_EXR_ZIP, params->threads, cancel, err);
+    metadata_collect(&meta, colour, path);
+    s = image_write_exr(file, spectral, &meta, 0, FM_EXR_ZIP, colour->record.threads, cancel, err);
     if (!s && cancel && atomic_load(cancel))
         s = fm_fail(err, FM_ERR_CANCELLED, "cancelled while writing '%s'", path);
     return s;
 }
 
-fm_status fm_output_stage_spectral(fm_output *o, const char *path, const fm_sky *sky, const fm_render_params *params,
-                                   const fm_image *spectral, const fm_image *colour, const atomic_int *cancel,
-                                   fm_error *err)
+fm_status fm_output_stage_spectral(fm_output *o, const char *path, const fm_image *spectral, const fm_image *colour,
+                                   const atomic_int *cancel, fm_error *err)
 {
     int i = reserve_file(o, path, err);
     if (i < 0)
         return err ? err->status : FM_ERR_IO;
-    return write_spectral_file(o->files[i].tmp, path, sky, params, spectral, colour, cancel, err);
+    return write_spectral_file(o->files[i].tmp, path, spectral, colour, cancel, err);
 }
 
 fm_status fm_output_stage_preview(fm_output *o, const char *path, const fm_image *image, const fm_colour_config *cfg,
@@ -351,10 +363,9 @@ fm_status fm_output_publish(fm_output *const *outputs, int n, fm_error *err)
     return publish_files(files, count, err);
 }
 
-fm_status fm_output_commit(fm_output *o, const fm_sky *sky, const fm_render_params *params, const fm_image *image,
-                           const atomic_int *cancel, fm_error *err)
+fm_status fm_output_commit(fm_output *o, const fm_image *image, const atomic_int *cancel, fm_error *err)
 {
-    fm_status s = fm_output_stage(o, sky, params, image, cancel, err);
+    fm_status s = fm_output_stage(o, image, cancel, err);
     return s ? s : fm_output_publish(&o, 1, err);
 }
 
@@ -371,13 +382,11 @@ void fm_output_close(fm_output *o)
     free(o);
 }
 
-fm_status fm_output_write_spectral(const char *path, const fm_sky *sky, const fm_render_params *params,
-                                   const fm_image *spectral, const fm_image *colour, const atomic_int *cancel,
-                                   fm_error *err)
+fm_status fm_output_write_spectral(const char *path, const fm_image *spectral, const fm_image *colour,
+                                   const atomic_int *cancel, fm_error *err)
 {
     char *tmp = image_reserve_temp(path, err);
     if (!tmp)
         return err ? err->status : FM_ERR_IO;
-    return image_finish_temp(tmp, path, write_spectral_file(tmp, path, sky, params, spectral, colour, cancel, err),
-                             err);
+    return image_finish_temp(tmp, path, write_spectral_file(tmp, path, spectral, colour, cancel, err), err);
 }

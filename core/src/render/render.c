@@ -10,7 +10,8 @@
 #include "camera/equirect.h"
 #include "camera/footprint.h"
 #include "image/image.h"
-#include "sky.h"
+#include "render/record.h"
+#include "transport/sky_path.h"
 #include "transport/ground_irradiance.h"
 #include "transport/single_scatter.h"
 #include "transport/twilight.h"
@@ -859,6 +860,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     if (!job.img)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for a %d x %d image", W, H);
     job.img->camera = params->camera;
+    render_record_fill(&job.img->record, sky, params);
     job.img->paths_per_node = reference ? 0 : job.q.ms_paths;
     if (spectral)
         image_set_wavelengths(job.img, atm->grid.count, atm->grid.lambda_nm, &atm->grid.xyz_weight[0][0]);

@@ -34,9 +34,9 @@
 #define FM_TRANSPORT_PATH_H
 
 #include "atmosphere/optical_depth.h"
+#include "atmosphere/sun_irradiance.h"
 #include "base/rng.h"
 #include "base/vec.h"
-#include "transport/sun_irradiance.h"
 
 struct ground_irradiance;
 struct sky_guide;

@@ -12,7 +12,7 @@
 #ifndef FM_TRANSPORT_TWILIGHT_H
 #define FM_TRANSPORT_TWILIGHT_H
 
-#include "sky.h"
+#include "transport/sky_path.h"
 #include "transport/shadow_flight.h"
 #include "transport/sky_guide.h"
 
@@ -28,7 +28,7 @@ typedef struct twilight_sampling {
  * tables would be a third of the render). */
 twilight_sampling *twilight_sampling_create(const fm_sky *sky, int guide_offsets, int threads, int *no_memory);
 
-/* sky_path_context with, when tw is not NULL, the twilight sampling. */
+/* sky_path_context (sky_path.h) with, when tw is not NULL, the twilight sampling. */
 path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *tw, int min_order, int max_order);
 
 #define NODE_BATCHES 16

@@ -10,8 +10,8 @@
  *     mu_s = mu_lo(r) + (1 - mu_lo(r)) x_mu^2,  mu_lo = cos(theta_horizon(r) + sun radius),
  * which packs nodes where the sun sets for that altitude.  The rows are the column table's
  * (table_rows.h), with rows at the aerosol layers' edges. */
-#ifndef FM_TRANSPORT_SUN_IRRADIANCE_H
-#define FM_TRANSPORT_SUN_IRRADIANCE_H
+#ifndef FM_ATMOSPHERE_SUN_IRRADIANCE_H
+#define FM_ATMOSPHERE_SUN_IRRADIANCE_H
 
 #include "atmosphere/atmosphere.h"
 #include "atmosphere/optical_depth.h"

@@ -1,4 +1,4 @@
-#include "transport/sun_irradiance.h"
+#include "atmosphere/sun_irradiance.h"
 
 #include "base/exp_array.h"
 #include "base/status.h"
