@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The speed benchmark (README, "Performance").  For each sky it renders, with the sun disk left out
+# The speed benchmark (docs/performance/: each finished run is added there).  For each sky it renders, with the sun disk left out
 # (its aureole stays in) and all cores:
 #   - a preview map 1024 x 512 and a final map 4096 x 2048 (and 1024 x 512 at final quality), timing
 #     the whole `firmament render` run (wall s, peak MiB: /usr/bin/time; the median of three runs,
@@ -58,6 +58,22 @@
 #                                   rest)
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
+# A run's figures (not the references' rewrites) are also kept in docs/performance/MODE.md
+# (bench/record-run.sh), once the run has finished: the script runs itself through tee.
+case "${1:-}" in
+--make-reference | --extend-reference) ;;
+*)
+    if [ -z "${FM_BENCH_RECORDING:-}" ]; then
+        log=$(mktemp)
+        status=0
+        FM_BENCH_RECORDING=1 "$0" "$@" | tee "$log" || status=$?
+        mode=${1:---speed}
+        [ "$status" -ne 0 ] || "$ROOT/bench/record-run.sh" "${mode#--}" "$log"
+        rm -f "$log"
+        exit "$status"
+    fi
+    ;;
+esac
 . "$ROOT/scripts/common.sh"
 install_missing_packages
 build build >/dev/null
