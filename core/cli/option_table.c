@@ -277,8 +277,8 @@ static void format_default(const option_spec *o, char *out, size_t size)
     }
 }
 
-/* The help with %R and %W filled in and the default after it. */
-static void describe(const option_spec *o, char *out, size_t size)
+/* The help with %R and %W filled in, and the default after it when with_default. */
+static void describe(const option_spec *o, int with_default, char *out, size_t size)
 {
     char range[64] = "", words[800] = "", def[128];
     const fm_param_range *r = option_range(o);
@@ -296,7 +296,7 @@ static void describe(const option_spec *o, char *out, size_t size)
     }
     out[used < size ? used : size - 1] = '\0';
     format_default(o, def, sizeof def);
-    if (def[0] && used < size)
+    if (with_default && def[0] && used < size)
         snprintf(out + used, size - used, " (default %s)", def);
 }
 
@@ -356,7 +356,7 @@ void option_print_usage(FILE *f)
                          o->metavar ? " " : "", o->metavar ? o->metavar : "");
         /* the help from column 25, or after one space when the flag is longer */
         fprintf(f, "%s%*s", head, n < 25 ? 25 - n : 1, "");
-        describe(o, text, sizeof text);
+        describe(o, 1, text, sizeof text);
         print_wrapped(f, text, n < 25 ? 25 : n + 1, 25);
     }
     fputs("\nExit status: 0 done, 1 runtime failure, 2 bad usage or input, 128+N stopped by signal N\n"
@@ -518,7 +518,7 @@ static void json_option(FILE *f, const option_spec *o)
         fputs(", \"not_with\": \"--atmosphere\"", f);
     fputs(", \"group\": ", f);
     json_string(f, o->group);
-    describe(o, text, sizeof text);
+    describe(o, 0, text, sizeof text);
     fputs(", \"help\": ", f);
     json_string(f, text);
     fputc('}', f);

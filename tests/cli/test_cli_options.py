@@ -1,23 +1,26 @@
 #!/usr/bin/env python3
 """`firmament options --json` against what the executable enforces.
 
-Usage: test_cli_options.py FIRMAMENT [README.md]
+Usage: test_cli_options.py FIRMAMENT [README.md [--write-readme]]
 
 For every option with a numeric range in the JSON, the command line and a sky preset (when the
 option has a preset key) accept the range's ends (or just inside an open end) and refuse just
 outside with exit status 2 and one line naming the option; every choice word is accepted and an
-unknown one refused; every option appears in `--help` and, when given, in the README.  Values are
+unknown one refused; every option appears in `--help`; the README's table of options (between its
+"options table" markers) is the one made from the JSON (--write-readme rewrites it).  Values are
 checked by parsing only: `--list-colorspaces` exits after the options are read, before any render.
 """
 import json
 import os
-import re
 import subprocess
 import sys
 import tempfile
 
 FIRMAMENT = os.path.abspath(sys.argv[1])
 README = sys.argv[2] if len(sys.argv) > 2 else None
+WRITE_README = "--write-readme" in sys.argv[3:]
+BEGIN = "<!-- options table: made by tests/cli/test_cli_options.py from `firmament options --json` -->"
+END = "<!-- end of the options table -->"
 
 # What an option needs beside it to be valid at all (the rules between options, not the ranges).
 TIME = ["--date", "2024-06-21", "--time", "12:00", "--latitude", "45", "--longitude", "7"]
@@ -81,6 +84,39 @@ def expect_refused(args, flag, what, cwd):
           f"{what}: exit {code}, stderr {err.strip()!r} (want 2 and one line naming {flag})")
 
 
+def cell(text):
+    return text.replace("|", "\\|")
+
+
+def markdown_table(options):
+    """The README's table of options, by group."""
+    rows = ["| option | meaning | default |", "|---|---|---|"]
+    group = None
+    for o in options:
+        if o["group"] != group:
+            group = o["group"]
+            rows.append(f"| **{cell(group.split(' (')[0])}** | | |")
+        flag = (o["short"] + ", " if "short" in o else "") + o["flag"] + (" " + o["metavar"] if "metavar" in o else "")
+        rows.append(f"| `{cell(flag)}` | {cell(o['help'])} | {cell(o.get('default_text', ''))} |")
+    return "\n".join(rows) + "\n"
+
+
+def check_readme(options):
+    text = open(README).read()
+    if BEGIN not in text or END not in text:
+        check(False, f"the README has no options table markers ({BEGIN})")
+        return
+    head, rest = text.split(BEGIN, 1)
+    _, tail = rest.split(END, 1)
+    table = markdown_table(options)
+    if WRITE_README:
+        open(README, "w").write(head + BEGIN + "\n" + table + END + tail)
+    else:
+        check(rest.split(END, 1)[0].strip() == table.strip(),
+              "the README's options table differs from `firmament options --json` "
+              "(tests/cli/test_cli_options.py FIRMAMENT README.md --write-readme rewrites it)")
+
+
 def main():
     out = subprocess.run([FIRMAMENT, "options", "--json"], capture_output=True, text=True, check=True).stdout
     try:
@@ -91,13 +127,12 @@ def main():
     options = table["options"]
     check(len(options) > 40, f"{len(options)} options")
     usage = subprocess.run([FIRMAMENT, "--help"], capture_output=True, text=True, check=True).stdout
-    readme = open(README).read() if README else None
+    if README:
+        check_readme(options)
     with tempfile.TemporaryDirectory() as work:
         for o in options:
             flag = o["flag"]
             check(flag + " " in usage or flag + "\n" in usage, f"{flag} is not in --help")
-            if readme is not None:
-                check(re.search(re.escape(flag) + r"(?![\w-])", readme), f"{flag} is not in the README")
             ctx = CONTEXT.get(flag, [])
             if "min" in o:
                 whole = o["kind"] == "whole"
