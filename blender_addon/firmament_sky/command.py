@@ -93,3 +93,32 @@ def build_arguments(executable, s, output, sidecar, disk_map=None):
             raise SettingsError("sun mode 'lamp + disk for the camera' needs a disk map path")
         args += ["--sun-disk-map", disk_map]
     return args
+
+
+def series_frames(start_h, end_h, step_min):
+    """How many maps `--time-start start --time-end end --step step` writes (the end included)."""
+    return int((round(end_h * 60) - round(start_h * 60)) // step_min) + 1
+
+
+def format_clock(hours):
+    minutes = int(round(hours * 60.0))
+    return "%02d:%02d" % (minutes // 60, minutes % 60)
+
+
+def build_series_arguments(executable, s, output, sidecar):
+    """The argument list that renders a day: one map per s["bake_step_min"] minutes from
+    s["bake_start"] to s["bake_end"] (clock hours) on the settings' date and place, OUTPUT_0000.exr,
+    ... each with its sidecar; always without the disk (the lamp is keyframed per frame)."""
+    if s["sun_source"] != "TIME":
+        raise SettingsError("bake a day: set the sun from date, time and place (not angles)")
+    if not (0.0 <= s["bake_start"] < s["bake_end"] <= 24.0 - 1.0 / 60.0):
+        raise SettingsError("bake a day: start %s must be before end %s within the day"
+                            % (format_clock(s["bake_start"]), format_clock(s["bake_end"])))
+    if not 1 <= s["bake_step_min"] <= 720:
+        raise SettingsError("bake a day: step %r min is outside [1, 720]" % s["bake_step_min"])
+    one = dict(s, sun_mode="LAMP")
+    args = build_arguments(executable, one, output, sidecar)
+    i = args.index("--time")
+    args[i:i + 2] = ["--time-start", format_clock(s["bake_start"]), "--time-end", format_clock(s["bake_end"]),
+                     "--step", str(s["bake_step_min"])]
+    return args

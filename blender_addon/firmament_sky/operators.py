@@ -18,23 +18,41 @@ _active = {"runner": None}  # the one generation in flight (UI mode)
 
 
 class Job:
-    """One generation: its own folder in the cache, removed unless the result is applied."""
+    """One generation (series: a baked day): its own folder of maps, removed unless the result is
+    applied."""
 
-    def __init__(self, settings, executable):
+    def __init__(self, settings, executable, series=False):
         self.settings = settings
+        self.series = series
         self.folder = maps.new_folder()
         self.exr = os.path.join(self.folder, "sky.exr")
         self.sidecar = os.path.join(self.folder, "sky.json")
-        self.disk = os.path.join(self.folder, "sky_disk.exr") if settings["sun_mode"] == "LAMP_CAMERA_DISK" else None
-        args = command.build_arguments(executable, settings, self.exr, self.sidecar, self.disk)
-        outputs = [self.exr, self.sidecar] + ([self.disk, os.path.splitext(self.disk)[0] + ".json"] if self.disk else [])
+        self.disk = None
+        try:
+            if series:  # sky_0000.exr, sky_0001.exr, ... each with its sidecar
+                args = command.build_series_arguments(executable, settings, self.exr, self.sidecar)
+                outputs = []
+            else:
+                if settings["sun_mode"] == "LAMP_CAMERA_DISK":
+                    self.disk = os.path.join(self.folder, "sky_disk.exr")
+                args = command.build_arguments(executable, settings, self.exr, self.sidecar, self.disk)
+                outputs = [self.exr, self.sidecar] + ([self.disk, os.path.splitext(self.disk)[0] + ".json"] if self.disk else [])
+        except command.SettingsError:
+            self.discard()
+            raise
         self.runner = runner.Runner(args, outputs)
+
+    def frames(self):
+        """A finished series' [(exr, sidecar)] in order."""
+        n = command.series_frames(self.settings["bake_start"], self.settings["bake_end"], self.settings["bake_step_min"])
+        return [(os.path.join(self.folder, "sky_%04d.exr" % i), os.path.join(self.folder, "sky_%04d.json" % i))
+                for i in range(n)]
 
     def discard(self):
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
-def prepare(context, op):
+def prepare(context, op, series=False):
     """Validated settings and a Job, or None after reporting why not."""
     props = context.scene.firmament_sky
     settings = properties.to_dict(props)
@@ -50,7 +68,7 @@ def prepare(context, op):
                              "Preferences > Add-ons > Firmament Sky" % why)
         return None
     try:
-        return Job(settings, exe)
+        return Job(settings, exe, series)
     except (OSError, command.SettingsError) as e:
         op.report({"ERROR"}, "Firmament: %s" % e)
         return None
@@ -66,7 +84,11 @@ def finish(context, op, job):
         op.report({"ERROR"}, "Firmament failed (exit %s): %s" % (r.returncode, r.error_text()))
         return {"CANCELLED"}
     try:
-        sun, exposure = world.apply(context.scene, job.settings, job.exr, job.sidecar, job.disk)
+        if job.series:
+            suns = world.apply_series(context.scene, job.settings, job.frames())
+            sun, exposure = suns[0], None
+        else:
+            sun, exposure = world.apply(context.scene, job.settings, job.exr, job.sidecar, job.disk)
     except world.SetupError as e:
         job.discard()
         props.last_message = str(e)
@@ -79,6 +101,8 @@ def finish(context, op, job):
         props.suggested_exposure_ev = sun["suggested_exposure_ev"]
     seconds = (r.done_event or {}).get("seconds")
     msg = "sun %.2f deg up, azimuth %.2f deg" % (sun["elevation_deg"], sun["azimuth_deg"])
+    if job.series:
+        msg = "baked %d frames (%d-%d)" % (len(suns), context.scene.frame_start, context.scene.frame_end)
     if seconds is not None:
         msg += ", rendered in %.1f s" % seconds
     if exposure is not None:
@@ -88,14 +112,12 @@ def finish(context, op, job):
     return {"FINISHED"}
 
 
-class FIRMAMENT_OT_generate(bpy.types.Operator):
-    """Render the sky with firmament and set it up as the world (and sun lamp)"""
-    bl_idname = "firmament_sky.generate"
-    bl_label = "Generate Sky"
-    bl_options = {"REGISTER"}
+class _Generating:
+    """Generate and Bake a Day: a child run modal with a timer in the UI, blocking in background mode."""
 
     _job = None
     _timer = None
+    series = False
 
     @classmethod
     def poll(cls, context):
@@ -103,7 +125,7 @@ class FIRMAMENT_OT_generate(bpy.types.Operator):
 
     def _start(self, context):
         """The prepared job with its child started, or None (reported)."""
-        job = prepare(context, self)
+        job = prepare(context, self, self.series)
         if job is None:
             return None
         try:
@@ -172,6 +194,22 @@ class FIRMAMENT_OT_generate(bpy.types.Operator):
             self._job.runner.cancel()
             self._job.discard()
         self._end(context)
+
+
+class FIRMAMENT_OT_generate(_Generating, bpy.types.Operator):
+    """Render the sky with firmament and set it up as the world (and sun lamp)"""
+    bl_idname = "firmament_sky.generate"
+    bl_label = "Generate Sky"
+    bl_options = {"REGISTER"}
+
+
+class FIRMAMENT_OT_bake_day(_Generating, bpy.types.Operator):
+    """Render one sky per frame from the start to the end clock time and animate the world (an image
+    sequence) and the sun lamp (keyframed per frame); the scene's frame range becomes the day's"""
+    bl_idname = "firmament_sky.bake_day"
+    bl_label = "Bake a Day"
+    bl_options = {"REGISTER"}
+    series = True
 
 
 class FIRMAMENT_OT_load_preset(bpy.types.Operator):
@@ -285,5 +323,5 @@ def cancel_running(*_args):
         _active["runner"] = None
 
 
-classes = (FIRMAMENT_OT_generate, FIRMAMENT_OT_load_preset, FIRMAMENT_OT_add_preset, FIRMAMENT_OT_apply_exposure,
+classes = (FIRMAMENT_OT_generate, FIRMAMENT_OT_bake_day, FIRMAMENT_OT_load_preset, FIRMAMENT_OT_add_preset, FIRMAMENT_OT_apply_exposure,
            FIRMAMENT_OT_clean_maps)

@@ -90,6 +90,14 @@ def draw_settings(layout, context):
         row.label(text="Suggested exposure %.2f EV" % p.suggested_exposure_ev)
         row.operator("firmament_sky.apply_exposure", text="Apply")
     box = layout.box()
+    box.label(text="Bake a Day (one map per frame)", icon="TIME")
+    row = box.row(align=True)
+    row.prop(p, "bake_start")
+    row.prop(p, "bake_end")
+    row.prop(p, "bake_step_min")
+    box.operator("firmament_sky.bake_day", icon="RENDER_ANIMATION")
+
+    box = layout.box()
     box.prop(p, "keep_maps_with_file")
     row = box.row()
     row.label(text="Maps: //%s/ beside the .blend" % maps.FOLDER if bpy.data.filepath else "Maps: the add-on's cache until saved",

@@ -83,6 +83,12 @@ class FirmamentSkySettings(bpy.types.PropertyGroup):
         name="Keep Maps With the File", default=True,
         description="On save, copy the maps beside the .blend (//firmament/) and reference them by relative "
                     "paths, so that the project can be moved or sent as one folder")
+    bake_start: FloatProperty(name="From", min=0.0, max=23.99, default=6.0,
+                              precision=2, description="Bake a day: the first frame's local clock time, hours")
+    bake_end: FloatProperty(name="To", min=0.0, max=23.99, default=20.0, precision=2,
+                            description="Bake a day: the last frame's local clock time at most, hours")
+    bake_step_min: IntProperty(name="Step", min=1, max=720, default=30,
+                               description="Bake a day: minutes between frames (one map per frame)")
     threads: IntProperty(name="Threads", min=0, max=256, default=0, description="0 = all cores")
     # results, for the panel
     suggested_exposure_ev: FloatProperty(name="Suggested Exposure", default=0.0)
@@ -93,7 +99,8 @@ class FirmamentSkySettings(bpy.types.PropertyGroup):
 SETTING_KEYS = ("sun_source", "year", "month", "day", "hour", "minute", "second", "utc_offset", "latitude",
                 "longitude", "sun_elevation", "sun_azimuth", "biome", "aerosol_amount", "turbidity", "aod550",
                 "use_humidity", "humidity", "ozone_mode", "ozone_du", "albedo", "altitude", "resolution",
-                "quality", "sun_mode", "north_offset", "apply_exposure", "threads")
+                "quality", "sun_mode", "north_offset", "apply_exposure", "threads", "bake_start", "bake_end",
+                "bake_step_min")
 # what a sky preset holds (the rest are render choices)
 PRESET_KEYS = ("sun_source", "year", "month", "day", "hour", "minute", "second", "utc_offset", "latitude",
                "longitude", "sun_elevation", "sun_azimuth", "biome", "aerosol_amount", "turbidity", "aod550",

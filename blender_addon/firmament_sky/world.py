@@ -174,7 +174,15 @@ def build_world_nodes(world, sky_image, disk_image, rotation_z):
     links.new(mix.outputs["Shader"], out.inputs["Surface"])
 
 
+def _clear_animation(obj):
+    for idb in (obj, obj.data):
+        if idb.animation_data is not None:
+            idb.animation_data_clear()
+
+
 def setup_lamp(scene, sun, north_offset):
+    """Points, sizes and colours the add-on's lamp for one sidecar; a sun whose disk is wholly below
+    the horizon hides it (no lamp shining up through the ground)."""
     obj = _ensure_lamp(scene)
     light = obj.data
     # strength x colour = the direct normal irradiance, in the map's units (Blender W/m^2), converted
@@ -189,7 +197,27 @@ def setup_lamp(scene, sun, north_offset):
     obj.rotation_mode = "XYZ"
     obj.rotation_euler = d.to_track_quat("Z", "Y").to_euler()  # the lamp shines along its -Z
     obj.location = d * 10.0  # only for the viewport
+    below = sun["elevation_deg"] + sun["angular_diameter_deg"] / 2 < 0.0 or peak <= 0.0
+    obj.hide_render = obj.hide_viewport = below
     return obj
+
+
+def _replace_images(previous, names):
+    """Removes the previous maps' images from the file (never their files) and gives the new ones
+    the names the old ones had."""
+    for img in previous:
+        bpy.data.images.remove(img)
+    for img, name in names:
+        img.name = name
+
+
+def _set_exposure(scene, settings, sun, frame=None):
+    if not settings.get("apply_exposure") or sun["suggested_exposure_ev"] is None:
+        return None
+    scene.view_settings.exposure = float(sun["suggested_exposure_ev"])
+    if frame is not None:
+        scene.view_settings.keyframe_insert("exposure", frame=frame)
+    return scene.view_settings.exposure
 
 
 def apply(scene, settings, exr_path, sidecar_path, disk_path=None):
@@ -216,6 +244,8 @@ def apply(scene, settings, exr_path, sidecar_path, disk_path=None):
         world = scene.world = bpy.data.worlds.new("Firmament World")
     build_world_nodes(world, sky_image, disk_image, mapping_rotation_z(settings["north_offset"],
                                                                        sun["azimuth_at_center_deg"]))
+    for obj in _our_lamps():
+        _clear_animation(obj)  # a baked day's keyframes would override the new values
     if mode == "DISK":
         _remove_lamp()
     else:
@@ -224,13 +254,50 @@ def apply(scene, settings, exr_path, sidecar_path, disk_path=None):
         world.cycles.sample_map_resolution = max(world.cycles.sample_map_resolution, sky_image.size[0] // 2)
     if hasattr(world, "sun_threshold"):  # EEVEE (4.2+): extract a sun from the map only when it has one
         world.sun_threshold = 10.0 if mode == "DISK" else 0.0
-    for img in previous:
-        bpy.data.images.remove(img)
-    sky_image.name = "Firmament Sky"  # the names the previous images held
-    if disk_image is not None:
-        disk_image.name = "Firmament Sky With Disk"
-    exposure = None
-    if settings.get("apply_exposure") and sun["suggested_exposure_ev"] is not None:
-        exposure = float(sun["suggested_exposure_ev"])
-        scene.view_settings.exposure = exposure
-    return sun, exposure
+    _replace_images(previous, [(sky_image, "Firmament Sky")] + ([(disk_image, "Firmament Sky With Disk")] if disk_image else []))
+    return sun, _set_exposure(scene, settings, sun)
+
+
+def apply_series(scene, settings, frames):
+    """Sets up a baked day from [(exr, sidecar)] of consecutive maps: the Environment Texture plays
+    them as an image sequence from the scene's first frame, the lamp's rotation, strength, colour
+    and visibility (and, when asked, the exposure) are keyframed per frame from each sidecar, and the
+    scene's frame range becomes the series'.  Returns the sidecars."""
+    suns = [read_sidecar(sc) for _exr, sc in frames]
+    if any(s["contains_sun_disk"] for s in suns):
+        raise SetupError("a baked day's maps must not hold the sun disk (the lamp is keyframed)")
+    previous = our_images()
+    sky_image = load_float_image(frames[0][0], "Firmament Sky")
+    sky_image.source = "SEQUENCE"
+    world = scene.world
+    if world is None:
+        world = scene.world = bpy.data.worlds.new("Firmament World")
+    build_world_nodes(world, sky_image, None, mapping_rotation_z(settings["north_offset"], suns[0]["azimuth_at_center_deg"]))
+    env = world.node_tree.nodes[NODE_PREFIX + "Sky"]
+    first = scene.frame_start
+    iu = env.image_user
+    # frame f shows file number f - frame_start + 1 + offset: the series is numbered from 0
+    iu.frame_start, iu.frame_offset, iu.frame_duration = first, -1, len(frames)
+    iu.use_auto_refresh = True
+    if hasattr(world, "sun_threshold"):
+        world.sun_threshold = 0.0
+    obj = _ensure_lamp(scene)
+    _clear_animation(obj)
+    edit = bpy.context.preferences.edit
+    interpolation = edit.keyframe_new_interpolation_type
+    edit.keyframe_new_interpolation_type = "CONSTANT"  # each frame holds its own sidecar's values
+    try:
+        for i, sun in enumerate(suns):
+            f = first + i
+            setup_lamp(scene, sun, settings["north_offset"])
+            for prop in ("rotation_euler", "location", "hide_render", "hide_viewport"):
+                obj.keyframe_insert(prop, frame=f)
+            obj.data.keyframe_insert("energy", frame=f)
+            obj.data.keyframe_insert("color", frame=f)
+            _set_exposure(scene, settings, sun, frame=f)
+    finally:
+        edit.keyframe_new_interpolation_type = interpolation
+    scene.frame_end = first + len(frames) - 1
+    _replace_images(previous, [(sky_image, "Firmament Sky")])
+    scene.frame_set(scene.frame_current)
+    return suns

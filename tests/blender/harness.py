@@ -158,14 +158,14 @@ def _quad(name, x0, x1, y0, y1, z, mat, scene):
     return obj
 
 
-def card_scene(scene):
+def card_scene(scene, ground_half=40.0, ortho_scale=10.0):
     """A grey ground (albedo 0.5), a 4 m pillar whose shadow falls on it, and a white horizontal card
     (albedo 1) 0.5 m up, far enough from the pillar to see the whole sky; an orthographic camera looks
     straight down.  Returns the camera."""
     for o in list(bpy.data.objects):
         if o.type != "LIGHT" or not o.get("firmament_sky"):
             bpy.data.objects.remove(o)
-    _quad("Ground", -40, 40, -40, 40, 0.0, material("Ground", (0.5, 0.5, 0.5)), scene)
+    _quad("Ground", -ground_half, ground_half, -ground_half, ground_half, 0.0, material("Ground", (0.5, 0.5, 0.5)), scene)
     _quad("Card", 0.5, 3.5, 0.5, 3.5, 0.5, material("White", (1.0, 1.0, 1.0)), scene)
     mesh = bpy.data.meshes.new("Pillar")
     import bmesh
@@ -180,7 +180,7 @@ def card_scene(scene):
     scene.collection.objects.link(pillar)
     cam = bpy.data.objects.new("Top camera", bpy.data.cameras.new("Top camera"))
     cam.data.type = "ORTHO"
-    cam.data.ortho_scale = 10.0
+    cam.data.ortho_scale = ortho_scale
     cam.location = (0.0, 0.0, 20.0)
     scene.collection.objects.link(cam)
     scene.camera = cam
@@ -220,7 +220,7 @@ def load_linear(path):
 
 def classify(scene, cam, w, hgt):
     """For an orthographic top camera: 'card', 'lit' (ground in sun), 'shade' (ground in the pillar's
-    shadow) -> pixel indices (into RGBA pixels), found by casting rays into the scene; only pixels
+    shadow), 'sky' (the world seen looking down: the map's nadir) -> pixel indices (into RGBA pixels), found by casting rays into the scene; only pixels
     whose 8 neighbours are of the same kind (the pixel filter blends edges)."""
     from mathutils import Vector
     dg = bpy.context.evaluated_depsgraph_get()
@@ -237,9 +237,11 @@ def classify(scene, cam, w, hgt):
                 kind[x, y] = "card"
             elif hit and obj.name == "Ground":
                 kind[x, y] = "shade" if scene.ray_cast(dg, loc + normal * 1e-3, to_sun)[0] else "lit"
-    out = {"card": [], "lit": [], "shade": []}
+            elif not hit:
+                kind[x, y] = "sky"
+    out = {"card": [], "lit": [], "shade": [], "sky": []}
     for (x, y), k in kind.items():
-        if all(kind.get((x + i, y + j)) == k for i in (-1, 0, 1) for j in (-1, 0, 1)):
+        if all(kind.get((x + i, y + j), "sky" if k == "sky" else None) == k for i in (-1, 0, 1) for j in (-1, 0, 1)):
             out[k].append(4 * (y * w + x))
     return out
 

@@ -1,0 +1,74 @@
+"""Bake a day: 6 maps (07:00 to 17:00 every 2 hours); the world plays them as an image sequence and
+the lamp is keyframed from each frame's sidecar (direction 0.1 deg, strength 1e-3); the saved .blend
+rendered as an animation in a new process (3.4: `blender -b file.blend -a`) shows each frame's own
+sky (the map's nadir seen past the ground) and light (a white card = that frame's global horizontal
+illuminance / (683 pi), within 5%)."""
+
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(__file__))
+import harness as h  # noqa: E402
+import bpy  # noqa: E402
+from mathutils import Color, Vector  # noqa: E402
+
+h.install_and_enable()
+scene = bpy.context.scene
+bpy.ops.firmament_sky.load_preset(filepath=h.shipped_preset("clear-noon"))
+p = h.fast_settings(scene, width=32)
+p.bake_start, p.bake_end, p.bake_step_min = 7.0, 17.0, 120
+cam = h.card_scene(scene, ground_half=4.5, ortho_scale=12.0)
+scene.frame_start = 1
+h.check(bpy.ops.firmament_sky.bake_day() == {"FINISHED"}, "bake a day")
+h.check((scene.frame_start, scene.frame_end) == (1, 6), "frame range 1-6: %d-%d" % (scene.frame_start, scene.frame_end))
+env = scene.world.node_tree.nodes["Firmament Sky"]
+sky = h.sky_image()
+h.check(env.image == sky and sky.source == "SEQUENCE", "the environment texture plays an image sequence")
+lamp = h.sun_lamps()[0]
+sides = []
+for f in range(1, 7):
+    scene.frame_set(f)
+    # frame f is the series' map f - 1 (the render below checks that it shows it)
+    path = os.path.join(os.path.dirname(bpy.path.abspath(sky.filepath)), "sky_%04d.exr" % (f - 1))
+    side = h.sidecar_of(type("Image", (), {"filepath": path})())
+    sides.append(side)
+    got = lamp.matrix_world.to_3x3() @ Vector((0, 0, 1))
+    ang = math.degrees(got.angle(Vector(side["sun"]["direction"])))
+    h.check(ang < 0.1, "frame %d: lamp direction within 0.1 deg of its sidecar (%.4f deg)" % (f, ang))
+    rgb = Color([lamp.data.energy * c for c in lamp.data.color]).from_scene_linear_to_rec709_linear()
+    want = side["sun"]["direct_normal_irradiance_rgb"]
+    h.check(all(abs(rgb[c] / want[c] - 1) < 1e-3 for c in range(3)), "frame %d: lamp strength x colour = sidecar's" % f)
+h.check(len({round(s["sun"]["elevation_deg"], 3) for s in sides}) == 6, "six different suns")
+
+# render the animation from the saved file in a new process
+h.render_settings(scene, res=(32, 32), samples=8)
+r = scene.render
+r.image_settings.file_format = "OPEN_EXR"
+r.image_settings.color_depth = "32"
+r.filepath = os.path.join(h.OUT, "frame_")
+blend = os.path.join(h.OUT, "day", "day.blend")
+os.makedirs(os.path.dirname(blend))
+bpy.ops.wm.save_as_mainfile(filepath=blend)
+h.render_in_new_process(blend)
+cards, nadirs = [], []
+for f in range(1, 7):
+    scene.frame_set(f)
+    pix, w, hgt = h.load_linear(os.path.join(h.OUT, "frame_%04d.exr" % f))
+    cls = h.classify(scene, cam, w, hgt)
+    side = sides[f - 1]
+    card = h.mean_luminance(pix, cls["card"])
+    expected = side["sky"]["global_horizontal_illuminance_lux"] / 683.0 / math.pi
+    h.close(card / expected, 1.0, 0.05, "frame %d: white card / its sidecar's E_global / (683 pi) (%.3g vs %.3g)" % (f, card, expected))
+    # the world straight down, past the ground, is the frame's own map at the nadir: u = 0.5 (between
+    # columns w/2 - 1 and w/2), v = 0, where Blender's linear lookup wraps and mixes the bottom and
+    # top rows half and half
+    mp, mw, mh = h.load_linear(os.path.join(os.path.dirname(bpy.path.abspath(sky.filepath)), "sky_%04d.exr" % (f - 1)))
+    at = [4 * (row * mw + col) for row in (0, mh - 1) for col in (mw // 2 - 1, mw // 2)]
+    own = sum(h.luminance(mp[k:k + 3]) for k in at) / 4
+    seen = h.mean_luminance(pix, cls["sky"])
+    h.close(seen / own, 1.0, 1e-3, "frame %d: the world below shows its own map's nadir (%.4g vs %.4g, %d px)"
+            % (f, seen, own, len(cls["sky"])))
+    cards.append(card)
+h.check(cards[0] < 0.5 * cards[2], "frame 1 (07:00) darker than frame 3 (11:00): %.3g vs %.3g" % (cards[0], cards[2]))
+h.finish()
