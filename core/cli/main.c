@@ -1,6 +1,6 @@
 /* The firmament executable: parse, render, write, exit.  The only place that prints or exits.
  * Exit codes: 0 ok, 1 runtime failure, 2 bad usage or input, 128 + signal when interrupted. */
-#define _XOPEN_SOURCE 700 /* realpath */
+#define _POSIX_C_SOURCE 200809L /* strndup */
 #include "args.h"
 #include "numbers.h"
 #include "option_table.h"
@@ -10,6 +10,7 @@
 #include "time_args.h"
 #include "revision.h" /* FIRMAMENT_REVISION, written at build time (cmake/revision.cmake) */
 
+#include "base/platform.h"
 #include "firmament/firmament.h"
 
 #include <errno.h>
@@ -18,14 +19,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 enum { EXIT_RUNTIME = 1, EXIT_USAGE = 2 };
 
-/* Set by SIGINT/SIGTERM/SIGHUP/SIGPIPE to the signal number; the library polls it and stops.  (A
- * closed pipe, e.g. `--progress json | head -1`, would otherwise kill the process before it removes
- * its temporary files.) */
+/* Set by SIGINT/SIGTERM/SIGHUP/SIGPIPE (Windows: Ctrl-C, Ctrl-Break, closing the console) to the
+ * signal number; the library polls it and stops.  (A closed pipe, e.g. `--progress json | head -1`,
+ * would otherwise kill the process before it removes its temporary files.) */
 static atomic_int cancel_signal;
 
 static void on_signal(int sig)
@@ -35,23 +34,16 @@ static void on_signal(int sig)
 
 static void install_signal_handlers(void)
 {
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
-    sigaction(SIGHUP, &sa, NULL);
-    sigaction(SIGPIPE, &sa, NULL);
+    platform_on_interrupt(on_signal);
 }
 
 /* The sidecar's default path: the output with its .exr extension (if any) replaced by .json. */
 static char *default_sidecar(const char *output)
 {
     size_t n = strlen(output);
-    const char *slash = strrchr(output, '/');
+    const char *slash = platform_last_separator(output);
     const char *dot = strrchr(output, '.');
-    if (dot && (!slash || dot > slash) && dot != output && dot[-1] != '/')
+    if (dot && (!slash || dot > slash) && dot != output && dot - 1 != slash)
         n = (size_t)(dot - output);
     char *s = malloc(n + 6);
     if (s) {
@@ -133,9 +125,9 @@ static int open_colour(const options *opt, fm_colour_config **cfg)
  * equal; a copy of path itself where the directory cannot be resolved (malloc'd, NULL: no memory) */
 static char *resolved_path(const char *path)
 {
-    const char *slash = strrchr(path, '/');
+    const char *slash = platform_last_separator(path);
     char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
-    char *real = dir ? realpath(dir, NULL) : NULL;
+    char *real = dir ? platform_resolve_dir(dir) : NULL;
     const char *base = slash ? slash + 1 : path;
     size_t n = (real ? strlen(real) : 0) + strlen(path) + 2;
     char *out = malloc(n);
@@ -148,11 +140,11 @@ static char *resolved_path(const char *path)
 
 static int same_file(const char *a, const char *b)
 {
-    struct stat sa, sb;
-    if (stat(a, &sa) == 0 && stat(b, &sb) == 0)
-        return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    int same = platform_same_file(a, b);
+    if (same >= 0)
+        return same;
     char *ra = resolved_path(a), *rb = resolved_path(b);
-    int same = ra && rb ? strcmp(ra, rb) == 0 : strcmp(a, b) == 0;
+    same = ra && rb ? strcmp(ra, rb) == 0 : strcmp(a, b) == 0;
     free(ra);
     free(rb);
     return same;
@@ -201,9 +193,9 @@ static fm_status stage_extras(const options *opt, fm_output *out, const fm_image
 static char *numbered_path(const char *path, int index)
 {
     size_t n = strlen(path), stem = n;
-    const char *slash = strrchr(path, '/');
+    const char *slash = platform_last_separator(path);
     const char *dot = strrchr(path, '.');
-    if (dot && (!slash || dot > slash) && dot != path && dot[-1] != '/')
+    if (dot && (!slash || dot > slash) && dot != path && dot - 1 != slash)
         stem = (size_t)(dot - path);
     char *s = malloc(n + 16);
     if (s)
@@ -226,8 +218,7 @@ static int run_series(options *opt, const fm_colour_config *colour)
     opt->render.cancel = &cancel_signal;
     install_signal_handlers();
 
-    struct stat st;
-    if (stat(opt->output, &st) == 0 && S_ISDIR(st.st_mode)) {
+    if (platform_path_kind(opt->output) == PLATFORM_DIRECTORY) {
         report_error("-o: '%s' is a directory; a series needs a file name to number (e.g. '%s/sky.exr')",
                      opt->output, opt->output);
         return EXIT_USAGE;
@@ -336,8 +327,7 @@ static int run_render(int argc, char **argv)
     char msg[512];
     /* else the first file it cannot find (the colour config) would be blamed, not the variable */
     const char *presets = getenv("FIRMAMENT_PRESETS");
-    struct stat st;
-    if (presets && presets[0] && !(stat(presets, &st) == 0 && S_ISDIR(st.st_mode))) {
+    if (presets && presets[0] && platform_path_kind(presets) != PLATFORM_DIRECTORY) {
         report_error("FIRMAMENT_PRESETS: '%s' is not a directory (unset it to use the presets shipped with firmament)", presets);
         return EXIT_USAGE;
     }
@@ -531,6 +521,7 @@ static int run_command(int argc, char **argv);
 /* Output that could not reach stdout (a full disk, /dev/full) is an error, not a success. */
 int main(int argc, char **argv)
 {
+    platform_utf8_args(&argc, &argv);
     int code = run_command(argc, argv);
     if (fflush(stdout) != 0 || ferror(stdout)) {
         report_error("cannot write to standard output: %s", strerror(errno ? errno : EIO));

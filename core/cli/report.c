@@ -1,25 +1,22 @@
 #define _POSIX_C_SOURCE 200809L
 #include "report.h"
 
+#include "base/platform.h"
+
 #include <stdarg.h>
-#include <sys/resource.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#include <unistd.h>
 
 static double now_seconds(void)
 {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+    return platform_monotonic_seconds();
 }
 
 void reporter_init(reporter *r, progress_mode mode)
 {
     if (mode == PROGRESS_AUTO)
-        mode = isatty(STDERR_FILENO) ? PROGRESS_TTY : PROGRESS_NONE;
+        mode = platform_stderr_is_terminal() ? PROGRESS_TTY : PROGRESS_NONE;
     r->mode = mode;
     r->last_fraction = -1.0;
     r->last_time = 0.0;
@@ -73,13 +70,6 @@ void reporter_finish_line(reporter *r)
     }
 }
 
-/* Peak resident memory of this process in MiB (Linux reports ru_maxrss in KiB). */
-static double peak_memory_mib(void)
-{
-    struct rusage ru;
-    return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss / 1024.0 : 0.0;
-}
-
 void reporter_done(reporter *r, const char *output, const char *sidecar)
 {
     double seconds = now_seconds() - r->start_time;
@@ -89,7 +79,7 @@ void reporter_done(reporter *r, const char *output, const char *sidecar)
         print_json_string(stdout, output);
         printf(", \"sidecar\": ");
         print_json_string(stdout, sidecar);
-        printf(", \"seconds\": %.3f, \"peak_memory_mib\": %.1f}\n", seconds, peak_memory_mib());
+        printf(", \"seconds\": %.3f, \"peak_memory_mib\": %.1f}\n", seconds, platform_peak_memory_mib());
         fflush(stdout);
     } else if (r->mode == PROGRESS_TTY) {
         fprintf(stderr, "wrote %s and %s in %.1f s\n", output, sidecar, seconds);
@@ -141,7 +131,7 @@ void reporter_series_done(reporter *r, int frames, int night_frames, const char 
         print_json_string(stdout, first);
         printf(", \"last_output\": ");
         print_json_string(stdout, last);
-        printf(", \"seconds\": %.3f, \"peak_memory_mib\": %.1f}\n", seconds, peak_memory_mib());
+        printf(", \"seconds\": %.3f, \"peak_memory_mib\": %.1f}\n", seconds, platform_peak_memory_mib());
         fflush(stdout);
     } else if (r->mode == PROGRESS_TTY) {
         fprintf(stderr, "wrote %d frames, %s to %s, in %.1f s", frames, first, last, seconds);

@@ -1,18 +1,16 @@
 #include "presets.h"
 
 #include "base/executable.h"
+#include "base/platform.h"
 #include "base/status.h"
 
-#include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 static int is_directory(const char *path)
 {
-    struct stat st;
-    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+    return platform_path_kind(path) == PLATFORM_DIRECTORY;
 }
 
 /* A presets folder is recognised by its biomes/ (every render with a named biome reads it). */
@@ -50,21 +48,28 @@ fm_status presets_locate(const char *given, char *out, size_t size, fm_error *er
                    have_exe ? exe : "(unknown)", source[0] ? ", nor " : "", source);
 }
 
+typedef struct json_names {
+    char names[48][64];
+    int count;
+} json_names;
+
+/* Keeps the names of up to 48 .json files, without the extension. */
+static void add_json_name(void *ctx, const char *name)
+{
+    json_names *j = ctx;
+    size_t n = strlen(name);
+    if (j->count < 48 && n > 5 && n < 64 && strcmp(name + n - 5, ".json") == 0) {
+        snprintf(j->names[j->count], sizeof j->names[j->count], "%.*s", (int)(n - 5), name);
+        j->count++;
+    }
+}
+
 void presets_list(const char *dir, const char *what, char *out, size_t size)
 {
-    char names[48][64];
-    int count = 0;
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    while (d && (e = readdir(d)) != NULL && count < 48) {
-        size_t n = strlen(e->d_name);
-        if (n > 5 && n < 64 && strcmp(e->d_name + n - 5, ".json") == 0) {
-            snprintf(names[count], sizeof names[count], "%.*s", (int)(n - 5), e->d_name);
-            count++;
-        }
-    }
-    if (d)
-        closedir(d);
+    json_names found = {.count = 0};
+    platform_list_dir(dir, add_json_name, &found);
+    char(*names)[64] = found.names;
+    int count = found.count;
     for (int i = 1; i < count; i++) /* insertion sort: a handful of names */
         for (int j = i; j > 0 && strcmp(names[j - 1], names[j]) > 0; j--) {
             char t[64];

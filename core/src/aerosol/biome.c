@@ -1,6 +1,7 @@
 #include "aerosol/biome.h"
 
 #include "base/json_file.h"
+#include "base/platform.h"
 #include "base/status.h"
 #include "base/units.h"
 #include "presets.h"
@@ -149,7 +150,7 @@ fm_status biome_load(const char *name_or_path, const char *presets_dir, biome *o
         for (const char *c = name_or_path; *c; c++)
             valid = valid && ((*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9') || *c == '-' || *c == '_');
         snprintf(path, sizeof path, "%s/%s.json", dir, name_or_path);
-        FILE *f = valid ? fopen(path, "r") : NULL;
+        FILE *f = valid ? platform_fopen(path, "r") : NULL;
         if (!f) {
             char names[600];
             presets_list(dir, "biome", names, sizeof names);

@@ -1,5 +1,7 @@
 #include "base/json_file.h"
 
+#include "base/platform.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
@@ -62,7 +64,7 @@ const char *json_type_name(const cJSON *node)
 static fm_status read_text(const json_reader *rd, char **out, size_t *size)
 {
     *out = NULL;
-    FILE *f = fopen(rd->file, "rb");
+    FILE *f = platform_fopen(rd->file, "rb");
     if (!f) /* a file the user named: bad input, not a runtime failure */
         return fm_fail_parameter(rd->err, rd->field, "%s: cannot open: %s", rd->file, strerror(errno));
     size_t cap = 1 << 16, n = 0;

@@ -1,8 +1,9 @@
 #include "base/threads.h"
 
+#include "base/platform.h"
+
 #include <pthread.h>
 #include <stdlib.h>
-#include <unistd.h>
 
 typedef struct pool_job {
     parallel_fn fn;
@@ -22,7 +23,7 @@ typedef struct worker_arg {
 
 int parallel_thread_count(int requested)
 {
-    long n = requested > 0 ? requested : sysconf(_SC_NPROCESSORS_ONLN);
+    long n = requested > 0 ? requested : platform_cpu_count();
     if (n < 1)
         n = 1;
     if (n > 256)

@@ -1,5 +1,5 @@
 /* Reading EXRs back (firmament.h: fm_image_read_exr), used by `firmament compare`. */
-#define _POSIX_C_SOURCE 200809L
+#include "base/platform.h"
 #include "base/status.h"
 #include "image/image.h"
 
@@ -12,7 +12,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 static _Thread_local char read_message[256];
 
@@ -72,19 +71,16 @@ fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
     *out = NULL;
     if (!is_dwa(path))
         return read_exr(path, out, err);
-    const char *dir = getenv("TMPDIR");
     char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s/firmament-read-XXXXXX", dir && dir[0] ? dir : "/tmp");
-    int fd = mkstemp(tmp);
-    if (fd < 0)
+    snprintf(tmp, sizeof tmp, "%s/firmament-read-XXXXXX", platform_temp_dir());
+    if (platform_create_unique(tmp) != 0)
         return fm_fail(err, FM_ERR_IO, "cannot read '%s': no temporary file for decoding DWA (%s)", path,
                        strerror(errno));
-    close(fd);
     char msg[256];
     fm_status s = exr_recode(path, tmp, EXR_RECODE_ZIP, 0.0f, msg, sizeof msg) != 0
                       ? fm_fail(err, FM_ERR_IO, "cannot read '%s': %s", path, msg)
                       : read_exr(tmp, out, err);
-    unlink(tmp);
+    platform_remove(tmp);
     return s;
 }
 

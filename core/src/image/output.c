@@ -1,8 +1,9 @@
 /* fm_output: the EXR, its sidecar and the files published with them (preview, spectral map, a
  * second output's pair) reach their final names together, complete, or not at all.  Each is written
- * to a temporary file beside its destination (same directory, so rename() is atomic) and renamed
+ * to a temporary file beside its destination (same directory, so the rename is atomic) and renamed
  * only after all are complete; a rename that fails puts back the files replaced before it. */
-#define _POSIX_C_SOURCE 200809L
+#define _POSIX_C_SOURCE 200809L /* PATH_MAX */
+#include "base/platform.h"
 #include "base/status.h"
 #include "image/image.h"
 #include "image/exr_recode.h"
@@ -11,13 +12,9 @@
 
 #include <errno.h>
 #include <math.h>
-#include <fcntl.h>
-#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 /* A file written to tmp, to be renamed over path. */
 typedef struct staged_file {
@@ -65,32 +62,32 @@ static double largest_value(const fm_image *img)
  * or NULL with err filled. */
 char *image_reserve_temp(const char *path, fm_error *err)
 {
-    struct stat st;
     if (!path[0]) {
         fm_fail(err, FM_ERR_IO, "an output path is empty");
         return NULL;
     }
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+    platform_kind kind = platform_path_kind(path);
+    if (kind == PLATFORM_DIRECTORY) {
         fm_fail(err, FM_ERR_IO, "cannot write '%s': it is a directory", path);
         return NULL;
     }
-    /* rename() would replace a device, FIFO or socket (run as root: /dev/null) by a regular file */
-    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+    /* the rename would replace a device, FIFO or socket (run as root: /dev/null) by a regular file */
+    if (kind == PLATFORM_OTHER) {
         fm_fail(err, FM_ERR_IO, "cannot write '%s': it is not a regular file", path);
         return NULL;
     }
-    const char *slash = strrchr(path, '/');
+    const char *slash = platform_last_separator(path);
     size_t dir_len = slash ? (size_t)(slash - path + 1) : 0;
     /* the final name too, not only the temporary's shortened one: else the rename fails after the
      * render, and for a pair, after its first file replaced the old one */
-    if (strlen(path) >= PATH_MAX) {
+    if (strlen(path) >= PLATFORM_PATH_MAX) {
         fm_fail(err, FM_ERR_IO, "cannot write '%s': the path is %zu bytes, longer than the %d a path may have",
-                path, strlen(path), PATH_MAX - 1);
+                path, strlen(path), PLATFORM_PATH_MAX - 1);
         return NULL;
     }
-    if (strlen(path + dir_len) > NAME_MAX) {
+    if (strlen(path + dir_len) > PLATFORM_NAME_MAX) {
         fm_fail(err, FM_ERR_IO, "cannot write '%s': the file name is %zu bytes, longer than the %d a name may have",
-                path, strlen(path + dir_len), NAME_MAX);
+                path, strlen(path + dir_len), PLATFORM_NAME_MAX);
         return NULL;
     }
     size_t n = strlen(path) + 16;
@@ -102,26 +99,20 @@ char *image_reserve_temp(const char *path, fm_error *err)
     size_t name_len = strlen(path + dir_len);
     int part = name_len > TEMP_NAME_PART ? TEMP_NAME_PART : (int)name_len;
     snprintf(tmp, n, "%.*s.%.*s.XXXXXX", (int)dir_len, path, part, path + dir_len);
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
+    if (platform_create_unique(tmp) != 0) {
         fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
         free(tmp);
         return NULL;
     }
-    /* mkstemp creates 0600; give the file the usual permissions for a new file */
-    mode_t mask = umask(0);
-    umask(mask);
-    fchmod(fd, 0666 & ~mask);
-    close(fd);
     return tmp;
 }
 
 fm_status image_finish_temp(char *tmp, const char *path, fm_status s, fm_error *err)
 {
-    if (!s && rename(tmp, path) != 0)
+    if (!s && platform_rename_replace(tmp, path) != 0)
         s = fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
     if (s)
-        unlink(tmp);
+        platform_remove(tmp);
     free(tmp);
     return s;
 }
@@ -133,7 +124,7 @@ fm_status fm_output_check_path(const char *path, fm_error *err)
     char *tmp = image_reserve_temp(path, err);
     if (!tmp)
         return err ? err->status : FM_ERR_IO;
-    unlink(tmp);
+    platform_remove(tmp);
     free(tmp);
     return FM_OK;
 }
@@ -202,7 +193,7 @@ static fm_status write_dwaa(const char *path, const fm_image *image, const metad
     char msg[256];
     if (!s && exr_recode(staging, path, EXR_RECODE_DWAA, FM_DWAA_LEVEL, msg, sizeof msg) != 0)
         s = fm_fail(err, FM_ERR_IO, "cannot write '%s' with DWAA compression: %s", path, msg);
-    unlink(staging);
+    platform_remove(staging);
     free(staging);
     return s;
 }
@@ -294,12 +285,11 @@ fm_status fm_output_stage_preview(fm_output *o, const char *path, const fm_image
  * (then that one old file cannot be restored). */
 static char *keep_old(const char *path)
 {
-    struct stat st;
-    if (lstat(path, &st) != 0)
+    if (platform_path_kind(path) == PLATFORM_MISSING)
         return NULL;
     char *backup = image_reserve_temp(path, NULL);
-    if (backup && (unlink(backup) != 0 || link(path, backup) != 0)) {
-        unlink(backup);
+    if (backup && (platform_remove(backup) != 0 || platform_link(path, backup) != 0)) {
+        platform_remove(backup);
         free(backup);
         backup = NULL;
     }
@@ -314,20 +304,20 @@ static fm_status publish_files(staged_file *const *files, int n, fm_error *err)
     int done = 0, e = 0;
     for (; done < n; done++) {
         backup[done] = keep_old(files[done]->path);
-        if (rename(files[done]->tmp, files[done]->path) != 0) {
+        if (platform_rename_replace(files[done]->tmp, files[done]->path) != 0) {
             e = errno;
             break;
         }
     }
     if (done < n) {
         if (backup[done])
-            unlink(backup[done]);
+            platform_remove(backup[done]);
         free(backup[done]);
         for (int i = done - 1; i >= 0; i--) {
             if (backup[i])
-                rename(backup[i], files[i]->path);
+                platform_rename_replace(backup[i], files[i]->path);
             else
-                unlink(files[i]->path);
+                platform_remove(files[i]->path);
             free(backup[i]);
             /* the new file is gone: nothing left for fm_output_close to remove */
             free(files[i]->tmp);
@@ -337,7 +327,7 @@ static fm_status publish_files(staged_file *const *files, int n, fm_error *err)
     }
     for (int i = 0; i < n; i++) {
         if (backup[i])
-            unlink(backup[i]);
+            platform_remove(backup[i]);
         free(backup[i]);
         free(files[i]->tmp);
         files[i]->tmp = NULL;
@@ -375,7 +365,7 @@ void fm_output_close(fm_output *o)
         return;
     for (int i = 0; i < o->count; i++) {
         if (o->files[i].tmp)
-            unlink(o->files[i].tmp);
+            platform_remove(o->files[i].tmp);
         free(o->files[i].tmp);
         free(o->files[i].path);
     }

@@ -1,6 +1,7 @@
 /* Previews: display-referred 8-bit sRGB PNGs of a radiance map, through the OpenColorIO config's
  * "sRGB" display and "Standard" view after an exposure scale, written with libpng. */
 #define _POSIX_C_SOURCE 200809L
+#include "base/platform.h"
 #include "base/status.h"
 #include "base/units.h"
 #include "camera/camera.h"
@@ -13,7 +14,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 /* Luminance (Y, the image's scale) of pixel i without the sun disk. */
 static double sky_luminance(const fm_image *img, size_t i)
@@ -72,7 +72,7 @@ static void on_png_warning(png_structp png, png_const_charp msg)
 /* Writes 8-bit RGB rows to path; returns 0, else fills f. */
 static int write_png(const char *path, const uint8_t *rgb, int width, int height, png_failure *f)
 {
-    FILE *fp = fopen(path, "wb");
+    FILE *fp = platform_fopen(path, "wb");
     if (!fp) {
         snprintf(f->message, sizeof f->message, "%s", strerror(errno));
         return 1;

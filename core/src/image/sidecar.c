@@ -1,5 +1,6 @@
 #include "image/sidecar.h"
 
+#include "base/platform.h"
 #include "base/status.h"
 
 #include <cjson/cJSON.h>
@@ -55,7 +56,7 @@ fm_status sidecar_write(const char *path, const metadata *meta, fm_error *err)
     cJSON_Delete(root);
     if (!text)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the sidecar");
-    FILE *f = fopen(path, "w");
+    FILE *f = platform_fopen(path, "w");
     fm_status s = FM_OK;
     if (!f) {
         s = fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));

@@ -6,6 +6,7 @@
 
 #include "base/date.h"
 #include "base/json_file.h"
+#include "base/platform.h"
 #include "base/status.h"
 #include "presets.h"
 
@@ -132,7 +133,7 @@ fm_status fm_sky_preset_load(const char *name_or_path, const char *presets_direc
             return found;
         strcat(dir, "/skies");
         snprintf(out->path, sizeof out->path, "%s/%s.json", dir, name_or_path);
-        FILE *f = valid_name(name_or_path) ? fopen(out->path, "r") : NULL;
+        FILE *f = valid_name(name_or_path) ? platform_fopen(out->path, "r") : NULL;
         if (!f) {
             char names[700];
             presets_list(dir, "preset", names, sizeof names);

@@ -1,0 +1,132 @@
+/* base/platform.h on POSIX systems (Linux, macOS): file names are bytes, used as given. */
+#define _XOPEN_SOURCE 700 /* realpath */
+#include "base/platform.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+FILE *platform_fopen(const char *path, const char *mode)
+{
+    return fopen(path, mode);
+}
+
+int platform_remove(const char *path)
+{
+    return unlink(path);
+}
+
+int platform_rename_replace(const char *from, const char *to)
+{
+    return rename(from, to);
+}
+
+int platform_link(const char *existing, const char *new_name)
+{
+    return link(existing, new_name);
+}
+
+platform_kind platform_path_kind(const char *path)
+{
+    struct stat st;
+    if (stat(path, &st) != 0)
+        return PLATFORM_MISSING;
+    return S_ISREG(st.st_mode) ? PLATFORM_FILE : S_ISDIR(st.st_mode) ? PLATFORM_DIRECTORY : PLATFORM_OTHER;
+}
+
+int platform_same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (stat(a, &sa) != 0 || stat(b, &sb) != 0)
+        return -1;
+    return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+char *platform_resolve_dir(const char *dir)
+{
+    return realpath(dir, NULL);
+}
+
+const char *platform_last_separator(const char *path)
+{
+    return strrchr(path, '/');
+}
+
+int platform_list_dir(const char *dir, void (*fn)(void *ctx, const char *name), void *ctx)
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return -1;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL)
+        if (strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0)
+            fn(ctx, e->d_name);
+    closedir(d);
+    return 0;
+}
+
+int platform_create_unique(char *name_template)
+{
+    int fd = mkstemp(name_template);
+    if (fd < 0)
+        return -1;
+    /* mkstemp creates 0600; give the file the usual permissions for a new file */
+    mode_t mask = umask(0);
+    umask(mask);
+    fchmod(fd, 0666 & ~mask);
+    close(fd);
+    return 0;
+}
+
+const char *platform_temp_dir(void)
+{
+    const char *dir = getenv("TMPDIR");
+    return dir && dir[0] ? dir : "/tmp";
+}
+
+int platform_cpu_count(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : n > 4096 ? 4096 : (int)n;
+}
+
+double platform_monotonic_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* Linux reports ru_maxrss in KiB. */
+double platform_peak_memory_mib(void)
+{
+    struct rusage ru;
+    return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss / 1024.0 : 0.0;
+}
+
+int platform_stderr_is_terminal(void)
+{
+    return isatty(STDERR_FILENO);
+}
+
+void platform_on_interrupt(void (*handler)(int sig))
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = handler;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGHUP, &sa, NULL);
+    sigaction(SIGPIPE, &sa, NULL);
+}
+
+void platform_utf8_args(int *argc, char ***argv)
+{
+}
