@@ -70,6 +70,9 @@ zlib_dep() {
     done
     $HOST-ar rcs "$PREFIX/lib/libz.a" "$DEPS/build/zlib"/*.o
     cp "$src/zlib.h" "$src/zconf.h" "$PREFIX/include/"
+    mkdir -p "$PREFIX/lib/pkgconfig" # for libpng's pkg-config file, which requires zlib
+    printf 'prefix=%s\nName: zlib\nDescription: zlib\nVersion: 1.2.13\nLibs: -L${prefix}/lib -lz\nCflags: -I${prefix}/include\n' \
+        "$PREFIX" >"$PREFIX/lib/pkgconfig/zlib.pc"
     touch "$DEPS/stamp/zlib"
     echo "zlib: $((SECONDS - start)) s"
 }

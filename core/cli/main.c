@@ -1,6 +1,5 @@
 /* The firmament executable: parse, render, write, exit.  The only place that prints or exits.
  * Exit codes: 0 ok, 1 runtime failure, 2 bad usage or input, 128 + signal when interrupted. */
-#define _POSIX_C_SOURCE 200809L /* strndup */
 #include "args.h"
 #include "numbers.h"
 #include "option_table.h"
@@ -126,7 +125,10 @@ static int open_colour(const options *opt, fm_colour_config **cfg)
 static char *resolved_path(const char *path)
 {
     const char *slash = platform_last_separator(path);
-    char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
+    size_t dir_len = slash ? (slash == path ? 1 : (size_t)(slash - path)) : 0;
+    char *dir = malloc(dir_len + 2);
+    if (dir)
+        snprintf(dir, dir_len + 2, "%.*s", slash ? (int)dir_len : 1, slash ? path : ".");
     char *real = dir ? platform_resolve_dir(dir) : NULL;
     const char *base = slash ? slash + 1 : path;
     size_t n = (real ? strlen(real) : 0) + strlen(path) + 2;

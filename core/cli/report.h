@@ -36,7 +36,9 @@ void reporter_frame_done(reporter *r, int index, const char *output, const char 
 void reporter_series_done(reporter *r, int frames, int night_frames, const char *first, const char *last);
 
 void report_error(const char *fmt, ...)
-#if defined(__GNUC__)
+#if defined(__MINGW32__) /* its C99 printf (__USE_MINGW_ANSI_STDIO), not msvcrt's */
+    __attribute__((format(gnu_printf, 1, 2)))
+#elif defined(__GNUC__)
     __attribute__((format(printf, 1, 2)))
 #endif
     ;

@@ -5,7 +5,9 @@
 
 #include "firmament/firmament.h"
 
-#if defined(__GNUC__)
+#if defined(__MINGW32__) /* its C99 printf (__USE_MINGW_ANSI_STDIO), not msvcrt's */
+#define FM_PRINTF(a, b) __attribute__((format(gnu_printf, a, b)))
+#elif defined(__GNUC__)
 #define FM_PRINTF(a, b) __attribute__((format(printf, a, b)))
 #else
 #define FM_PRINTF(a, b)
