@@ -27,6 +27,7 @@ static const char IMAGE[] = "Image";
 static const char CAMERA[] = "Camera";
 static const char COLOUR[] = "Colour (OpenColorIO; config $OCIO, else firmament's presets/ocio/config.ocio)";
 static const char QUALITY[] = "Quality";
+static const char OTHER[] = "Other";
 
 const option_spec option_specs[] = {
     {"sun-elevation", 0, "DEG", OPTION_NUMBER, AT(sky.sun_elevation_deg), "sun_elevation_deg", NO_RANGE, NULL, 0,
@@ -171,7 +172,7 @@ const option_spec option_specs[] = {
      "worker threads, %R; 0 = all cores", NULL},
     {"progress", 0, "MODE", OPTION_CHOICE, AT(progress), NULL, NO_RANGE, progress_words, 0, 0, QUALITY,
      "tty (a bar on stderr) | json (lines on stdout) | none", "tty when stderr is a terminal, else none"},
-    {"help", 'h', NULL, OPTION_SWITCH, 0, NULL, NO_RANGE, NULL, 0, NOT_PARSED, QUALITY, "print this and exit", NULL},
+    {"help", 'h', NULL, OPTION_SWITCH, 0, NULL, NO_RANGE, NULL, 0, NOT_PARSED, OTHER, "print this and exit", NULL},
 };
 const int option_count = (int)(sizeof option_specs / sizeof option_specs[0]);
 
