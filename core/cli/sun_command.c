@@ -51,9 +51,18 @@ static const char *const field_flags[][2] = {
     {"pressure_mbar", "--pressure"}, {"temperature_c", "--temperature"}, {"delta_t_s", "--delta-t"},
 };
 
+/* "[-90, 90]": the library's range of field. */
+static const char *range(const char *field, char *buf, size_t size)
+{
+    const fm_param_range *r = fm_param_range_of(field);
+    snprintf(buf, size, "[%g, %g]", r->min, r->max);
+    return buf;
+}
+
 static void print_usage(void)
 {
-    fputs("usage: firmament sun --date YYYY-MM-DD --time HH:MM[:SS] --latitude DEG --longitude DEG [options]\n"
+    char lat[32], lon[32], alt[32], p[32], t[32], dt[32];
+    printf("usage: firmament sun --date YYYY-MM-DD --time HH:MM[:SS] --latitude DEG --longitude DEG [options]\n"
           "\n"
           "The sun's apparent position (NREL's Solar Position Algorithm, +-0.0003 deg), the Earth-Sun\n"
           "distance, and sunrise, solar noon and sunset of the date (local clock time of --utc-offset;\n"
@@ -62,15 +71,18 @@ static void print_usage(void)
           "  --date YYYY-MM-DD      local date, years 0000-6000 (Julian calendar before 1582-10-15)\n"
           "  --time HH:MM[:SS]      local clock time\n"
           "  --utc-offset +-HH[:MM] local time minus UTC, -12:00 to +14:00 (default +00:00)\n"
-          "  --latitude DEG         [-90, 90], north positive\n"
-          "  --longitude DEG        [-180, 180], east positive\n"
-          "  --altitude M           observer above sea level, [-1000, 100000] (default 0)\n"
+          "  --latitude DEG         %s, north positive\n"
+          "  --longitude DEG        %s, east positive\n"
+          "  --altitude M           observer above sea level, %s (default 0)\n"
           "  --refraction on|off    atmospheric refraction (default on)\n"
-          "  --pressure MBAR        for refraction, [0, 2000] (default 1010)\n"
-          "  --temperature C        for refraction, [-100, 100] (default 10)\n"
-          "  --delta-t S            TT - UT in seconds (default: Espenak & Meeus estimate for the date)\n"
+          "  --pressure MBAR        for refraction, %s (default 1010)\n"
+          "  --temperature C        for refraction, %s (default 10)\n"
+          "  --delta-t S            TT - UT in seconds, %s (default: Espenak & Meeus estimate for the\n"
+          "                         date)\n"
           "  --json                 one JSON object on stdout\n",
-          stdout);
+          range("latitude_deg", lat, sizeof lat), range("longitude_deg", lon, sizeof lon),
+          range("elevation_m", alt, sizeof alt), range("pressure_mbar", p, sizeof p),
+          range("temperature_c", t, sizeof t), range("delta_t_s", dt, sizeof dt));
 }
 
 /* Local clock hours to "HH:MM:SS" (rounded to the second). */

@@ -1,5 +1,7 @@
 #include "time_args.h"
 
+#include "firmament/firmament.h"
+
 #include <ctype.h>
 #include <stdio.h>
 #include <string.h>
@@ -74,7 +76,8 @@ int parse_utc_offset_arg(const char *flag, const char *arg, int *minutes, char *
         return 0;
     }
     int total = sign * (60 * h + m);
-    if (m > 59 || total < -720 || total > 840) {
+    const fm_param_range *r = fm_param_range_of("utc_offset_min");
+    if (m > 59 || total < r->min || total > r->max) {
         snprintf(msg, msg_size, "%s: '%s' is outside -12:00 to +14:00", flag, arg);
         return 0;
     }

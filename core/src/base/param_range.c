@@ -26,6 +26,8 @@ static const fm_param_range ranges[] = {
     {"pressure_mbar", 0.0, 2000.0, 0, "mbar"},
     {"temperature_c", -100.0, 100.0, 0, "C"},
     {"delta_t_s", -8000.0, 8000.0, 0, "s"},
+    {"utc_offset_min", -720.0, 840.0, 0, "min"}, /* -12:00 to +14:00, the zones in use */
+    {"elevation_m", -1000.0, 100000.0, 0, "m"},  /* the solar position's observer (firmament sun) */
     {"turbidity", 0.0, 50.0, 0, ""},
     {"aod550", 0.0, 10.0, 1, ""},
     {"humidity_percent", 0.0, 99.0, 0, "%"},

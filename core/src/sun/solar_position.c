@@ -301,13 +301,6 @@ void spa_rise_transit_set(const fm_solar_params *p, double delta_t_s, fm_solar_p
 
 /* ---- validation and the public entry ------------------------------------------------------------ */
 
-static fm_status check(fm_error *err, const char *field, double v, double lo, double hi, const char *unit)
-{
-    if (!isfinite(v) || v < lo || v > hi)
-        return fm_fail_parameter(err, field, "%g is outside [%g, %g]%s%s", v, lo, hi, unit[0] ? " " : "", unit);
-    return FM_OK;
-}
-
 fm_status spa_validate(const fm_solar_params *p, fm_error *err)
 {
     fm_status s;
@@ -317,11 +310,11 @@ fm_status spa_validate(const fm_solar_params *p, fm_error *err)
     if (p->hour < 0 || p->hour > 23 || p->minute < 0 || p->minute > 59 || !(p->second >= 0.0 && p->second < 60.0))
         return fm_fail_parameter(err, "time", "%d:%02d:%02g is not a time of day (00:00:00 to 23:59:59)", p->hour,
                                  p->minute, p->second);
-    if (p->utc_offset_min < -720 || p->utc_offset_min > 840)
-        return fm_fail_parameter(err, "utc_offset_min", "%+d min is outside [-12:00, +14:00]", p->utc_offset_min);
+    if ((s = param_check(err, "utc_offset_min", p->utc_offset_min)))
+        return s;
     if ((s = param_check(err, "latitude_deg", p->latitude_deg)) ||
         (s = param_check(err, "longitude_deg", p->longitude_deg)) ||
-        (s = check(err, "elevation_m", p->elevation_m, -1000.0, 100000.0, "m")) ||
+        (s = param_check(err, "elevation_m", p->elevation_m)) ||
         (s = param_check(err, "pressure_mbar", p->pressure_mbar)) ||
         (s = param_check(err, "temperature_c", p->temperature_c)))
         return s;
