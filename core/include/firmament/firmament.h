@@ -127,7 +127,7 @@ typedef struct fm_sky_params {
                                    * FM_HUMIDITY_BIOME_DEFAULT: the biome's own */
     fm_aerosol_phase aerosol_phase;
 
-    /* A custom atmosphere (README, "Custom atmospheres"): replaces the built-in molecules, ozone and
+    /* A custom atmosphere (docs/atmosphere-file.md): replaces the built-in molecules, ozone and
      * aerosols.  NULL = the built-in Earth atmosphere. */
     const char *atmosphere_file;
     /* Where biome names are looked up; NULL = $FIRMAMENT_PRESETS, else the presets/ shipped beside the
@@ -138,10 +138,9 @@ typedef struct fm_sky_params {
 fm_sky_params fm_sky_params_default(void);
 
 /* A ready-made sky (README, "Sky presets"): presets/skies/NAME.json, or a file, a flat JSON
- * object of render options ("date", "time", "utc_offset", "latitude", "longitude",
- * "sun_elevation", "sun_azimuth", "biome", "turbidity", "aod550", "humidity", "ozone_du",
- * "albedo", "altitude") plus "name" and an optional "description".  Loading checks keys, types and
- * ranges; each setting comes back as text, in the order above, for the caller to apply as options. */
+ * object of render options (the keys of fm_sky_preset_keys) plus "name" and an optional
+ * "description".  Loading checks keys, types and ranges (fm_param_range_of); each setting comes
+ * back as text, in the order of fm_sky_preset_keys, for the caller to apply as options. */
 typedef struct fm_preset_setting {
     char key[32];   /* "turbidity" */
     char value[64]; /* "2" */
@@ -293,7 +292,7 @@ typedef enum fm_quality {
 /* Called from the rendering thread that owns the call, never concurrently. */
 typedef void (*fm_progress_fn)(void *user, double fraction, const char *stage);
 
-/* Cameras (README, "Cameras").  Every camera is a view of the same radiance: a pixel holds the mean
+/* Cameras (docs/output.md, "Cameras").  Every camera is a view of the same radiance: a pixel holds the mean
  * radiance over the directions it covers (its footprint), the sun disk included with its energy. */
 typedef enum fm_camera_type {
     FM_CAMERA_EQUIRECT = 0, /* the whole sphere in Blender's Environment Texture layout; height = width/2 */

@@ -52,7 +52,7 @@ static void clock_text(char *buf, size_t size, double hours)
     snprintf(buf, size, "%02ld:%02ld:%02ld", t / 3600, t / 60 % 60, t % 60);
 }
 
-/* The date's time of day and the solar position it gives (README, "Solar position"). */
+/* The date's time of day and the solar position it gives (docs/physics.md, "Solar position"). */
 static void collect_solar_position(metadata *m, const fm_render_record *r)
 {
     const fm_sky_params *sp = &r->sky;
@@ -104,7 +104,7 @@ static void collect_solar_position(metadata *m, const fm_render_record *r)
 }
 
 /* The camera: image.projection and image.layout say how to read the pixels, the "camera" group holds
- * the camera's parameters (README, "Cameras"). */
+ * the camera's parameters (docs/output.md, "Cameras"). */
 static void add_camera(metadata *m, const fm_image *img)
 {
     const fm_camera *p = &img->camera;

@@ -1,6 +1,6 @@
 /* The JSON sidecar next to each map: what a renderer needs to light a scene with it (sun direction,
  * direct sunlight as a Sun lamp's strength and colour in the map's own units, illuminances) and every
- * parameter that made it.  Groups: "image", "sun", "sky", "parameters" (README, "Sidecar"). */
+ * parameter that made it.  Groups: "image", "sun", "sky", "parameters" (docs/output.md, "The sidecar"). */
 #ifndef FM_IMAGE_SIDECAR_H
 #define FM_IMAGE_SIDECAR_H
 
