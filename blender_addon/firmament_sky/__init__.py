@@ -17,12 +17,16 @@ import atexit
 
 import bpy
 
-from . import maps, operators, panels, preferences, properties
+from . import maps, operators, options, panels, preferences, properties
 
 _classes = (preferences.FirmamentSkyPreferences, properties.FirmamentSkySettings) + operators.classes + panels.classes
 
 
 def register():
+    try:  # the settings' ranges are the executable's (the bundled one, else $FIRMAMENT_EXECUTABLE, PATH)
+        properties.set_ranges(preferences.executable_and_options()[1])
+    except (preferences.NotFound, options.OptionsError, AttributeError, KeyError):
+        pass  # no executable yet: Generate checks against it when there is one
     for cls in _classes:
         bpy.utils.register_class(cls)
     properties.register()

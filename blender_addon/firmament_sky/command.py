@@ -4,20 +4,9 @@
 import datetime
 import math
 
-BIOMES = ("none", "background", "desert-dust", "maritime-clean", "maritime-mineral", "polar-antarctic",
-          "polar-arctic", "remote-continental", "rural", "urban")
-QUALITIES = ("preview", "final", "reference")
-SUN_MODES = ("LAMP", "DISK", "LAMP_CAMERA_DISK")
+from . import options
 
-# (setting, low, high) for the numbers the executable range-checks too; checked here first so that
-# the user gets the message before a process is started.
-RANGES = (
-    ("latitude", -90.0, 90.0), ("longitude", -180.0, 180.0),
-    ("sun_elevation", -90.0, 90.0), ("sun_azimuth", -360.0, 360.0),
-    ("turbidity", 0.0, 50.0), ("aod550", 1e-6, 10.0), ("humidity", 0.0, 99.0),
-    ("ozone_du", 0.0, 1000.0), ("albedo", 0.0, 1.0), ("altitude", 0.0, 20000.0),
-    ("utc_offset", -12.0, 14.0),
-)
+SUN_MODES = ("LAMP", "DISK", "LAMP_CAMERA_DISK")
 
 
 class SettingsError(ValueError):
@@ -31,21 +20,25 @@ def format_utc_offset(hours):
     return "%s%02d:%02d" % (sign, minutes // 60, minutes % 60)
 
 
-def validate(s):
-    """Raises SettingsError naming the first bad setting."""
-    for key, lo, hi in RANGES:
+def validate(s, opts):
+    """Raises SettingsError naming the first bad setting.  opts: the executable's table of options
+    (options.load), the source of the ranges, biome names and quality levels."""
+    for key, (lo, hi, lo_open) in sorted(options.ranges(opts).items()):
+        if key not in s:
+            continue
         v = s[key]
-        if not (isinstance(v, (int, float)) and math.isfinite(v) and lo <= v <= hi):
-            raise SettingsError("%s: %r is outside [%g, %g]" % (key.replace("_", " "), v, lo, hi))
-    if s["biome"] not in BIOMES:
-        raise SettingsError("biome: unknown '%s'" % s["biome"])
-    if s["quality"] not in QUALITIES:
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and (lo < v if lo_open else lo <= v) and v <= hi):
+            raise SettingsError("%s: %r is outside %s%g, %g]" % (key.replace("_", " "), v, "(" if lo_open else "[", lo, hi))
+    if not -12.0 <= s["utc_offset"] <= 14.0:
+        raise SettingsError("UTC offset: %r is outside [-12, 14] hours" % s["utc_offset"])
+    if s["biome"] not in options.choices(opts, "--biome"):
+        raise SettingsError("biome: unknown '%s' (known: %s)" % (s["biome"], ", ".join(options.choices(opts, "--biome"))))
+    if s["quality"] not in options.choices(opts, "--quality"):
         raise SettingsError("quality: unknown '%s'" % s["quality"])
     if s["sun_mode"] not in SUN_MODES:
         raise SettingsError("sun mode: unknown '%s'" % s["sun_mode"])
-    w = s["resolution"]
-    if not (isinstance(w, int) and 16 <= w <= 16384 and w % 2 == 0):
-        raise SettingsError("resolution: %r is not an even width in [16, 16384]" % (w,))
+    if s["resolution"] % 2:
+        raise SettingsError("resolution: %r is not even" % (s["resolution"],))
     try:
         datetime.date(s["year"], s["month"], s["day"])
     except (ValueError, TypeError):
@@ -54,14 +47,12 @@ def validate(s):
         raise SettingsError("date: year %d is outside 1900-2100" % s["year"])
     if not (0 <= s["hour"] <= 23 and 0 <= s["minute"] <= 59 and 0 <= s["second"] <= 59):
         raise SettingsError("time: %r:%r:%r is not a time of day" % (s["hour"], s["minute"], s["second"]))
-    if s["threads"] < 0 or s["threads"] > 256:
-        raise SettingsError("threads: %r is outside [0, 256]" % s["threads"])
 
 
-def build_arguments(executable, s, output, sidecar, disk_map=None):
+def build_arguments(executable, opts, s, output, sidecar, disk_map=None):
     """The argument list (executable first) that renders settings s to output (EXR) and sidecar;
     disk_map: with sun mode LAMP_CAMERA_DISK, the second map that holds the disk."""
-    validate(s)
+    validate(s, opts)
     args = [executable, "render", "--progress", "json", "-o", output, "--sidecar", sidecar]
     date = "%04d-%02d-%02d" % (s["year"], s["month"], s["day"])
     if s["sun_source"] == "TIME":
@@ -105,7 +96,7 @@ def format_clock(hours):
     return "%02d:%02d" % (minutes // 60, minutes % 60)
 
 
-def build_series_arguments(executable, s, output, sidecar):
+def build_series_arguments(executable, opts, s, output, sidecar):
     """The argument list that renders a day: one map per s["bake_step_min"] minutes from
     s["bake_start"] to s["bake_end"] (clock hours) on the settings' date and place, OUTPUT_0000.exr,
     ... each with its sidecar; always without the disk (the lamp is keyframed per frame)."""
@@ -117,8 +108,16 @@ def build_series_arguments(executable, s, output, sidecar):
     if not 1 <= s["bake_step_min"] <= 720:
         raise SettingsError("bake a day: step %r min is outside [1, 720]" % s["bake_step_min"])
     one = dict(s, sun_mode="LAMP")
-    args = build_arguments(executable, one, output, sidecar)
+    args = build_arguments(executable, opts, one, output, sidecar)
     i = args.index("--time")
     args[i:i + 2] = ["--time-start", format_clock(s["bake_start"]), "--time-end", format_clock(s["bake_end"]),
                      "--step", str(s["bake_step_min"])]
     return args
+
+
+def sun_arguments(executable, s):
+    """`firmament sun --json` for the settings' date, local time and place."""
+    return [executable, "sun", "--json", "--date", "%04d-%02d-%02d" % (s["year"], s["month"], s["day"]),
+            "--time", "%02d:%02d:%02d" % (s["hour"], s["minute"], s["second"]),
+            "--utc-offset", format_utc_offset(s["utc_offset"]), "--latitude", repr(float(s["latitude"])),
+            "--longitude", repr(float(s["longitude"])), "--altitude", repr(float(s["altitude"]))]

@@ -8,7 +8,7 @@ import bpy
 from bpy.props import StringProperty
 from bl_operators.presets import AddPresetBase
 
-from . import command, maps, preferences, properties, runner, sky_presets, world
+from . import command, maps, options, preferences, properties, runner, sky_presets, world
 
 ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
 SHIPPED_PRESETS = os.path.join(ADDON_DIR, "presets", "skies")
@@ -21,7 +21,7 @@ class Job:
     """One generation (series: a baked day): its own folder of maps, removed unless the result is
     applied."""
 
-    def __init__(self, settings, executable, series=False):
+    def __init__(self, settings, executable, opts, series=False):
         self.settings = settings
         self.series = series
         self.folder = maps.new_folder()
@@ -30,12 +30,12 @@ class Job:
         self.disk = None
         try:
             if series:  # sky_0000.exr, sky_0001.exr, ... each with its sidecar
-                args = command.build_series_arguments(executable, settings, self.exr, self.sidecar)
+                args = command.build_series_arguments(executable, opts, settings, self.exr, self.sidecar)
                 outputs = []
             else:
                 if settings["sun_mode"] == "LAMP_CAMERA_DISK":
                     self.disk = os.path.join(self.folder, "sky_disk.exr")
-                args = command.build_arguments(executable, settings, self.exr, self.sidecar, self.disk)
+                args = command.build_arguments(executable, opts, settings, self.exr, self.sidecar, self.disk)
                 outputs = [self.exr, self.sidecar] + ([self.disk, os.path.splitext(self.disk)[0] + ".json"] if self.disk else [])
         except command.SettingsError:
             self.discard()
@@ -54,24 +54,20 @@ class Job:
 
 def prepare(context, op, series=False):
     """Validated settings and a Job, or None after reporting why not."""
-    props = context.scene.firmament_sky
-    settings = properties.to_dict(props)
+    settings = properties.to_dict(context.scene.firmament_sky)
     try:
-        command.validate(settings)
-    except command.SettingsError as e:
-        op.report({"ERROR"}, "Firmament: %s" % e)
+        exe, opts = preferences.executable_and_options(context)
+        command.validate(settings, opts)
+        return Job(settings, exe, opts, series)
+    except (preferences.NotFound, options.OptionsError, command.SettingsError, OSError) as e:
+        report_error(context, op, str(e))
         return None
-    prefs = preferences.preferences(context)
-    exe, why = preferences.find_executable(prefs.executable if prefs else "")
-    if exe is None:
-        op.report({"ERROR"}, "Firmament: the firmament executable was not found (%s); set its path in "
-                             "Preferences > Add-ons > Firmament Sky" % why)
-        return None
-    try:
-        return Job(settings, exe, series)
-    except (OSError, command.SettingsError) as e:
-        op.report({"ERROR"}, "Firmament: %s" % e)
-        return None
+
+
+def report_error(context, op, message):
+    """One sentence in Blender's info bar (and raised to a script caller) and in the panel."""
+    context.scene.firmament_sky.last_message = "Error: " + message
+    op.report({"ERROR"}, "Firmament: " + message)
 
 
 def finish(context, op, job):
@@ -97,8 +93,10 @@ def finish(context, op, job):
     for img in maps.our_images():  # relative to a saved .blend (the previous maps stay on disk)
         maps.reference(img, bpy.path.abspath(img.filepath))
     props.has_result = True
-    if sun["suggested_exposure_ev"] is not None:
-        props.suggested_exposure_ev = sun["suggested_exposure_ev"]
+    ev = world.metered_exposure(sun, job.settings["metering"])
+    if ev is not None:
+        props.suggested_exposure_ev = ev
+    props.aod550_result = sun["aod550"] if sun["aod550"] is not None else -1.0
     seconds = (r.done_event or {}).get("seconds")
     msg = "sun %.2f deg up, azimuth %.2f deg" % (sun["elevation_deg"], sun["azimuth_deg"])
     if job.series:
@@ -231,8 +229,8 @@ class FIRMAMENT_OT_load_preset(bpy.types.Operator):
 
     def execute(self, context):
         try:
-            d = sky_presets.read(self.filepath)
-        except sky_presets.PresetError as e:
+            d = sky_presets.read(self.filepath, preferences.executable_and_options(context)[1])
+        except (sky_presets.PresetError, preferences.NotFound, options.OptionsError) as e:
             self.report({"ERROR"}, "Firmament preset: %s" % e)
             return {"CANCELLED"}
         props = context.scene.firmament_sky
@@ -255,7 +253,8 @@ class FIRMAMENT_OT_add_preset(AddPresetBase, bpy.types.Operator):
     def add(self, context, filepath):
         path = os.path.splitext(filepath)[0] + ".json"
         name = self.name.strip() or os.path.basename(os.path.splitext(filepath)[0])
-        sky_presets.write(path, sky_presets.from_settings(name, properties.to_dict(context.scene.firmament_sky)))
+        opts = preferences.executable_and_options(context)[1]
+        sky_presets.write(path, sky_presets.from_settings(name, properties.to_dict(context.scene.firmament_sky)), opts)
 
     def execute(self, context):
         if self.remove_active or self.remove_name:

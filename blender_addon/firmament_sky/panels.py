@@ -1,10 +1,12 @@
 """The World-properties panel, the same in a 3D view N-panel tab, and the preset menu."""
 
+import json
 import os
+import subprocess
 
 import bpy
 
-from . import maps, operators, sky_presets
+from . import command, maps, operators, options, preferences, properties, sky_presets
 
 
 class FIRMAMENT_MT_presets(bpy.types.Menu):
@@ -15,11 +17,47 @@ class FIRMAMENT_MT_presets(bpy.types.Menu):
 
     def draw(self, context):
         # the shipped presets (read-only, in the add-on) and the user's (presets/firmament_sky/)
-        folders = [operators.SHIPPED_PRESETS] + bpy.utils.preset_paths(self.preset_subdir)
-        self.path_menu([f for f in folders if os.path.isdir(f)], self.preset_operator,
-                       props_default={"menu_idname": self.__class__.__name__},
-                       filter_ext=lambda ext: ext.lower() == ".json",
-                       display_name=sky_presets.display_name)
+        kw = dict(props_default={"menu_idname": self.__class__.__name__},
+                  filter_ext=lambda ext: ext.lower() == ".json", display_name=sky_presets.display_name)
+        self.path_menu([operators.SHIPPED_PRESETS], self.preset_operator, **kw)
+        user = [f for f in bpy.utils.preset_paths(self.preset_subdir) if os.path.isdir(f) and os.listdir(f)]
+        if user:
+            self.layout.separator()
+            self.layout.label(text="Your presets")
+            self.path_menu(user, self.preset_operator, **kw)
+
+
+_sun_cache = {}
+
+
+def sun_summary(p, context):
+    """'Sun 61.2° up, azimuth 183.4°; sunrise 05:13, sunset 21:17' for the date and place, from
+    `firmament sun --json` (run once per change of date, time or place), or None."""
+    s = properties.to_dict(p)
+    key = tuple(s[k] for k in ("year", "month", "day", "hour", "minute", "second", "utc_offset", "latitude",
+                               "longitude", "altitude"))
+    if key not in _sun_cache:
+        try:
+            exe = preferences.executable_and_options(context)[0]
+            r = subprocess.run(command.sun_arguments(exe, s), capture_output=True, text=True, timeout=10)
+            d = json.loads(r.stdout) if r.returncode == 0 else None
+            _sun_cache[key] = None if d is None else "Sun %.1f° up, azimuth %.1f°; sunrise %s, sunset %s" % (
+                d["elevation_deg"], d["azimuth_deg"], (d.get("sunrise") or "none")[:5], (d.get("sunset") or "none")[:5])
+        except (preferences.NotFound, options.OptionsError, OSError, ValueError, KeyError, subprocess.TimeoutExpired):
+            _sun_cache[key] = None
+        if len(_sun_cache) > 64:
+            _sun_cache.pop(next(iter(_sun_cache)))
+    return _sun_cache[key]
+
+
+def _labelled_row(layout, label, props, p):
+    """A label on its own line, then the fields with no text of their own: nothing is cut off at
+    the sidebar's default width."""
+    col = layout.column(align=True)
+    col.label(text=label)
+    row = col.row(align=True)
+    for prop in props:
+        row.prop(p, prop, text="")
 
 
 def draw_settings(layout, context):
@@ -33,49 +71,59 @@ def draw_settings(layout, context):
 
     box = layout.box()
     box.prop(p, "sun_source", expand=True)
-    col = box.column(align=True)
     if p.sun_source == "TIME":
-        row = col.row(align=True)
-        row.prop(p, "year")
-        row.prop(p, "month")
-        row.prop(p, "day")
-        row = col.row(align=True)
-        row.prop(p, "hour")
-        row.prop(p, "minute")
-        row.prop(p, "second")
+        _labelled_row(box, "Date (year, month, day)", ("year", "month", "day"), p)
+        _labelled_row(box, "Local time (h, min, s)", ("hour", "minute", "second"), p)
+        col = box.column(align=True)
         col.prop(p, "utc_offset")
+        col.prop(p, "latitude")
+        col.prop(p, "longitude")
+        info = sun_summary(p, context)
+        if info:
+            box.label(text=info, icon="LIGHT_SUN")
     else:
+        col = box.column(align=True)
         col.prop(p, "sun_elevation")
         col.prop(p, "sun_azimuth")
-    col.prop(p, "latitude")
-    if p.sun_source == "TIME":
-        col.prop(p, "longitude")
+        col.prop(p, "latitude")
 
     box = layout.box()
-    box.prop(p, "biome")
+    box.prop(p, "biome_menu")
     if p.biome != "none":
-        row = box.row(align=True)
-        row.prop(p, "aerosol_amount", expand=True)
+        box.label(text="Aerosol amount as:")
+        box.row(align=True).prop(p, "aerosol_amount", expand=True)
         box.prop(p, "turbidity" if p.aerosol_amount == "TURBIDITY" else "aod550")
+        if p.aod550_result >= 0.0:
+            # Koschmieder: visibility = 3.912 / extinction at the ground, the aerosol spread over its
+            # ~1.2 km scale height plus the air's 0.0116 /km at 550 nm
+            vis = 3.912 / (p.aod550_result / 1.2 + 0.0116)
+            box.label(text="Last map: AOD 550 = %.3f, visibility about %.0f km" % (p.aod550_result, vis))
         row = box.row(align=True)
         row.prop(p, "use_humidity")
         sub = row.row()
         sub.enabled = p.use_humidity
         sub.prop(p, "humidity", text="")
-    row = box.row(align=True)
-    row.prop(p, "ozone_mode", expand=True)
+    box.label(text="Ozone source:")
+    box.row(align=True).prop(p, "ozone_mode", expand=True)
     if p.ozone_mode == "MANUAL":
         box.prop(p, "ozone_du")
     box.prop(p, "albedo")
     box.prop(p, "altitude")
 
     box = layout.box()
-    row = box.row(align=True)
-    row.prop(p, "resolution")
-    row.prop(p, "quality", text="")
+    box.prop(p, "resolution")
+    box.prop(p, "quality")
     box.prop(p, "sun_mode")
     box.prop(p, "north_offset")
-    box.prop(p, "apply_exposure")
+    col = box.column(align=True)
+    col.prop(p, "sky_strength")
+    col.prop(p, "sun_strength")
+    box.prop(p, "ground")
+    if p.ground == "COLOUR":
+        box.prop(p, "ground_colour")
+    row = box.row(align=True)
+    row.prop(p, "apply_exposure")
+    row.prop(p, "metering", text="")
 
     running = operators._active["runner"] is not None
     row = layout.row()
@@ -85,27 +133,26 @@ def draw_settings(layout, context):
         row.label(text="Rendering: %s %.0f%% (Esc cancels)" % (r.stage, 100 * r.fraction), icon="TIME")
     else:
         row.operator("firmament_sky.generate", icon="WORLD")
+    if p.last_message:  # one sentence under the button, never a popup over it
+        layout.label(text=p.last_message.splitlines()[0], icon="ERROR" if p.last_message.startswith("Error") else "INFO")
     if p.has_result:
         row = layout.row(align=True)
         row.label(text="Suggested exposure %.2f EV" % p.suggested_exposure_ev)
         row.operator("firmament_sky.apply_exposure", text="Apply")
+
     box = layout.box()
     box.label(text="Bake a Day (one map per frame)", icon="TIME")
-    row = box.row(align=True)
-    row.prop(p, "bake_start")
-    row.prop(p, "bake_end")
-    row.prop(p, "bake_step_min")
+    col = box.column(align=True)
+    col.prop(p, "bake_start")
+    col.prop(p, "bake_end")
+    col.prop(p, "bake_step_min")
     box.operator("firmament_sky.bake_day", icon="RENDER_ANIMATION")
 
     box = layout.box()
     box.prop(p, "keep_maps_with_file")
-    row = box.row()
-    row.label(text="Maps: //%s/ beside the .blend" % maps.FOLDER if bpy.data.filepath else "Maps: the add-on's cache until saved",
-              icon="FILE_FOLDER")
-    row.operator("firmament_sky.clean_maps", text="Clean Unused", icon="TRASH")
-    if p.last_message:
-        for line in p.last_message.splitlines()[:3]:
-            layout.label(text=line)
+    box.label(text="Maps: //%s/ beside the .blend" % maps.FOLDER if bpy.data.filepath else
+              "Maps: the add-on's folder until the file is saved", icon="FILE_FOLDER")
+    box.operator("firmament_sky.clean_maps", text="Clean Unused Maps...", icon="TRASH")
 
 
 class FIRMAMENT_PT_world(bpy.types.Panel):

@@ -27,6 +27,21 @@ class FirmamentSkyPreferences(bpy.types.AddonPreferences):
             layout.label(text="firmament was not found: set the path above", icon="ERROR")
 
 
+class NotFound(RuntimeError):
+    pass
+
+
+def executable_and_options(context=None):
+    """(executable, its options table) for the add-on's settings; NotFound or OptionsError say why not."""
+    from . import options
+    prefs = preferences(context)
+    exe, why = find_executable(prefs.executable if prefs else "")
+    if exe is None:
+        raise NotFound("the firmament executable was not found (%s); set its path in Preferences > Add-ons > "
+                       "Firmament Sky" % why)
+    return exe, options.load(exe)
+
+
 def preferences(context=None):
     """The add-on's preferences, or None (e.g. classes registered without an enabled add-on)."""
     context = context or bpy.context

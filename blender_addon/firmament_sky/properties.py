@@ -1,97 +1,143 @@
 """The sky settings, stored on the scene (scene.firmament_sky) so they travel with the .blend."""
 
 import bpy
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
 
-from . import command
 
-BIOME_ITEMS = [
-    ("none", "None", "No aerosols: a purely molecular sky"),
-    ("background", "Background", "Very clean free-troposphere air"),
-    ("desert-dust", "Desert dust", "Mineral dust: whitish sky, weak colour dependence"),
-    ("maritime-clean", "Maritime clean", "Sea salt over the open ocean"),
-    ("maritime-mineral", "Maritime mineral", "Sea air carrying desert dust"),
-    ("polar-antarctic", "Polar Antarctic", "Very clean Antarctic air"),
-    ("polar-arctic", "Polar Arctic", "Arctic air with some haze"),
-    ("remote-continental", "Remote continental", "Clean air far from cities"),
-    ("rural", "Rural", "Typical countryside air"),
-    ("urban", "Urban", "City air with absorbing soot"),
-]
+_biome_items = []  # Blender keeps no reference to a dynamic enum's strings: this list does
+
+
+def _biome_names(self, context):
+    """The executable's built-in biomes (`firmament options --json`), and the current one."""
+    from . import options, preferences
+    try:
+        names = options.choices(preferences.executable_and_options(context)[1], "--biome")
+    except (preferences.NotFound, options.OptionsError):
+        names = []
+    return names if self.biome in names else [self.biome] + names
+
+
+def _biome_items_of(self, context):
+    _biome_items[:] = [(n, n.replace("-", " ").capitalize(),
+                        "Aerosols of the '%s' biome (the executable's OPAC mixture): the sky's colour, haze and "
+                        "how fast it whitens toward the horizon" % n, i)
+                       for i, n in enumerate(_biome_names(self, context))]
+    return _biome_items
+
+
+def _get_biome(self):
+    names = _biome_names(self, bpy.context)
+    return names.index(self.biome) if self.biome in names else 0
+
+
+def _set_biome(self, value):
+    names = _biome_names(self, bpy.context)
+    if 0 <= value < len(names):
+        self.biome = names[value]
 
 
 class FirmamentSkySettings(bpy.types.PropertyGroup):
-    sun_source: EnumProperty(name="Sun from", items=[
-        ("TIME", "Date, Time, Place", "The sun's position from the date, local time and place (NREL SPA)"),
+    # Ranges are the executable's (`firmament options --json`), set by register(): none are copied here.
+    sun_source: EnumProperty(name="Sun From", items=[
+        ("TIME", "Date, Time, Place", "The sun's position from the date, local clock time and place (NREL SPA)"),
         ("ANGLES", "Angles", "The sun's elevation and azimuth given directly"),
-    ], default="TIME")
-    year: IntProperty(name="Year", min=1900, max=2100, default=2024)
-    month: IntProperty(name="Month", min=1, max=12, default=6)
-    day: IntProperty(name="Day", min=1, max=31, default=21)
-    hour: IntProperty(name="Hour", min=0, max=23, default=12, description="Local clock time")
-    minute: IntProperty(name="Minute", min=0, max=59, default=0)
-    second: IntProperty(name="Second", min=0, max=59, default=0)
-    utc_offset: FloatProperty(name="UTC Offset", min=-12.0, max=14.0, default=0.0, step=25, precision=2,
-                              description="Local time minus UTC in hours (include daylight saving time)")
-    latitude: FloatProperty(name="Latitude", min=-90.0, max=90.0, default=48.8566, precision=4,
-                            description="Degrees, north positive")
-    longitude: FloatProperty(name="Longitude", min=-180.0, max=180.0, default=2.3522, precision=4,
-                             description="Degrees, east positive")
-    sun_elevation: FloatProperty(name="Sun Elevation", min=-90.0, max=90.0, default=30.0,
-                                 description="Degrees above the horizon")
-    sun_azimuth: FloatProperty(name="Sun Azimuth", min=-360.0, max=360.0, default=180.0,
-                               description="Degrees from north toward east")
-    biome: EnumProperty(name="Biome", items=BIOME_ITEMS, default="rural",
-                        description="Aerosol environment (OPAC mixtures)")
+    ], default="TIME", description="How the sun's position is given")
+    year: IntProperty(name="Year", default=2024, description="Date: the sun's path and the ozone of the season")
+    month: IntProperty(name="Month", min=1, max=12, default=6, description="Date: month (1-12)")
+    day: IntProperty(name="Day", min=1, max=31, default=21, description="Date: day of the month")
+    hour: IntProperty(name="Hour", min=0, max=23, default=12,
+                      description="Local clock time, hours: moves the sun (low sun: longer shadows, warmer light)")
+    minute: IntProperty(name="Minute", min=0, max=59, default=0, description="Local clock time, minutes")
+    second: IntProperty(name="Second", min=0, max=59, default=0, description="Local clock time, seconds")
+    utc_offset: FloatProperty(name="UTC Offset (h)", min=-12.0, max=14.0, default=0.0, step=25, precision=2,
+                              description="Local time minus UTC in hours, daylight saving time included "
+                                          "(a wrong offset shifts the sun by 15 degrees per hour)")
+    latitude: FloatProperty(name="Latitude (°N)", default=48.8566, precision=4,
+                            description="Degrees north (south negative): how high the sun climbs")
+    longitude: FloatProperty(name="Longitude (°E)", default=2.3522, precision=4,
+                             description="Degrees east (west negative): when the sun crosses south")
+    sun_elevation: FloatProperty(name="Sun Elevation (°)", default=30.0,
+                                 description="Degrees above the horizon: lower is warmer, dimmer, longer shadows")
+    sun_azimuth: FloatProperty(name="Sun Azimuth (°)", default=180.0,
+                               description="Degrees from north toward east (180 = south): where shadows point away from")
+    biome: StringProperty(name="Biome", default="rural", description="Aerosol environment (a built-in biome's name)")
+    biome_menu: EnumProperty(name="Biome", items=_biome_items_of, get=_get_biome, set=_set_biome,
+                             description="Aerosol environment: the sky's colour, haze and horizon brightness")
     aerosol_amount: EnumProperty(name="Aerosol Amount", items=[
-        ("TURBIDITY", "Turbidity", "Multiplier of the biome's aerosol density"),
-        ("AOD", "AOD 550", "Aerosol optical depth at 550 nm"),
-    ], default="TURBIDITY")
-    turbidity: FloatProperty(name="Turbidity", min=0.0, max=50.0, soft_max=5.0, default=1.0,
-                             description="Multiplier of the biome's aerosol density; 1 = nominal")
-    aod550: FloatProperty(name="AOD 550", min=0.001, max=10.0, soft_max=2.0, default=0.2, precision=3)
+        ("TURBIDITY", "Turbidity ×", "A multiplier of the biome's aerosol (1 = the biome as measured)"),
+        ("AOD", "AOD 550", "The aerosol optical depth at 550 nm (0.05 very clear, 0.2 typical, 1 very hazy)"),
+    ], default="TURBIDITY", description="How the amount of aerosol is given")
+    turbidity: FloatProperty(name="Turbidity × Biome", soft_max=5.0, default=1.0,
+                             description="Multiplies the biome's aerosol (1 = as measured, 2 = twice as hazy). Not "
+                                         "Preetham/Hosek turbidity (2-10, 3 = clear): here 3 is three times the haze")
+    aod550: FloatProperty(name="AOD 550", soft_max=2.0, default=0.2, precision=3,
+                          description="Aerosol optical depth at 550 nm: more is hazier, whiter sky, softer sun")
     use_humidity: BoolProperty(name="Humidity", default=False,
-                               description="Set the relative humidity (else the biome's own)")
-    humidity: FloatProperty(name="Humidity %", min=0.0, max=99.0, default=70.0)
-    ozone_mode: EnumProperty(name="Ozone", items=[
+                               description="Set the relative humidity (else the biome's own): humid aerosols grow "
+                                           "and whiten the sky")
+    humidity: FloatProperty(name="Humidity (%)", default=70.0,
+                            description="Relative humidity in %: higher swells the aerosols, hazier horizon")
+    ozone_mode: EnumProperty(name="Ozone Source", items=[
         ("AUTO", "Auto", "Total ozone column from the date and place (climatology)"),
         ("MANUAL", "Manual", "Total ozone column in Dobson units"),
-    ], default="AUTO")
-    ozone_du: FloatProperty(name="Ozone DU", min=0.0, max=1000.0, default=300.0)
-    albedo: FloatProperty(name="Ground Albedo", min=0.0, max=1.0, default=0.2, subtype="FACTOR")
-    altitude: FloatProperty(name="Observer Altitude", min=0.0, max=20000.0, default=0.0,
-                            description="Metres above the ground")
-    resolution: IntProperty(name="Resolution", min=16, max=16384, default=1024,
-                            description="Map width in pixels (even; height = width / 2)")
+    ], default="AUTO", description="Ozone colours the twilight sky blue: from the climatology or given")
+    ozone_du: FloatProperty(name="Ozone (DU)", default=300.0,
+                            description="Total ozone column in Dobson units: more gives a bluer twilight")
+    albedo: FloatProperty(name="Ground Albedo", default=0.2, subtype="FACTOR",
+                          description="Reflectance of the ground in the map: a brighter ground brightens the "
+                                      "sky near the horizon and the map's lower half")
+    altitude: FloatProperty(name="Observer Altitude", default=0.0, subtype="DISTANCE", unit="LENGTH",
+                            description="Height of the viewpoint above the ground: higher sees a darker, bluer sky")
+    resolution: IntProperty(name="Width (px)", default=1024,
+                            description="Map width in pixels (even; height = width / 2): sharper horizon, longer render")
     quality: EnumProperty(name="Quality", items=[
-        ("preview", "Preview", "Seconds: for look development"),
+        ("preview", "Preview", "Seconds: for look development (some noise)"),
         ("final", "Final", "Low noise: for final renders"),
         ("reference", "Reference", "Per-pixel path tracing: slow, for validation"),
-    ], default="preview")
+    ], default="preview", description="Noise against render time of the map")
     sun_mode: EnumProperty(name="Sun", items=[
         ("LAMP", "Sun Lamp", "Sky without the sun disk plus a matching Sun lamp: clean, works in EEVEE"),
         ("DISK", "Disk in Map", "The sun disk in the map, no lamp (Cycles; noisier shadows)"),
         ("LAMP_CAMERA_DISK", "Lamp + Visible Disk", "Lamp for lighting, the disk visible to the camera only"),
-    ], default="LAMP")
+    ], default="LAMP", description="How the sun lights the scene (never counted twice)")
     north_offset: FloatProperty(name="North Offset", subtype="ANGLE", unit="ROTATION", default=0.0,
                                 soft_min=-3.14159, soft_max=3.14159,
                                 description="Rotates the sky and sun: compass azimuth A appears at scene azimuth "
                                             "A + offset (as in the Sun Position add-on; +Y is north at 0)")
-    apply_exposure: BoolProperty(name="Set Exposure", default=True,
-                                 description="Set the scene's film exposure to the sky's suggested exposure "
-                                             "(reported when applied)")
+    apply_exposure: BoolProperty(name="Set Exposure", default=False,
+                                 description="On Generate, set the scene's film exposure by the metering below "
+                                             "(off: your exposure stays; the suggestion is shown with an Apply button)")
+    metering: EnumProperty(name="Metering", items=[
+        ("HORIZONTAL", "Horizontal Card", "A white horizontal card shows as 1.0: every sky looks equally bright"),
+        ("SUN_FACING", "Sun-Facing Card", "A white card facing the sun shows as 1.0"),
+        ("SKY", "Sky Average", "The sky's average luminance shows as 0.18: low suns stay dark, as the eye sees them"),
+    ], default="HORIZONTAL", description="What the suggested exposure makes look right")
+    sky_strength: FloatProperty(name="Sky Strength ×", min=0.0, soft_max=4.0, default=1.0,
+                                description="Multiplies the sky's light (1 = physical)")
+    sun_strength: FloatProperty(name="Sun Strength ×", min=0.0, soft_max=4.0, default=1.0,
+                                description="Multiplies the sun lamp's light (1 = physical)")
+    ground: EnumProperty(name="Ground Below Horizon", items=[
+        ("MAP", "From the Map", "The map's own ground (a uniform grey of the ground albedo)"),
+        ("COLOUR", "Colour", "A ground of the colour below, lit by this sky (hides the grey band past a finite ground plane)"),
+        ("BLACK", "Hidden", "Nothing below the horizon (black)"),
+    ], default="MAP", description="What the world shows below the horizon")
+    ground_colour: FloatVectorProperty(name="Ground Colour", subtype="COLOR", size=3, min=0.0, max=1.0,
+                                       default=(0.25, 0.22, 0.18),
+                                       description="Reflectance of the ground seen below the horizon")
     keep_maps_with_file: BoolProperty(
         name="Keep Maps With the File", default=True,
         description="On save, copy the maps beside the .blend (//firmament/) and reference them by relative "
                     "paths, so that the project can be moved or sent as one folder")
-    bake_start: FloatProperty(name="From", min=0.0, max=23.99, default=6.0,
-                              precision=2, description="Bake a day: the first frame's local clock time, hours")
-    bake_end: FloatProperty(name="To", min=0.0, max=23.99, default=20.0, precision=2,
+    bake_start: FloatProperty(name="From (h)", min=0.0, max=23.99, default=6.0, precision=2,
+                              description="Bake a day: the first frame's local clock time, hours")
+    bake_end: FloatProperty(name="To (h)", min=0.0, max=23.99, default=20.0, precision=2,
                             description="Bake a day: the last frame's local clock time at most, hours")
-    bake_step_min: IntProperty(name="Step", min=1, max=720, default=30,
+    bake_step_min: IntProperty(name="Step (min)", default=30,
                                description="Bake a day: minutes between frames (one map per frame)")
-    threads: IntProperty(name="Threads", min=0, max=256, default=0, description="0 = all cores")
+    threads: IntProperty(name="Threads", default=0, description="Worker threads of the executable; 0 = all cores")
     # results, for the panel
     suggested_exposure_ev: FloatProperty(name="Suggested Exposure", default=0.0)
+    aod550_result: FloatProperty(name="AOD 550 of the Last Map", default=-1.0)
     has_result: BoolProperty(default=False)
     last_message: StringProperty(default="")
 
@@ -99,8 +145,8 @@ class FirmamentSkySettings(bpy.types.PropertyGroup):
 SETTING_KEYS = ("sun_source", "year", "month", "day", "hour", "minute", "second", "utc_offset", "latitude",
                 "longitude", "sun_elevation", "sun_azimuth", "biome", "aerosol_amount", "turbidity", "aod550",
                 "use_humidity", "humidity", "ozone_mode", "ozone_du", "albedo", "altitude", "resolution",
-                "quality", "sun_mode", "north_offset", "apply_exposure", "threads", "bake_start", "bake_end",
-                "bake_step_min")
+                "quality", "sun_mode", "north_offset", "apply_exposure", "metering", "threads", "bake_start",
+                "bake_end", "bake_step_min", "sky_strength", "sun_strength", "ground", "ground_colour")
 # what a sky preset holds (the rest are render choices)
 PRESET_KEYS = ("sun_source", "year", "month", "day", "hour", "minute", "second", "utc_offset", "latitude",
                "longitude", "sun_elevation", "sun_azimuth", "biome", "aerosol_amount", "turbidity", "aod550",
@@ -108,18 +154,35 @@ PRESET_KEYS = ("sun_source", "year", "month", "day", "hour", "minute", "second",
 
 
 def to_dict(p):
-    return {k: getattr(p, k) for k in SETTING_KEYS}
+    d = {k: getattr(p, k) for k in SETTING_KEYS}
+    d["ground_colour"] = tuple(d["ground_colour"])
+    return d
 
 
 def defaults():
     """The properties' default values, as a settings dict."""
     rna = FirmamentSkySettings.bl_rna.properties
-    return {k: rna[k].default for k in SETTING_KEYS}
+    d = {k: rna[k].default for k in SETTING_KEYS if k != "ground_colour"}
+    d["ground_colour"] = tuple(rna["ground_colour"].default_array)
+    return d
 
 
 def assign(p, s, keys=PRESET_KEYS):
     for k in keys:
         setattr(p, k, s[k])
+
+
+def set_ranges(opts):
+    """Gives the settings the executable's ranges (before the class is registered)."""
+    from . import options
+    ann = FirmamentSkySettings.__annotations__
+    for key, (lo, hi, lo_open) in options.ranges(opts).items():
+        prop = ann.get(key)
+        if prop is None or prop.function not in (FloatProperty, IntProperty):
+            continue
+        if prop.function is IntProperty:
+            lo, hi = int(lo) + (1 if lo_open else 0), int(hi)
+        ann[key] = prop.function(**dict(prop.keywords, min=lo, max=hi))
 
 
 def register():
@@ -129,5 +192,3 @@ def register():
 def unregister():
     del bpy.types.Scene.firmament_sky
 
-
-assert set(command.BIOMES) == {b[0] for b in BIOME_ITEMS}

@@ -7,19 +7,15 @@ import json
 import os
 import re
 
-# key -> type (str or float) and, for numbers, the range the executable accepts
-NUMBERS = {
-    "latitude": (-90.0, 90.0), "longitude": (-180.0, 180.0),
-    "sun_elevation": (-90.0, 90.0), "sun_azimuth": (-360.0, 360.0),
-    "turbidity": (0.0, 50.0), "aod550": (0.0, 10.0), "humidity": (0.0, 99.0),
-    "ozone_du": (0.0, 1000.0), "albedo": (0.0, 1.0), "altitude": (0.0, 20000.0),
-}
-STRINGS = ("name", "description", "date", "time", "utc_offset", "biome")
-# The view of a job (a figure of scenes/thesis/, rendered by the executable through its camera):
-# checked, but not used here, since the add-on always makes a world map.
-VIEW_NUMBERS = {"fov": (0.0, 170.0), "look_azimuth": (-360.0, 360.0), "look_elevation": (-90.0, 90.0),
-                "width": (8.0, 16384.0)}
-VIEW_STRINGS = ("camera", "fisheye_projection", "aspect")
+TEXT_KEYS = ("name", "description")  # the preset's own; every other key is an option's preset_key
+
+
+def _schema(opts):
+    """{key: option or None} of the preset schema: the executable's options that have a preset key
+    (the sky, and the view of a job in scenes/thesis/, which the add-on checks but does not use)."""
+    keys = {k: None for k in TEXT_KEYS}
+    keys.update({o["preset_key"]: o for o in opts.values() if o.get("preset_key")})
+    return keys
 
 
 class PresetError(ValueError):
@@ -30,23 +26,23 @@ def _bad(path, where, what):
     return PresetError("%s: %s: %s" % (path, where, what))
 
 
-def _check(path, d):
+def _check(path, d, opts):
     if not isinstance(d, dict):
         raise _bad(path, "$", "must be an object")
+    schema = _schema(opts)
     for key, value in d.items():
         where = "$." + key
-        if key in STRINGS or key in VIEW_STRINGS:
-            if not isinstance(value, str) or not value:
-                raise _bad(path, where, "must be a non-empty string")
-        elif key in NUMBERS or key in VIEW_NUMBERS:
-            lo, hi = NUMBERS[key] if key in NUMBERS else VIEW_NUMBERS[key]
+        if key not in schema:
+            raise _bad(path, where, "unknown key (known: %s)" % ", ".join(schema))
+        o = schema[key]
+        if o is not None and o.get("kind") in ("number", "whole"):
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 raise _bad(path, where, "must be a number")
-            if not lo <= value <= hi or (key == "aod550" and value == 0):
-                raise _bad(path, where, "%g is outside [%g, %g]" % (value, lo, hi))
-        else:
-            raise _bad(path, where, "unknown key (known: %s)" % ", ".join(
-                STRINGS + tuple(NUMBERS) + VIEW_STRINGS + tuple(VIEW_NUMBERS)))
+            lo, hi = o["min"], o["max"]
+            if not ((lo < value) if o.get("min_open") else (lo <= value)) or value > hi:
+                raise _bad(path, where, "%g is outside %s%g, %g]" % (value, "(" if o.get("min_open") else "[", lo, hi))
+        elif not isinstance(value, str) or not value:
+            raise _bad(path, where, "must be a non-empty string")
     if "name" not in d:
         raise _bad(path, "$", "missing 'name'")
     if "turbidity" in d and "aod550" in d:
@@ -73,7 +69,7 @@ def _check(path, d):
         raise _bad(path, "$.time", "needs latitude and longitude")
 
 
-def read(path):
+def read(path, opts):
     """The preset's dict, checked; PresetError names the file, line:column or JSON path."""
     try:
         with open(path, encoding="utf-8") as f:
@@ -84,7 +80,7 @@ def read(path):
         d = json.loads(text)
     except json.JSONDecodeError as e:
         raise PresetError("%s:%d:%d: JSON syntax error: %s" % (path, e.lineno, e.colno, e.msg)) from None
-    _check(path, d)
+    _check(path, d, opts)
     return d
 
 
@@ -121,33 +117,39 @@ def to_settings(d, defaults):
     return s
 
 
+def _num(x):
+    """A property's value as typed: float32 noise dropped (-33.8688, not -33.86880111694336)."""
+    return float("%.6g" % x)
+
+
 def from_settings(name, s):
-    """The preset dict for settings s (only what applies to the chosen modes)."""
+    """The preset dict for settings s (only what applies to the chosen modes), numbers rounded to
+    the 6 significant digits a Blender float property holds."""
     d = {"name": name}
     d["date"] = "%04d-%02d-%02d" % (s["year"], s["month"], s["day"])
-    d["latitude"], d["longitude"] = float(s["latitude"]), float(s["longitude"])
+    d["latitude"], d["longitude"] = _num(s["latitude"]), _num(s["longitude"])
     if s["sun_source"] == "TIME":
         d["time"] = "%02d:%02d:%02d" % (s["hour"], s["minute"], s["second"])
         minutes = int(round(s["utc_offset"] * 60))
         d["utc_offset"] = "%s%02d:%02d" % ("+" if minutes >= 0 else "-", abs(minutes) // 60, abs(minutes) % 60)
     else:
-        d["sun_elevation"], d["sun_azimuth"] = float(s["sun_elevation"]), float(s["sun_azimuth"])
+        d["sun_elevation"], d["sun_azimuth"] = _num(s["sun_elevation"]), _num(s["sun_azimuth"])
     d["biome"] = s["biome"]
     if s["aerosol_amount"] == "AOD":
-        d["aod550"] = float(s["aod550"])
+        d["aod550"] = _num(s["aod550"])
     else:
-        d["turbidity"] = float(s["turbidity"])
+        d["turbidity"] = _num(s["turbidity"])
     if s["use_humidity"]:
-        d["humidity"] = float(s["humidity"])
+        d["humidity"] = _num(s["humidity"])
     if s["ozone_mode"] == "MANUAL":
-        d["ozone_du"] = float(s["ozone_du"])
-    d["albedo"], d["altitude"] = float(s["albedo"]), float(s["altitude"])
+        d["ozone_du"] = _num(s["ozone_du"])
+    d["albedo"], d["altitude"] = _num(s["albedo"]), _num(s["altitude"])
     return d
 
 
-def write(path, d):
+def write(path, d, opts):
     """Writes d (checked first) to path through a temporary file."""
-    _check(path, d)
+    _check(path, d, opts)
     tmp = path + ".tmp"
     with open(tmp, "w", encoding="utf-8") as f:
         json.dump(d, f, indent=2)

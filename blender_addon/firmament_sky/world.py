@@ -35,6 +35,9 @@ def read_sidecar(path):
             "azimuth_at_center_deg": float(image.get("azimuth_at_center_deg", 90.0)),
             "suggested_exposure_ev": d.get("sky", {}).get("suggested_exposure_ev"),
             "global_lux": d.get("sky", {}).get("global_horizontal_illuminance_lux"),
+            "diffuse_lux": d.get("sky", {}).get("diffuse_horizontal_illuminance_lux"),
+            "dni_lux": sun.get("direct_normal_illuminance_lux"),
+            "aod550": d.get("atmosphere", {}).get("aerosol_optical_depth_550nm"),
         }
     except (OSError, ValueError, KeyError, TypeError) as e:
         raise SetupError("cannot read the sidecar %s: %s" % (path, e)) from None
@@ -133,13 +136,13 @@ def _env_node(nodes, links, mapping, image, name, x, y):
     links.new(mapping.outputs["Vector"], env.inputs["Vector"])
     bg = nodes.new("ShaderNodeBackground")
     bg.name = bg.label = NODE_PREFIX + name + " Background"
-    bg.inputs["Strength"].default_value = 1.0  # pixel values are radiance: 1:1 with the lamp
+    bg.inputs["Strength"].default_value = 1.0  # pixel values are radiance: 1:1 with the lamp (x Sky Strength)
     bg.location = (x + 300, y)
     links.new(env.outputs["Color"], bg.inputs["Color"])
     return bg
 
 
-def build_world_nodes(world, sky_image, disk_image, rotation_z):
+def build_world_nodes(world, sky_image, disk_image, rotation_z, settings=None, sun=None):
     if world.node_tree is None:  # before 5.0 a new world has no tree until use_nodes (deprecated in 5.0)
         world.use_nodes = True
     nodes, links = world.node_tree.nodes, world.node_tree.links
@@ -157,11 +160,16 @@ def build_world_nodes(world, sky_image, disk_image, rotation_z):
     mapping.location = (-300, 300)
     links.new(coords.outputs["Generated"], mapping.inputs["Vector"])
     sky_bg = _env_node(nodes, links, mapping, sky_image, "Sky", 0, 300)
+    settings = settings or {}
+    sky_bg.inputs["Strength"].default_value = settings.get("sky_strength", 1.0)
+    if settings.get("ground", "MAP") != "MAP":
+        _ground_nodes(nodes, links, mapping, sky_bg, settings, sun)
     if disk_image is None:
         links.new(sky_bg.outputs["Background"], out.inputs["Surface"])
         return
     # camera rays see the map with the disk; every other ray the one without (the lamp lights)
     disk_bg = _env_node(nodes, links, mapping, disk_image, "Sky With Disk", 0, 0)
+    disk_bg.inputs["Strength"].default_value = settings.get("sky_strength", 1.0)
     path = nodes.new("ShaderNodeLightPath")
     path.name = path.label = NODE_PREFIX + "Light Path"
     path.location = (300, 600)
@@ -180,17 +188,49 @@ def _clear_animation(obj):
             idb.animation_data_clear()
 
 
-def setup_lamp(scene, sun, north_offset):
+def _ground_nodes(nodes, links, mapping, bg, settings, sun):
+    """Below the horizon (the looked-up direction's z < 0) the world shows a chosen ground instead of
+    the map's: black, or a Lambertian ground of the given reflectance under this sky (radiance
+    reflectance x global horizontal illuminance / (683 pi), in Blender's units)."""
+    env_link = bg.inputs["Color"].links[0]
+    sep = nodes.new("ShaderNodeSeparateXYZ")
+    sep.name = sep.label = NODE_PREFIX + "Direction"
+    sep.location = (-100, 600)
+    links.new(mapping.outputs["Vector"], sep.inputs["Vector"])
+    below = nodes.new("ShaderNodeMath")
+    below.name = below.label = NODE_PREFIX + "Below Horizon"
+    below.operation = "LESS_THAN"
+    below.inputs[1].default_value = 0.0
+    below.location = (100, 600)
+    links.new(sep.outputs["Z"], below.inputs[0])
+    mix = nodes.new("ShaderNodeMix")
+    mix.name = mix.label = NODE_PREFIX + "Ground"
+    mix.data_type = "RGBA"
+    mix.location = (250, 450)
+    fac = [i for i in mix.inputs if i.name == "Factor" and i.type == "VALUE"][0]
+    a, b = [i for i in mix.inputs if i.type == "RGBA"][:2]
+    result = [o for o in mix.outputs if o.type == "RGBA"][0]
+    links.new(below.outputs["Value"], fac)
+    links.new(env_link.from_socket, a)
+    lum = (sun or {}).get("global_lux") or 0.0
+    k = lum / (683.0 * math.pi) if settings["ground"] == "COLOUR" else 0.0
+    rgb = Color(settings.get("ground_colour", (0.0, 0.0, 0.0)))
+    b.default_value = (rgb[0] * k, rgb[1] * k, rgb[2] * k, 1.0)
+    links.new(result, bg.inputs["Color"])
+
+
+def setup_lamp(scene, sun, north_offset, strength=1.0):
     """Points, sizes and colours the add-on's lamp for one sidecar; a sun whose disk is wholly below
     the horizon hides it (no lamp shining up through the ground)."""
     obj = _ensure_lamp(scene)
     light = obj.data
+    sun = dict(sun, strength=strength)
     # strength x colour = the direct normal irradiance, in the map's units (Blender W/m^2), converted
     # from the map's linear Rec.709 to the scene's working space (5.0: Rec.2020 or ACEScg) the way
     # Blender converts the map tagged Linear Rec.709
     rgb = list(Color(sun["irradiance_rgb"]).from_rec709_linear_to_scene_linear())
     peak = max(rgb)
-    light.energy = max(peak, 0.0)
+    light.energy = max(peak, 0.0) * sun.get("strength", 1.0)
     light.color = [c / peak for c in rgb] if peak > 0.0 else (1.0, 1.0, 1.0)
     light.angle = math.radians(sun["angular_diameter_deg"])
     d = scene_direction(sun["direction"], north_offset)
@@ -211,13 +251,28 @@ def _replace_images(previous, names):
         img.name = name
 
 
-def _set_exposure(scene, settings, sun, frame=None):
-    if not settings.get("apply_exposure") or sun["suggested_exposure_ev"] is None:
+def metered_exposure(sun, metering):
+    """The film exposure (EV) that makes the metered quantity look right, or None (night): a white
+    Lambertian card under illuminance E (lux) shows E / (683 pi) in Blender's units, made 1.0 for
+    the cards; the sky's cosine-weighted average luminance (diffuse E / pi) is made 0.18."""
+    lux = {"HORIZONTAL": sun["global_lux"], "SUN_FACING": (sun["dni_lux"] or 0.0) + (sun["diffuse_lux"] or 0.0),
+           "SKY": sun["diffuse_lux"]}[metering]
+    if not lux or lux <= 0.0:
         return None
-    scene.view_settings.exposure = float(sun["suggested_exposure_ev"])
+    level = 0.18 if metering == "SKY" else 1.0
+    return math.log2(level * 683.0 * math.pi / lux)
+
+
+def _set_exposure(scene, settings, sun, frame=None):
+    if not settings.get("apply_exposure"):
+        return None
+    ev = metered_exposure(sun, settings.get("metering", "HORIZONTAL"))
+    if ev is None:
+        return None
+    scene.view_settings.exposure = ev
     if frame is not None:
         scene.view_settings.keyframe_insert("exposure", frame=frame)
-    return scene.view_settings.exposure
+    return ev
 
 
 def apply(scene, settings, exr_path, sidecar_path, disk_path=None):
@@ -243,13 +298,13 @@ def apply(scene, settings, exr_path, sidecar_path, disk_path=None):
     if world is None:
         world = scene.world = bpy.data.worlds.new("Firmament World")
     build_world_nodes(world, sky_image, disk_image, mapping_rotation_z(settings["north_offset"],
-                                                                       sun["azimuth_at_center_deg"]))
+                                                                       sun["azimuth_at_center_deg"]), settings, sun)
     for obj in _our_lamps():
         _clear_animation(obj)  # a baked day's keyframes would override the new values
     if mode == "DISK":
         _remove_lamp()
     else:
-        setup_lamp(scene, sun, settings["north_offset"])
+        setup_lamp(scene, sun, settings["north_offset"], settings.get("sun_strength", 1.0))
     if mode == "DISK" and hasattr(world, "cycles"):  # resolve the small, bright disk when sampling the map
         world.cycles.sample_map_resolution = max(world.cycles.sample_map_resolution, sky_image.size[0] // 2)
     if hasattr(world, "sun_threshold"):  # EEVEE (4.2+): extract a sun from the map only when it has one
@@ -272,7 +327,8 @@ def apply_series(scene, settings, frames):
     world = scene.world
     if world is None:
         world = scene.world = bpy.data.worlds.new("Firmament World")
-    build_world_nodes(world, sky_image, None, mapping_rotation_z(settings["north_offset"], suns[0]["azimuth_at_center_deg"]))
+    build_world_nodes(world, sky_image, None, mapping_rotation_z(settings["north_offset"], suns[0]["azimuth_at_center_deg"]),
+                      dict(settings, ground="MAP"))
     env = world.node_tree.nodes[NODE_PREFIX + "Sky"]
     first = scene.frame_start
     iu = env.image_user
@@ -289,7 +345,7 @@ def apply_series(scene, settings, frames):
     try:
         for i, sun in enumerate(suns):
             f = first + i
-            setup_lamp(scene, sun, settings["north_offset"])
+            setup_lamp(scene, sun, settings["north_offset"], settings.get("sun_strength", 1.0))
             for prop in ("rotation_euler", "location", "hide_render", "hide_viewport"):
                 obj.keyframe_insert(prop, frame=f)
             obj.data.keyframe_insert("energy", frame=f)
@@ -301,3 +357,8 @@ def apply_series(scene, settings, frames):
     _replace_images(previous, [(sky_image, "Firmament Sky")])
     scene.frame_set(scene.frame_current)
     return suns
+
+
+def eevee_engine():
+    """EEVEE's engine id: BLENDER_EEVEE_NEXT in 4.2-4.5, BLENDER_EEVEE before and again from 5.0."""
+    return "BLENDER_EEVEE_NEXT" if (4, 2, 0) <= bpy.app.version < (5, 0, 0) else "BLENDER_EEVEE"

@@ -124,6 +124,8 @@ def map_checks(mode_label, north_offset_deg):
 
 # mode (a), the default
 h.check(p.sun_mode == "LAMP", "default sun mode is the lamp")
+h.check(not p.apply_exposure and p.metering == "HORIZONTAL", "Set Exposure is off by default; metering: horizontal card")
+p.apply_exposure = True
 res = bpy.ops.firmament_sky.generate()
 h.check(res == {"FINISHED"}, "generate finished")
 h.check(scene.world is world_before, "the scene's world is reused")

@@ -98,11 +98,17 @@ prefs = bpy.context.preferences.addons["firmament_sky"].preferences
 prefs.executable = os.path.join(out, "no-such-firmament")
 expect_failure("missing executable", "not found")
 prefs.executable = h.EXE
-# the real executable exiting 2: its presets folder (FIRMAMENT_PRESETS) has the colour config but no biomes
+# the real executable exiting 2: its presets folder (FIRMAMENT_PRESETS) has the biomes but no colour config
 empty = tempfile.mkdtemp()
+os.symlink(os.path.join(h.ROOT, "presets", "biomes"), os.path.join(empty, "biomes"))
+os.environ["FIRMAMENT_PRESETS"] = empty
+expect_failure("executable exits 2", "(exit 2): firmament: cannot use the OpenColorIO config")
+# a biome the executable's table does not list is refused before anything runs
+empty = tempfile.mkdtemp()
+os.mkdir(os.path.join(empty, "biomes"))
 os.symlink(os.path.join(h.ROOT, "presets", "ocio"), os.path.join(empty, "ocio"))
 os.environ["FIRMAMENT_PRESETS"] = empty
-expect_failure("executable exits 2", "(exit 2): firmament: --biome: unknown biome 'remote-continental'")
+expect_failure("biome the executable lacks", "biome: unknown 'remote-continental'")
 del os.environ["FIRMAMENT_PRESETS"]
 h.check(len(os.listdir(maps.cache_dir())) == 1, "the failed run left no folder in the cache")
 # values validated before anything runs
@@ -125,11 +131,11 @@ for text, needle in (('{"name": "x", "turbidity": 1,}', ":1:"), ('{"turbidity": 
 
 # --- the sun given by angles with the ozone from the climatology: its column depends on the whole
 # place, so the command passes the longitude as well as the latitude, and the executable takes them
-from firmament_sky import command, properties  # noqa: E402
+from firmament_sky import command, options, properties  # noqa: E402
 angles = properties.defaults()
 angles.update(sun_source="ANGLES", ozone_mode="AUTO", latitude=-33.9, longitude=151.2, resolution=16, quality="preview")
 folder = tempfile.mkdtemp()
-args = command.build_arguments(h.EXE, angles, os.path.join(folder, "a.exr"), os.path.join(folder, "a.json"))
+args = command.build_arguments(h.EXE, options.load(h.EXE), angles, os.path.join(folder, "a.exr"), os.path.join(folder, "a.json"))
 given = dict(zip(args, args[1:]))
 h.check(given.get("--longitude") == "151.2" and given.get("--latitude") == "-33.9",
         "angles + climatology ozone: the place passed: %s" % args)

@@ -19,6 +19,7 @@ scene = bpy.context.scene
 cam = demo_courtyard.build(scene)
 bpy.ops.firmament_sky.load_preset(filepath=h.shipped_preset(os.environ.get("FIRMAMENT_TEST_PRESET", "clear-noon")))
 p = h.fast_settings(scene, width=int(os.environ.get("FIRMAMENT_TEST_WIDTH", "256")))
+p.apply_exposure = True
 p.north_offset = math.radians(float(os.environ.get("FIRMAMENT_TEST_NORTH", "0")))
 h.check(bpy.ops.firmament_sky.generate() == {"FINISHED"}, "generate")
 ev = scene.view_settings.exposure
