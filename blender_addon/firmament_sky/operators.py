@@ -198,7 +198,7 @@ class FIRMAMENT_OT_generate(_Generating, bpy.types.Operator):
     """Render the sky with firmament and set it up as the world (and sun lamp)"""
     bl_idname = "firmament_sky.generate"
     bl_label = "Generate Sky"
-    bl_options = {"REGISTER"}
+    bl_options = {"REGISTER", "UNDO"}  # one undo step: the previous world, lamp and exposure with their maps
 
 
 class FIRMAMENT_OT_bake_day(_Generating, bpy.types.Operator):
@@ -206,7 +206,7 @@ class FIRMAMENT_OT_bake_day(_Generating, bpy.types.Operator):
     sequence) and the sun lamp (keyframed per frame); the scene's frame range becomes the day's"""
     bl_idname = "firmament_sky.bake_day"
     bl_label = "Bake a Day"
-    bl_options = {"REGISTER"}
+    bl_options = {"REGISTER", "UNDO"}
     series = True
 
 

@@ -69,6 +69,32 @@ if hasattr(scene.world, "sun_threshold"):
             scene.world.sun_threshold == 0.0, "EEVEE extracts no second sun from the map (threshold %g)"
             % scene.world.sun_threshold)
 
+# undo: Generate is one step; undo brings back the previous world, lamp and exposure with their map
+# (still on disk), redo the new one
+def state():
+    img = h.sky_image()
+    lamp = h.sun_lamps()[0]
+    return (img.filepath, tuple(round(a, 6) for a in lamp.rotation_euler), round(lamp.data.energy, 4),
+            round(bpy.context.scene.view_settings.exposure, 4))  # undo replaces the scene's Python object
+
+
+first = state()
+bpy.ops.ed.undo_push(message="before")  # background mode starts with undo off: this turns it on
+p.hour, p.apply_exposure = 17, True
+# undo=True: pushes the operator's undo step as a click in the UI does (scripts default to no push)
+h.check(bpy.ops.firmament_sky.generate("EXEC_DEFAULT", True) == {"FINISHED"}, "generate again (17:00, exposure set)")
+second = state()
+h.check(second != first, "the second sky differs")
+bpy.ops.ed.undo()
+h.check(state() == first, "undo restores the previous sky, lamp and exposure: %s" % (state(),))
+h.check(os.path.isfile(bpy.path.abspath(h.sky_image().filepath)), "undo: its map is on disk")
+bpy.ops.ed.redo()
+h.check(state() == second, "redo brings back the generated sky")
+h.check(os.path.isfile(bpy.path.abspath(h.sky_image().filepath)), "redo: its map is on disk")
+bpy.ops.ed.undo()  # the render below checks the first sky against its sidecar
+scene = bpy.context.scene
+side = h.sidecar_of(h.sky_image())
+
 # a small Cycles render
 cam = h.card_scene(scene)
 h.render_settings(scene)
