@@ -1,6 +1,7 @@
 /* The firmament executable: parse, render, write, exit.  The only place that prints or exits.
  * Exit codes: 0 ok, 1 runtime failure, 2 bad usage or input, 128 + signal when interrupted. */
 #include "args.h"
+#include "batch.h"
 #include "numbers.h"
 #include "option_table.h"
 #include "preset_args.h"
@@ -57,6 +58,7 @@ static struct {
     const preset_args *pre;
     int argc;
     char **argv;
+    const char *job; /* batch run: the job's JSON object, for the sidecar */
 } origin;
 
 /* The preset file that set flag, or NULL when the user gave it (or there is no preset). */
@@ -323,7 +325,7 @@ static fm_status stage_disk_map(fm_output *disk_out, fm_image *img, fm_error *er
     return FM_OK;
 }
 
-static int run_render(int argc, char **argv)
+static int run_render_job(int argc, char **argv, const char *job)
 {
     preset_args pre;
     char msg[512];
@@ -341,8 +343,10 @@ static int run_render(int argc, char **argv)
     origin.pre = &pre;
     origin.argc = argc;
     origin.argv = argv;
+    origin.job = job;
     int code = run_render_options(pre.argc, pre.argv);
     origin.pre = NULL;
+    origin.job = NULL;
     preset_args_free(&pre);
     return code;
 }
@@ -411,6 +415,7 @@ static int run_render_options(int argc, char **argv)
         goto done;
     }
     if ((s = fm_output_set_format(out, opt.half, opt.compression, &err)) ||
+        (origin.job && (s = fm_output_set_job(out, origin.job, &err))) ||
         (disk_out && (s = fm_output_set_format(disk_out, opt.half, opt.compression, &err))) ||
         (s = fm_render(sky, &opt.render, &img, &err)) ||
         (opt.spectral && (spectral = img, img = NULL, s = fm_image_spectral_to_xyz(spectral, &img, &err))) ||
@@ -560,7 +565,9 @@ static int run_command(int argc, char **argv)
         return 0;
     }
     if (strcmp(cmd, "render") == 0)
-        return run_render(argc - 1, argv + 1);
+        return run_render_job(argc - 1, argv + 1, NULL);
+    if (strcmp(cmd, "batch") == 0)
+        return run_batch(argc - 1, argv + 1, run_render_job);
     if (strcmp(cmd, "options") == 0)
         return run_options(argc - 1, argv + 1);
     if (strcmp(cmd, "compare") == 0)

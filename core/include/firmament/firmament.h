@@ -541,6 +541,10 @@ typedef enum fm_exr_compression { FM_EXR_ZIP = 0, FM_EXR_PIZ, FM_EXR_DWAA } fm_e
  * A half map whose values exceed the half range (65504, e.g. the sun disk) is refused at commit
  * with FM_ERR_INVALID_ARGUMENT (parameter "half"), nothing written. */
 fm_status fm_output_set_format(fm_output *output, int half, fm_exr_compression compression, fm_error *err);
+/* A JSON object (text) written into the sidecar as "job", before fm_output_stage: the batch job that
+ * asked for the map (`firmament batch run`), so that a rerun can tell a finished job from another
+ * one's file.  Not a JSON object: FM_ERR_INVALID_ARGUMENT. */
+fm_status fm_output_set_job(fm_output *output, const char *json_object, fm_error *err);
 
 #ifdef __cplusplus
 }

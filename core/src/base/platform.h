@@ -11,6 +11,8 @@
 /* fopen by UTF-8 name; always binary, so that a file holds the same bytes on every system. */
 FILE *platform_fopen(const char *path, const char *mode);
 int platform_remove(const char *path);
+/* Creates a directory (its parent must exist); an existing directory is no error. */
+int platform_make_dir(const char *path);
 /* Renames from over to, replacing an existing to (as one step where the system can). */
 int platform_rename_replace(const char *from, const char *to);
 /* A second name (hard link) for an existing file. */

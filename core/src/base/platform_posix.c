@@ -22,6 +22,11 @@ int platform_remove(const char *path)
     return unlink(path);
 }
 
+int platform_make_dir(const char *path)
+{
+    return mkdir(path, 0777) == 0 || (errno == EEXIST && platform_path_kind(path) == PLATFORM_DIRECTORY) ? 0 : -1;
+}
+
 int platform_rename_replace(const char *from, const char *to)
 {
     return rename(from, to);

@@ -94,6 +94,17 @@ int platform_remove(const char *path)
     return r;
 }
 
+int platform_make_dir(const char *path)
+{
+    wchar_t *w = widen(path);
+    int r = !w ? -1 : CreateDirectoryW(w, NULL) ? 0 : GetLastError() == ERROR_ALREADY_EXISTS &&
+                                                          platform_path_kind(path) == PLATFORM_DIRECTORY
+                                                      ? 0
+                                                      : fail_with_last_error();
+    free(w);
+    return r;
+}
+
 /* MoveFileExW replaces an existing destination (rename() on Windows refuses to); it fails, and the
  * destination stays as it was, when another process holds that file open without sharing delete. */
 int platform_rename_replace(const char *from, const char *to)

@@ -10,6 +10,8 @@
 #include "image/image_exr.h"
 #include "image/sidecar.h"
 
+#include <cjson/cJSON.h>
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -30,6 +32,7 @@ struct fm_output {
     int staged; /* the map and sidecar are written into their temporaries */
     int half;
     fm_exr_compression compression;
+    char *job; /* fm_output_set_job's JSON object, or NULL */
 };
 
 fm_status fm_output_set_format(fm_output *o, int half, fm_exr_compression compression, fm_error *err)
@@ -38,6 +41,28 @@ fm_status fm_output_set_format(fm_output *o, int half, fm_exr_compression compre
         return fm_fail_parameter(err, "compression", "unknown compression %d", (int)compression);
     o->half = half;
     o->compression = compression;
+    return FM_OK;
+}
+
+static char *copy_string(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *c = malloc(n);
+    if (c)
+        memcpy(c, s, n);
+    return c;
+}
+
+fm_status fm_output_set_job(fm_output *o, const char *json_object, fm_error *err)
+{
+    cJSON *job = json_object ? cJSON_Parse(json_object) : NULL;
+    int ok = cJSON_IsObject(job);
+    cJSON_Delete(job);
+    if (!ok)
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the sidecar's job is not a JSON object");
+    free(o->job);
+    if (!(o->job = copy_string(json_object)))
+        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
     return FM_OK;
 }
 
@@ -127,15 +152,6 @@ fm_status fm_output_check_path(const char *path, fm_error *err)
     platform_remove(tmp);
     free(tmp);
     return FM_OK;
-}
-
-static char *copy_string(const char *s)
-{
-    size_t n = strlen(s) + 1;
-    char *c = malloc(n);
-    if (c)
-        memcpy(c, s, n);
-    return c;
 }
 
 /* Adds path to o's files with a temporary reserved beside it; returns its index, or -1 with err. */
@@ -237,7 +253,7 @@ fm_status fm_output_stage(fm_output *o, const fm_image *image, const atomic_int 
             ? write_dwaa(exr_tmp, image, &meta, o->half, threads, cancel, err)
             : image_write_exr(exr_tmp, image, &meta, o->half, o->compression, threads, cancel, err);
     if (!s)
-        s = sidecar_write(o->files[FILE_JSON].tmp, &meta, err);
+        s = sidecar_write(o->files[FILE_JSON].tmp, &meta, o->job, err);
     if (!s && cancel && atomic_load(cancel))
         s = fm_fail(err, FM_ERR_CANCELLED, "cancelled before the files were complete");
     if (!s)
@@ -369,6 +385,7 @@ void fm_output_close(fm_output *o)
         free(o->files[i].tmp);
         free(o->files[i].path);
     }
+    free(o->job);
     free(o);
 }
 

@@ -19,7 +19,7 @@ static cJSON *group_object(cJSON *root, const char *group)
     return g;
 }
 
-fm_status sidecar_write(const char *path, const metadata *meta, fm_error *err)
+fm_status sidecar_write(const char *path, const metadata *meta, const char *job, fm_error *err)
 {
     cJSON *root = cJSON_CreateObject();
     if (!root)
@@ -51,6 +51,10 @@ fm_status sidecar_write(const char *path, const metadata *meta, fm_error *err)
     cJSON *disk = image ? cJSON_GetObjectItemCaseSensitive(image, "contains_sun_disk") : NULL;
     if (disk)
         cJSON_ReplaceItemInObjectCaseSensitive(image, "contains_sun_disk", cJSON_CreateBool(disk->valuedouble != 0.0));
+
+    cJSON *job_object = job ? cJSON_Parse(job) : NULL;
+    if (job_object)
+        cJSON_AddItemToObject(root, "job", job_object);
 
     char *text = cJSON_Print(root);
     cJSON_Delete(root);

@@ -6,6 +6,7 @@
 
 #include "image/metadata.h"
 
-fm_status sidecar_write(const char *path, const metadata *meta, fm_error *err);
+/* job: a JSON object's text added as "job", or NULL */
+fm_status sidecar_write(const char *path, const metadata *meta, const char *job, fm_error *err);
 
 #endif
