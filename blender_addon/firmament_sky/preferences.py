@@ -6,6 +6,8 @@ import shutil
 import bpy
 from bpy.props import StringProperty
 
+from .runner import executable_name
+
 ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
 
 
@@ -49,7 +51,7 @@ def preferences(context=None):
     return addon.preferences if addon else None
 
 
-BUNDLED = os.path.join(ADDON_DIR, "bin", "firmament")  # scripts/build-addon puts it there
+BUNDLED = os.path.join(ADDON_DIR, "bin", executable_name())  # scripts/build-addon puts it there
 
 
 def _is_executable(path):

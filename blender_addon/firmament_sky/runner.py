@@ -10,6 +10,11 @@ import subprocess
 import threading
 
 
+def executable_name(system=os.name):
+    """The executable's file name in the add-on's bin/ (scripts/build-addon): firmament.exe on Windows."""
+    return "firmament.exe" if system == "nt" else "firmament"
+
+
 def parse_progress_line(line):
     """One stdout line of `firmament render --progress json` -> dict, or None for anything else.
 
@@ -57,10 +62,13 @@ class Runner:
         self._threads = []
 
     def start(self):
-        # start_new_session: Blender's own Ctrl-C in a terminal does not reach the child directly
+        # a session (Windows: a process group) of its own: Blender's own Ctrl-C in a terminal does not
+        # reach the child directly, and cancel() can signal the child alone
+        group = ({"creationflags": subprocess.CREATE_NEW_PROCESS_GROUP} if os.name == "nt"
+                 else {"start_new_session": True})
         self._proc = subprocess.Popen(
             self.args, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-            text=True, bufsize=1, start_new_session=True)
+            text=True, bufsize=1, **group)
         self.state = self.RUNNING
         for stream, kind in ((self._proc.stdout, "out"), (self._proc.stderr, "err")):
             t = threading.Thread(target=self._read, args=(stream, kind), daemon=True)
@@ -124,7 +132,15 @@ class Runner:
     def cancel(self, grace_s=3.0):
         if self.state != self.RUNNING:
             return self.state
-        self._proc.send_signal(signal.SIGTERM)
+        if os.name == "nt":
+            # Ctrl-Break, which firmament.exe handles like SIGTERM (it removes its temporary files);
+            # Popen's SIGTERM there would be TerminateProcess.  No console to send it through: that.
+            try:
+                self._proc.send_signal(signal.CTRL_BREAK_EVENT)
+            except OSError:
+                self._proc.terminate()
+        else:
+            self._proc.send_signal(signal.SIGTERM)
         try:
             self._proc.wait(timeout=grace_s)
         except subprocess.TimeoutExpired:
