@@ -81,6 +81,19 @@ if platform == "linux-x64" and exe in names:
             lib.XML_ParserFree(parser)
             lib.XML_ParserFree(bad)
 
+# Windows: every DLL the executable imports is one that every Windows has, or bundled beside it
+# (the build links its libraries and runtimes statically: scripts/package-windows.sh).
+WINDOWS_DLLS = {"kernel32.dll", "msvcrt.dll", "shell32.dll", "user32.dll", "advapi32.dll", "ws2_32.dll", "ole32.dll"}
+if platform == "windows-x64" and exe in names:
+    with tempfile.TemporaryDirectory() as tmp:
+        z.extract(exe, tmp)
+        dump = subprocess.run(["x86_64-w64-mingw32-objdump", "-p", os.path.join(tmp, exe)], capture_output=True,
+                              text=True, check=True).stdout
+        check("file format pei-x86-64" in dump, f"{exe} is not a Windows x64 executable")
+        for dll in re.findall(r"DLL Name: (\S+)", dump):
+            check(dll.lower() in WINDOWS_DLLS or f"firmament_sky/bin/{dll}" in names,
+                  f"{exe} imports {dll}: neither a Windows system DLL nor bundled in bin/")
+
 for f in failures:
     print("FAIL:", f)
 print(f"{os.path.basename(zip_path)}: {len(names)} files, {os.path.getsize(zip_path) / 1e6:.1f} MB, "
