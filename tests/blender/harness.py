@@ -28,7 +28,7 @@ def close(a, b, tol, what):
 
 
 def finish():
-    check(not _checks["deprecated"], "the add-on uses no deprecated API: %s" % "; ".join(_checks["deprecated"]))
+    check(not _checks["deprecated"], "the add-on uses no deprecated API: %s" % ("; ".join(_checks["deprecated"]) or "none"))
     print("%d checks passed, %d failed" % (_checks["passed"], len(_checks["failed"])))
     if _checks["failed"]:
         raise SystemExit("failed: " + "; ".join(_checks["failed"]))

@@ -164,10 +164,34 @@ h.check(len([l for l in bpy.data.lights if l.name.startswith("Firmament")]) == 1
 nodes = scene.world.node_tree.nodes
 h.check(len([n for n in nodes if n.name.startswith("Firmament")]) == 4, "four Firmament nodes (%d)" %
         len([n for n in nodes if n.name.startswith("Firmament")]))
+# a sun below the horizon: the lamp is hidden, not a 0 W lamp shining up through the ground
+p.sun_source, p.sun_elevation = "ANGLES", -4.0
+bpy.ops.firmament_sky.generate()
+h.check(len(h.sun_lamps()) == 1 and h.sun_lamps()[0].hide_render and h.sun_lamps()[0].hide_viewport,
+        "sun 4 deg below the horizon: the lamp is hidden")
+p.sun_elevation = 45.0
+bpy.ops.firmament_sky.generate()
+h.check(not h.sun_lamps()[0].hide_render, "sun up again: the lamp shows")
+
+# metering: a horizontal card makes every sky equally bright; the sky average keeps a low sun darker
+world_mod = sys.modules["firmament_sky.world"]
+cards = {}
+for name in ("clear-noon", "golden-hour"):
+    bpy.ops.firmament_sky.load_preset(filepath=h.shipped_preset(name))
+    h.fast_settings(scene, width=32)
+    bpy.ops.firmament_sky.generate()
+    sun = world_mod.read_sidecar(os.path.splitext(bpy.path.abspath(h.world_images()[0].filepath))[0] + ".json")
+    card = sun["global_lux"] / 683.0 / math.pi  # a white horizontal card's luminance, Blender units
+    cards[name] = {m: card * 2 ** world_mod.metered_exposure(sun, m) for m in ("HORIZONTAL", "SKY")}
+h.close(cards["golden-hour"]["HORIZONTAL"], 1.0, 1e-6, "horizontal-card metering: the card shows as 1.0")
+h.check(cards["golden-hour"]["SKY"] < cards["clear-noon"]["SKY"],
+        "sky-average metering: the golden-hour card darker than noon's (%.2f vs %.2f)"
+        % (cards["golden-hour"]["SKY"], cards["clear-noon"]["SKY"]))
+
 # Generate deletes no map (a saved file may use it); Clean Unused Maps keeps only the one in use
 from firmament_sky import maps  # noqa: E402
 folders = os.listdir(maps.cache_dir())
-h.check(len(folders) == 6, "every generated map is still in the cache (%d)" % len(folders))
+h.check(len(folders) == 10, "every generated map is still in the cache (%d)" % len(folders))
 bpy.ops.firmament_sky.clean_maps()
 folders = os.listdir(maps.cache_dir())
 h.check(folders == [os.path.basename(os.path.dirname(bpy.path.abspath(h.world_images()[0].filepath)))],

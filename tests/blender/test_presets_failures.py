@@ -37,6 +37,12 @@ bpy.ops.firmament_sky.add_preset(name="My Coast Morning")
 user_dir = os.path.join(bpy.utils.user_resource("SCRIPTS"), "presets", "firmament_sky")
 user_file = os.path.join(user_dir, "My_Coast_Morning.json")
 h.check(os.path.isfile(user_file), "user preset written as JSON: %s" % user_file)
+written = json.load(open(user_file))
+h.check(written["name"] == "My Coast Morning", "the preset keeps the name typed: %r" % written["name"])
+h.check(written["latitude"] == 1.2903 and written["longitude"] == 103.852, "latitude and longitude as shown: %r, %r"
+        % (written["latitude"], written["longitude"]))
+h.check(all(len(repr(v).lstrip("-").replace(".", "")) <= 7 for v in written.values() if isinstance(v, float)),
+        "no float noise in the preset's numbers: %s" % {k: v for k, v in written.items() if isinstance(v, float)})
 h.check(any(os.path.samefile(user_dir, d) for d in bpy.utils.preset_paths("firmament_sky")),
         "user preset folder is one of Blender's preset paths (the menu lists it)")
 bpy.ops.firmament_sky.load_preset(filepath=h.shipped_preset("polar-winter"))
