@@ -1,5 +1,6 @@
 #include "transport/sky_grid_fit.h"
 
+#include "base/cholesky.h"
 #include "base/units.h"
 #include "base/vec.h"
 
@@ -44,42 +45,6 @@ typedef struct fit_work {
     node_array smooth, residual[AUREOLE_TERMS], z[AUREOLE_TERMS], fit, in, scratch; /* scratch */
 } fit_work;
 
-/* In-place Cholesky factor (lower triangle) of the n x n matrix a; 0 if not positive definite. */
-static int cholesky(int n, row_matrix a)
-{
-    for (int i = 0; i < n; i++)
-        for (int j = 0; j <= i; j++) {
-            double sum = a[i][j];
-            for (int k = 0; k < j; k++)
-                sum -= a[i][k] * a[j][k];
-            if (i == j) {
-                if (!(sum > 0.0))
-                    return 0;
-                a[i][i] = sqrt(sum);
-            } else {
-                a[i][j] = sum / a[j][j];
-            }
-        }
-    return 1;
-}
-
-/* x = (L L^T)^-1 b for the factor L of cholesky. */
-static void cholesky_solve(int n, row_matrix L, const double *b, double *x)
-{
-    for (int i = 0; i < n; i++) {
-        double sum = b[i];
-        for (int k = 0; k < i; k++)
-            sum -= L[i][k] * x[k];
-        x[i] = sum / L[i][i];
-    }
-    for (int i = n - 1; i >= 0; i--) {
-        double sum = x[i];
-        for (int k = i + 1; k < n; k++)
-            sum -= L[k][i] * x[k];
-        x[i] = sum / L[i][i];
-    }
-}
-
 /* The trapezoid-rule mean of one row of node values over the relative azimuth. */
 static double row_mean(const fit_work *w, const double *row)
 {
@@ -91,8 +56,7 @@ static double row_mean(const fit_work *w, const double *row)
 
 /* The smoother over the rows for one penalty: f = B (B^T Omega B + lambda P)^-1 B^T Omega c, P the
  * sum of squared third differences over the rows (its null space the quadratics, so that a row's
- * curvature toward the horizon is not flattened: with second differences the unit test's field
- * kept a bias of 1.6% at its worst node, with third 0.9%), B = 1 or, for the azimuthal cosines, 1 - u
+ * curvature toward the horizon is not flattened), B = 1 or, for the azimuthal cosines, 1 - u
  * (they vanish at the pole, u = 1; not in a band of rows below it).  Fewer than 4 rows have no
  * third difference: each row then keeps its own coefficients.  S[r][q] = b_r X[r][q],
  * X = A^-1 diag(b omega).  0 if A is not positive definite. */
@@ -111,12 +75,12 @@ static int build_smoother(fit_work *w, int azimuthal, double lambda, row_matrix 
             for (int l = 0; l < 4; l++)
                 A[r + k][r + l] += lambda * d[k] * d[l];
     }
-    if (!cholesky(R, A))
+    if (!cholesky(R, FIT_MAX, &A[0][0]))
         return 0;
     for (int q = 0; q < R; q++) {
         for (int r = 0; r < R; r++)
             e[r] = r == q ? b[q] * w->omega[q] : 0.0;
-        cholesky_solve(R, A, e, x);
+        cholesky_solve(R, FIT_MAX, &A[0][0], e, x);
         for (int r = 0; r < R; r++)
             S[r][q] = b[r] * x[r];
     }
@@ -302,9 +266,9 @@ static int fit_nodes(fit_work *w, int terms, node_array in, double *risk, double
                     for (int l = 0; l <= k; l++)
                         G[k][l] += wx * w->residual[l][r][j];
                 }
-        if (!cholesky(terms, G))
+        if (!cholesky(terms, FIT_MAX, &G[0][0]))
             return 0;
-        cholesky_solve(terms, G, b, beta);
+        cholesky_solve(terms, FIT_MAX, &G[0][0], b, beta);
         if (risk)
             for (int k = 0; k < terms; k++) { /* z_k = (I - S)^T (W x~_k) */
                 for (int r = 0; r < R; r++)
@@ -333,7 +297,7 @@ static int fit_nodes(fit_work *w, int terms, node_array in, double *risk, double
                 double zi[AUREOLE_TERMS], g[AUREOLE_TERMS];
                 for (int k = 0; k < terms; k++)
                     zi[k] = w->z[k][r][j];
-                cholesky_solve(terms, G, zi, g);
+                cholesky_solve(terms, FIT_MAX, &G[0][0], zi, g);
                 for (int k = 0; k < terms; k++)
                     h += w->residual[k][r][j] * g[k];
             }

@@ -1,0 +1,52 @@
+/* What the parts of a render share: the sky, the camera, the settings, the seed, the tables of the
+ * fast path and the image being made (render.c builds it; ms_table.c and reference.c work on it). */
+#ifndef FM_RENDER_RENDER_JOB_H
+#define FM_RENDER_RENDER_JOB_H
+
+#include "base/units.h"
+#include "camera/camera.h"
+#include "render/channels.h"
+#include "render/quality.h"
+#include "transport/ground_irradiance.h"
+#include "transport/sky_grid.h"
+#include "transport/twilight.h"
+
+#include <math.h>
+#include <stdatomic.h>
+
+/* Seeds: every random stream is (seed, item, sample) with disjoint item ranges per use, and the
+ * wavelength set mixed into the seed so renders at different wavelengths draw independent numbers. */
+#define ITEM_MS_NODE 0x100000000ull
+#define ITEM_PIXEL 0x200000000ull
+
+typedef struct render_job {
+    const fm_sky *sky;
+    const fm_render_params *params;
+    quality_settings q;
+    uint64_t seed;
+    int channels;
+    camera cam;
+    const twilight_sampling *twilight; /* below the horizon only (twilight.h) */
+    sky_grid ss;                       /* the single-scattering table */
+    struct ms_table *ms;               /* the multiple-scattering table (ms_table.h) */
+    ground_irradiance ground;
+    fm_image *img;
+    atomic_int no_memory; /* a worker could not allocate */
+} render_job;
+
+/* The direction at an elevation and an azimuth relative to the sun's (rad). */
+static inline vec3 render_view_direction(const fm_sky *sky, double elevation, double rel_azimuth)
+{
+    return direction_from_elevation_azimuth(elevation, sky->params.sun_azimuth_deg * FM_DEG + rel_azimuth);
+}
+
+/* An azimuth (rad, from north toward east) relative to the sun's, folded into [0, pi]. */
+static inline double render_relative_azimuth(const fm_sky *sky, double azimuth)
+{
+    double phi = fmod(azimuth - sky->params.sun_azimuth_deg * FM_DEG, 2.0 * FM_PI);
+    if (phi < 0.0)
+        phi += 2.0 * FM_PI;
+    return phi > FM_PI ? 2.0 * FM_PI - phi : phi;
+}
+
+#endif
