@@ -64,10 +64,13 @@ def prepare(context, op, series=False):
         return None
 
 
-def report_error(context, op, message):
-    """One sentence in Blender's info bar (and raised to a script caller) and in the panel."""
+def report_error(context, op, message, prefix="Firmament: "):
+    """One sentence in Blender's info bar and under the panel's Generate button.  Called from a
+    script it is an ERROR (the caller gets a RuntimeError); in the interface a WARNING, since Blender
+    pops an ERROR of a cancelled operator up under the mouse, over the button."""
+    message = " ".join(message.split())  # one line
     context.scene.firmament_sky.last_message = "Error: " + message
-    op.report({"ERROR"}, "Firmament: " + message)
+    op.report({"WARNING"} if getattr(op, "_in_ui", False) else {"ERROR"}, prefix + message)
 
 
 def finish(context, op, job):
@@ -76,8 +79,7 @@ def finish(context, op, job):
     props = context.scene.firmament_sky
     if r.state != runner.Runner.DONE:
         job.discard()
-        props.last_message = r.error_text()
-        op.report({"ERROR"}, "Firmament failed (exit %s): %s" % (r.returncode, r.error_text()))
+        report_error(context, op, r.error_text(), "Firmament failed (exit %s): " % r.returncode)
         return {"CANCELLED"}
     try:
         if job.series:
@@ -87,8 +89,7 @@ def finish(context, op, job):
             sun, exposure = world.apply(context.scene, job.settings, job.exr, job.sidecar, job.disk)
     except world.SetupError as e:
         job.discard()
-        props.last_message = str(e)
-        op.report({"ERROR"}, "Firmament: %s" % e)
+        report_error(context, op, str(e))
         return {"CANCELLED"}
     for img in maps.our_images():  # relative to a saved .blend (the previous maps stay on disk)
         maps.reference(img, bpy.path.abspath(img.filepath))
@@ -115,6 +116,7 @@ class _Generating:
 
     _job = None
     _timer = None
+    _in_ui = False
     series = False
 
     @classmethod
@@ -130,7 +132,7 @@ class _Generating:
             job.runner.start()
         except OSError as e:
             job.discard()
-            self.report({"ERROR"}, "Firmament: cannot run %s: %s" % (job.runner.args[0], e))
+            report_error(context, self, "cannot run %s: %s" % (job.runner.args[0], e))
             return None
         return job
 
@@ -144,6 +146,7 @@ class _Generating:
     def invoke(self, context, event):
         if bpy.app.background or context.window is None:
             return self.execute(context)
+        self._in_ui = True
         job = self._start(context)
         if job is None:
             return {"CANCELLED"}

@@ -164,5 +164,5 @@ class Runner:
     def error_text(self):
         """The child's stderr (its one-line message), or the exit status when it said nothing."""
         if self.stderr_lines:
-            return "\n".join(self.stderr_lines[-5:])
+            return self.stderr_lines[-1]  # the executable's one-line message
         return "firmament exited with status %s" % self.returncode

@@ -94,6 +94,33 @@ def _step():
         h.check(operators._active["runner"] is None, "the modal operator ended")
         h.check(snapshot(scene) == state["before"], "the previous world is untouched")
         h.check(sorted(os.listdir(maps.cache_dir())) == state["folders"], "the cancelled run's folder was removed")
+        # the World panel draws (every branch of the settings it shows) without an error
+        from firmament_sky import panels
+        draws = {"n": 0, "errors": []}
+        original = panels.draw_settings
+
+        def counted(layout, context):
+            draws["n"] += 1
+            try:
+                original(layout, context)
+            except Exception as e:  # noqa: BLE001 - recorded, then re-raised as Blender would show it
+                draws["errors"].append(repr(e))
+                raise
+        panels.draw_settings = counted
+        area = win.screen.areas[0]
+        area.type = "PROPERTIES"
+        area.spaces.active.context = "WORLD"
+        p = scene.firmament_sky
+        for sun_source, amount, ozone, ground in (("TIME", "TURBIDITY", "AUTO", "MAP"), ("ANGLES", "AOD", "MANUAL", "COLOUR")):
+            p.sun_source, p.aerosol_amount, p.ozone_mode, p.ground = sun_source, amount, ozone, ground
+            with bpy.context.temp_override(window=win, screen=win.screen, area=area):
+                bpy.ops.wm.redraw_timer(type="DRAW_WIN_SWAP", iterations=1)
+        h.check(draws["n"] >= 2 and not draws["errors"], "the World panel draws: %d draws, errors %s" % (draws["n"], draws["errors"]))
+        h.check(panels.sun_summary(p, bpy.context) is None or "sunrise" in panels.sun_summary(p, bpy.context),
+                "the panel's sun line: %s" % panels.sun_summary(p, bpy.context))
+        p.sun_source = "TIME"
+        h.check("sunrise" in (panels.sun_summary(p, bpy.context) or ""), "the sun's position and sunrise before Generate: %s"
+                % panels.sun_summary(p, bpy.context))
         print("%d checks passed, %d failed" % (h._checks["passed"], len(h._checks["failed"])))
         sys.stdout.flush()
         os._exit(1 if h._checks["failed"] else 0)
