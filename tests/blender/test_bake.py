@@ -71,4 +71,17 @@ for f in range(1, 7):
             % (f, seen, own, len(cls["sky"])))
     cards.append(card)
 h.check(cards[0] < 0.5 * cards[2], "frame 1 (07:00) darker than frame 3 (11:00): %.3g vs %.3g" % (cards[0], cards[2]))
+
+# through sunset into the night (sunset 21:17 in Munich that day; -18 deg near 23:50): the lamp is
+# hidden on the frames whose sun is below the horizon, the exposure keyframed only where it meters
+p = scene.firmament_sky
+p.resolution, p.bake_start, p.bake_end, p.bake_step_min, p.apply_exposure = 16, 20.0, 23.98, 60, True
+h.check(bpy.ops.firmament_sky.bake_day() == {"FINISHED"}, "bake 20:00 to 23:59 (sunset and night)")
+h.check(scene.frame_end - scene.frame_start + 1 == 4, "four frames: %d-%d" % (scene.frame_start, scene.frame_end))
+lamp = h.sun_lamps()[0]
+folder = os.path.dirname(bpy.path.abspath(h.sky_image().filepath))
+for f in range(scene.frame_start, scene.frame_end + 1):
+    scene.frame_set(f)
+    el = h.sidecar_of(type("Image", (), {"filepath": os.path.join(folder, "sky_%04d.exr" % (f - 1))})())["sun"]["elevation_deg"]
+    h.check(lamp.hide_render == (el < -0.27), "frame %d (sun %.1f deg): lamp %s" % (f, el, "hidden" if lamp.hide_render else "shown"))
 h.finish()

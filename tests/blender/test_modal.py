@@ -121,6 +121,15 @@ def _step():
         p.sun_source = "TIME"
         h.check("sunrise" in (panels.sun_summary(p, bpy.context) or ""), "the sun's position and sunrise before Generate: %s"
                 % panels.sun_summary(p, bpy.context))
+        # saving in the interface copies the unsaved file's map beside the .blend (the save handler
+        # writes the file once more with the relative path)
+        blend = os.path.join(h.OUT, "saved", "ui.blend")
+        os.makedirs(os.path.dirname(blend))
+        with bpy.context.temp_override(window=win, screen=win.screen, area=area):
+            bpy.ops.wm.save_as_mainfile(filepath=blend)
+        rel = h.world_images()[0].filepath
+        h.check(rel.startswith("//firmament/") and os.path.isfile(os.path.join(os.path.dirname(blend), rel[2:])),
+                "saved in the interface: the map beside the .blend, relative (%s)" % rel)
         print("%d checks passed, %d failed" % (h._checks["passed"], len(h._checks["failed"])))
         sys.stdout.flush()
         os._exit(1 if h._checks["failed"] else 0)
