@@ -22,6 +22,7 @@ void options_set_defaults(options *opt)
     opt->colorspace = "Linear Rec.709";
     opt->compression = FM_EXR_PIZ; /* lossless, and the smallest and fastest of the lossless on skies */
     opt->progress = PROGRESS_AUTO;
+    opt->format = FORMAT_FROM_NAME;
 }
 
 const char *options_flag_for(const char *field)
@@ -346,6 +347,18 @@ static int check_together(options *opt, const given_options *g, char *msg, size_
         /* the place chooses the sun (with --time) and the ozone (with --date); alone it does nothing */
         snprintf(msg, msg_size, "--%s: applies only with --date (the ozone climatology) or --time (the sun)",
                  have_latitude ? "latitude" : "longitude");
+        return 0;
+    }
+    if (opt->format == FORMAT_FROM_NAME) {
+        const char *dot = strrchr(opt->output, '.');
+        int hdr = dot && strlen(dot) == 4;
+        for (int i = 0; hdr && i < 4; i++)
+            hdr = dot[i] == ".hdr"[i] || dot[i] == ".HDR"[i];
+        opt->format = hdr ? FORMAT_HDR : FORMAT_EXR;
+    }
+    if (opt->format == FORMAT_HDR && (opt->half || was_given(g, "compression"))) {
+        snprintf(msg, msg_size, "%s: applies to EXR output, not to a Radiance picture (--format hdr or a .hdr name)",
+                 opt->half ? "--half" : "--compression");
         return 0;
     }
     if (opt->render.reference_samples > 0 && opt->render.quality != FM_QUALITY_REFERENCE) {

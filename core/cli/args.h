@@ -9,6 +9,8 @@
 
 #include <stddef.h>
 
+typedef enum output_format { FORMAT_FROM_NAME = -1, FORMAT_EXR = 0, FORMAT_HDR } output_format;
+
 typedef enum progress_mode { PROGRESS_AUTO, PROGRESS_TTY, PROGRESS_JSON, PROGRESS_NONE } progress_mode;
 
 typedef struct options {
@@ -24,6 +26,7 @@ typedef struct options {
     const char *spectral;   /* spectral EXR path or NULL */
     const char *sun_disk_map; /* --sun-disk-map: a second EXR with the disk, the main one without; or NULL */
     fm_exr_compression compression;
+    output_format format;   /* --format, else from the output's extension (.hdr: Radiance) */
     double exposure_ev;     /* preview exposure when have_exposure, else automatic */
     int have_exposure;
     /* A time series (--time-start, --time-end, --step): frames > 0 maps at time_start_s +

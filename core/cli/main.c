@@ -191,6 +191,13 @@ static fm_status stage_extras(const options *opt, fm_output *out, const fm_image
     return FM_OK;
 }
 
+/* The map's file format: an EXR with its pixel type and compression, or a Radiance picture. */
+static fm_status set_format(const options *opt, fm_output *out, fm_error *err)
+{
+    return opt->format == FORMAT_HDR ? fm_output_set_radiance(out, err)
+                                     : fm_output_set_format(out, opt->half, opt->compression, err);
+}
+
 /* ---- time series: render --time-start HH:MM --time-end HH:MM --step MIN ------------------------ */
 
 /* path with _NNNN before its extension: sky.exr -> sky_0003.exr, out -> out_0003 */
@@ -274,7 +281,7 @@ static int run_series(options *opt, const fm_colour_config *colour)
             if ((s = fm_output_open(exr, json, &out, &err))) {
                 report_library_error(&err);
                 code = s == FM_ERR_IO ? EXIT_USAGE : exit_code_for(s);
-            } else if ((s = fm_output_set_format(out, opt->half, opt->compression, &err)) ||
+            } else if ((s = set_format(opt, out, &err)) ||
                        (s = fm_render(sky, &opt->render, &img, &err)) ||
                        (img->content == FM_IMAGE_XYZ &&
                         (s = fm_image_to_colorspace(img, colour, opt->colorspace, &err))) ||
@@ -414,9 +421,8 @@ static int run_render_options(int argc, char **argv)
         code = s == FM_ERR_IO ? EXIT_USAGE : exit_code_for(s);
         goto done;
     }
-    if ((s = fm_output_set_format(out, opt.half, opt.compression, &err)) ||
-        (origin.job && (s = fm_output_set_job(out, origin.job, &err))) ||
-        (disk_out && (s = fm_output_set_format(disk_out, opt.half, opt.compression, &err))) ||
+    if ((s = set_format(&opt, out, &err)) || (origin.job && (s = fm_output_set_job(out, origin.job, &err))) ||
+        (disk_out && (s = set_format(&opt, disk_out, &err))) ||
         (s = fm_render(sky, &opt.render, &img, &err)) ||
         (opt.spectral && (spectral = img, img = NULL, s = fm_image_spectral_to_xyz(spectral, &img, &err))) ||
         (img->content == FM_IMAGE_XYZ && (s = fm_image_to_colorspace(img, colour, opt.colorspace, &err))) ||

@@ -17,6 +17,7 @@ static const option_word projection_words[] = {
     {"equidistant", FM_FISHEYE_EQUIDISTANT}, {"equisolid", FM_FISHEYE_EQUISOLID}, {NULL, 0}};
 static const option_word compression_words[] = {
     {"zip", FM_EXR_ZIP}, {"piz", FM_EXR_PIZ}, {"dwaa", FM_EXR_DWAA}, {NULL, 0}};
+static const option_word file_format_words[] = {{"exr", FORMAT_EXR}, {"hdr", FORMAT_HDR}, {NULL, 0}};
 static const option_word progress_words[] = {
     {"tty", PROGRESS_TTY}, {"json", PROGRESS_JSON}, {"none", PROGRESS_NONE}, {NULL, 0}};
 
@@ -125,6 +126,10 @@ const option_spec option_specs[] = {
      "zip | piz (lossless; PIZ a quarter smaller than ZIP on skies, and faster) | dwaa (lossy, half precision, "
      "level 45; not with the sun disk beyond 65504)",
      NULL},
+    {"format", 0, "FORMAT", OPTION_CHOICE, AT(format), NULL, NO_RANGE, file_format_words, 0, 0, IMAGE,
+     "exr | hdr: a Radiance RGBE picture, the EXR's values (luminance = 683 x Y cd/m^2; x 683/179 = 3.816 for "
+     "Radiance's 179 lm/W), the sky's parameters as header comments; not with --half or --compression",
+     "hdr for an -o name ending .hdr, else exr"},
     {"spectral", 0, "FILE.exr", OPTION_TEXT, AT(spectral), "spectral", NO_RANGE, NULL, 0, FILE_ARG, IMAGE,
      "also write the spectral radiance (41 wavelengths, 380-780 nm) in the spectral OpenEXR layout of Fichet et "
      "al. 2021 (41 x the image memory); not with --wavelength or a time series",

@@ -545,6 +545,11 @@ fm_status fm_output_set_format(fm_output *output, int half, fm_exr_compression c
  * asked for the map (`firmament batch run`), so that a rerun can tell a finished job from another
  * one's file.  Not a JSON object: FM_ERR_INVALID_ARGUMENT. */
 fm_status fm_output_set_job(fm_output *output, const char *json_object, fm_error *err);
+/* The map as a Radiance RGBE picture (.hdr: image/image_hdr.h) instead of an EXR, before
+ * fm_output_stage; its values are the EXR's (firmament's units: luminance = 683 x Y), the header
+ * gives the factor 683/179 to Radiance's.  The EXR's compression does not apply; half floats are
+ * refused (parameter "format"). */
+fm_status fm_output_set_radiance(fm_output *output, fm_error *err);
 
 #ifdef __cplusplus
 }

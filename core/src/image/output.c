@@ -8,6 +8,7 @@
 #include "image/image.h"
 #include "image/exr_recode.h"
 #include "image/image_exr.h"
+#include "image/image_hdr.h"
 #include "image/sidecar.h"
 
 #include <cjson/cJSON.h>
@@ -32,8 +33,17 @@ struct fm_output {
     int staged; /* the map and sidecar are written into their temporaries */
     int half;
     fm_exr_compression compression;
-    char *job; /* fm_output_set_job's JSON object, or NULL */
+    char *job;    /* fm_output_set_job's JSON object, or NULL */
+    int radiance; /* the map as a Radiance picture, not an EXR */
 };
+
+fm_status fm_output_set_radiance(fm_output *o, fm_error *err)
+{
+    if (o->half)
+        return fm_fail_parameter(err, "format", "hdr: a Radiance picture has no half floats");
+    o->radiance = 1;
+    return FM_OK;
+}
 
 fm_status fm_output_set_format(fm_output *o, int half, fm_exr_compression compression, fm_error *err)
 {
@@ -231,7 +241,7 @@ fm_status fm_output_stage(fm_output *o, const fm_image *image, const atomic_int 
         return s;
     /* 65504 is the largest finite half; rounding to it starts at 65520.  DWA quantises colour
      * channels through half precision even when they are stored as 32-bit float. */
-    if (o->half || o->compression == FM_EXR_DWAA) {
+    if (!o->radiance && (o->half || o->compression == FM_EXR_DWAA)) {
         double m = largest_value(image);
         if (m >= 65504.0 && o->half)
             return fm_fail_parameter(err, "half", "the map holds values up to %.4g (the sun disk), beyond the "
@@ -249,7 +259,8 @@ fm_status fm_output_stage(fm_output *o, const fm_image *image, const atomic_int 
     metadata meta;
     metadata_collect(&meta, image, exr_path);
     const int threads = image->record.threads;
-    s = o->compression == FM_EXR_DWAA
+    s = o->radiance ? image_write_hdr(exr_tmp, image, &meta, cancel, err)
+        : o->compression == FM_EXR_DWAA
             ? write_dwaa(exr_tmp, image, &meta, o->half, threads, cancel, err)
             : image_write_exr(exr_tmp, image, &meta, o->half, o->compression, threads, cancel, err);
     if (!s)
