@@ -90,5 +90,43 @@ expect_usage_error "numbered series name over 255 bytes" render --width 16 --qua
 expect_usage_error "path over 4095 bytes" render --width 16 --quality preview \
     -o "$(printf 'd/%.0s' $(seq 1 2100))s.exr"
 
+# --- 4. an opaque medium: paths end once absorption took their weight, the render finishes -------
+cat >"$work/opaque.json" <<'EOF'
+{"planet_radius_km": 6360, "top_altitude_km": 60, "solar_irradiance": 1,
+ "constituents": [{"profile": {"type": "exponential", "scale_height_km": 8}, "scattering": 13.5e-6,
+                   "absorption": 1, "phase": {"type": "rayleigh"}}]}
+EOF
+rm -rf "$work/out" && mkdir -p "$work/out"
+# the previous code tracked every path through millions of absorbing collisions (over 40 s here)
+timeout -s TERM 20 "$FM" render --atmosphere "$work/opaque.json" --wavelength 550 --width 8 --quality preview \
+    --progress none -o "$work/out/o.exr" 2>"$work/stderr"
+rc=$?
+[ $rc -eq 0 ] && ok || fail "absorption 1 m^-1: exit $rc, expected 0 within 20 s: $(cat "$work/stderr")"
+
+# --- 5. cancellation at night acts within a fraction of a second in every stage ------------------
+# seconds from SIGINT to exit, 0.1 s into STAGE of a night render on one thread (previous code:
+# 1.7-4.2 s in the twilight guide, up to 2.2 s in the ground irradiance; now about 0.01 s)
+latency() {
+    local stage=$1
+    rm -rf "$work/out" && mkdir -p "$work/out"
+    "$FM" render --width 256 --quality final --sun-elevation -20 --threads 1 --progress json \
+        -o "$work/out/n.exr" >"$work/progress" 2>/dev/null &
+    local pid=$!
+    for _ in $(seq 1 3000); do grep -qF "\"stage\": \"$stage\"" "$work/progress" && break; sleep 0.01; done
+    sleep 0.1
+    local t0 t1 rc
+    t0=$(date +%s.%N)
+    kill -INT $pid
+    wait $pid
+    rc=$?
+    t1=$(date +%s.%N)
+    [ $rc -eq 130 ] && ok || fail "SIGINT in the $stage: exit $rc, expected 130"
+    awk -v a="$t0" -v b="$t1" 'BEGIN { exit !(b - a < 1.0) }' && ok ||
+        fail "SIGINT in the $stage: $(awk -v a="$t0" -v b="$t1" 'BEGIN { print b - a }') s to stop, expected < 1"
+    expect_empty_dir "SIGINT in the $stage"
+}
+latency "twilight guide"
+latency "ground irradiance"
+
 echo "$checks checks passed, $failures failed"
 [ $failures -eq 0 ]

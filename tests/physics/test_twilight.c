@@ -156,7 +156,7 @@ static void zenith_falls_monotonically(void **state)
         p.sun_elevation_deg = e;
         fm_sky *sky = test_sky(&p);
         int no_memory;
-        twilight_sampling *guide = twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, &no_memory);
+        twilight_sampling *guide = twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, NULL, &no_memory);
         assert_false(no_memory);
         assert_true((guide != NULL) == (e < 0));
         path_context one = sky_path_context(sky, 1, 1), many = twilight_path_context(sky, guide, 2, 0);
@@ -192,7 +192,7 @@ static void along_segment_matches_point_estimate(void **state)
     p.sun_elevation_deg = -3.0;
     fm_sky *sky = test_sky(&p);
     int no_memory;
-    twilight_sampling *guide = twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, &no_memory);
+    twilight_sampling *guide = twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, NULL, &no_memory);
     assert_non_null(guide);
     const vec3 zenith = v3(0.0, 0.0, 1.0);
     path_context point = sky_path_context(sky, 2, 0), along = point, twilight = twilight_path_context(sky, guide, 2, 0);
@@ -260,7 +260,7 @@ static twilight_sampling *deep_twilight(double sun_deg, fm_sky **sky)
     p.sun_azimuth_deg = 0.0;
     *sky = test_sky(&p);
     int no_memory;
-    twilight_sampling *tw = twilight_sampling_create(*sky, SKY_GUIDE_MAX_OFFSETS, 2, &no_memory);
+    twilight_sampling *tw = twilight_sampling_create(*sky, SKY_GUIDE_MAX_OFFSETS, 2, NULL, &no_memory);
     assert_non_null(tw);
     assert_true(tw->deep);
     return tw;
@@ -369,7 +369,7 @@ static void order2_guide_matches_single_scattering_guide(void **state)
     assert_non_null(single_only);
     *single_only = *tw;
     path_context single = sky_path_context(sky, 1, 1);
-    assert_int_equal(sky_guide_build(&single_only->guide, &single, sky->observer, SKY_GUIDE_MAX_OFFSETS, 2, NULL), 1);
+    assert_int_equal(sky_guide_build(&single_only->guide, &single, sky->observer, SKY_GUIDE_MAX_OFFSETS, 2, NULL, NULL), 1);
     path_context a = node_context(sky, single_only), b = node_context(sky, tw);
     assert_true(compare_in_views(sky, -18.0, "single-scattering guide", &a, 40000, "with order 2", &b, 40000, 70) <
                 1.0);

@@ -31,10 +31,20 @@ int parallel_thread_count(int requested)
     return (int)n;
 }
 
+/* the cancel flag of the loop whose item this thread runs (parallel_cancelled) */
+static _Thread_local const atomic_int *current_cancel;
+
+int parallel_cancelled(void)
+{
+    return current_cancel && atomic_load_explicit(current_cancel, memory_order_relaxed);
+}
+
 static void *worker_main(void *p)
 {
     worker_arg *arg = p;
     pool_job *job = arg->job;
+    const atomic_int *outer = current_cancel; /* the calling thread may be inside another loop */
+    current_cancel = job->cancel;
     for (;;) {
         if (job->cancel && atomic_load(job->cancel)) {
             atomic_store(&job->stopped, 1);
@@ -51,6 +61,7 @@ static void *worker_main(void *p)
         if (arg->thread == 0 && pr && pr->fn)
             pr->fn(pr->user, pr->start + pr->span * (double)done / (double)job->count, pr->stage);
     }
+    current_cancel = outer;
     return NULL;
 }
 

@@ -26,4 +26,9 @@ int parallel_thread_count(int requested);
 fm_status parallel_for(int threads, int64_t count, int64_t grain, parallel_fn fn, void *ctx,
                        const atomic_int *cancel, const parallel_progress *progress);
 
+/* Inside a parallel_for item: whether the loop's cancel flag is set, for items that run long (a
+ * block of paths at night) to stop early; their partial results are discarded, as the loop then
+ * returns FM_ERR_CANCELLED.  0 outside a loop or without a flag. */
+int parallel_cancelled(void);
+
 #endif

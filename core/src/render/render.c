@@ -209,11 +209,13 @@ static uint64_t render_seed(const atmosphere *atm, uint64_t seed)
 
 /* The twilight sampling when the sun is below the observer's horizon plane (NULL otherwise, and for
  * a black sky). */
-static fm_status make_twilight(const fm_sky *sky, const quality_settings *q, int threads, twilight_sampling **tw,
-                               fm_error *err)
+static fm_status make_twilight(const fm_sky *sky, const quality_settings *q, const fm_render_params *params,
+                               twilight_sampling **tw, fm_error *err)
 {
     int no_memory;
-    *tw = twilight_sampling_create(sky, q->guide_offsets, threads, &no_memory);
+    *tw = twilight_sampling_create(sky, q->guide_offsets, params->threads, params->cancel, &no_memory);
+    if (params->cancel && atomic_load(params->cancel))
+        return fm_fail(err, FM_ERR_CANCELLED, "render cancelled");
     return no_memory ? fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the twilight guide") : FM_OK;
 }
 
@@ -329,7 +331,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     twilight_sampling *twilight = NULL;
     if (v3_dot(sky->sun_dir, sky->observer) < 0.0)
         report(params, 0.0, "twilight guide");
-    if (!(s = make_twilight(sky, &job.q, params->threads, &twilight, err))) {
+    if (!(s = make_twilight(sky, &job.q, params, &twilight, err))) {
         job.twilight = twilight;
         s = params->quality == FM_QUALITY_REFERENCE ? render_reference(&job, err)
                                                     : render_fast(&job, sun_elevation, err);
@@ -392,7 +394,7 @@ fm_status fm_render_pixels(const fm_sky *sky, const fm_render_params *params, in
     job->channels = atm->grid.colour ? 3 : 1;
     job->seed = render_seed(atm, params->seed);
     twilight_sampling *twilight = NULL;
-    if ((s = make_twilight(sky, &job->q, params->threads, &twilight, err)))
+    if ((s = make_twilight(sky, &job->q, params, &twilight, err)))
         return s;
     job->twilight = twilight;
     parallel_progress pr = {params->progress, params->progress_user, "path tracing", 0.0, 1.0};

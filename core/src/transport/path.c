@@ -1,6 +1,7 @@
 #include "transport/path.h"
 
 #include "base/exp_array.h"
+#include "base/threads.h"
 #include "base/units.h"
 #include "phase/phase.h"
 #include "transport/free_flight.h"
@@ -282,6 +283,9 @@ static double path_weight(double W, const double *q, const double *w, int K)
     return largest_weight(q, w, K) * (W / average(q, K));
 }
 
+/* exp(-600): the weight behind an absorption optical depth of 600, far below any light a map holds */
+#define OPAQUE_WEIGHT 2.65e-261
+
 /* How many copies a path whose weight (as roulette weighs it, times lift) is m splits into: 1 for
  * none. */
 static int split_copies(double m, int splits_left)
@@ -345,6 +349,8 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
     }
 
     for (;;) {
+        if (parallel_cancelled())
+            return; /* the render is cancelled: its sums are thrown away */
         ray_segment seg;
         ray_segment_init(&seg, atm, pos, d);
         double t = 0.0, tau, umbra0, umbra1;
@@ -449,6 +455,10 @@ static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng 
                 w[k] *= cont > 0.0 ? larger(maj[k] - sig_t[k], 0.0) / cont : 0.0;
                 q[k] *= cont / cont_h;
             }
+            /* an opaque medium: a weight that absorption took below e^-600 carries nothing, and
+             * tracking it on to the segment's end could take millions of collisions */
+            if (!(path_weight(W, q, w, K) > OPAQUE_WEIGHT))
+                return;
             tau = -log1p(-rng_uniform(r));
         }
         exp_array(pending, pending, K);

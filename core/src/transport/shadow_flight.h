@@ -44,8 +44,9 @@ typedef struct shadow_flight_table {
 } shadow_flight_table;
 
 /* Builds I from single_scatter_radiance with `single` (orders 1..1) at points above and toward the
- * sun from `observer`, on `threads` threads.  Returns -1 when memory ran out, else 0. */
-int shadow_flight_build(shadow_flight_table *t, const struct path_context *single, vec3 observer, int threads);
+ * sun from `observer`, on `threads` threads.  Returns -1 when memory ran out or *cancel was set, else 0. */
+int shadow_flight_build(shadow_flight_table *t, const struct path_context *single, vec3 observer, int threads,
+                        const atomic_int *cancel);
 
 /* I at radius r (m) and local sun cosine mu_s: bilinear, clamped to the table. */
 double shadow_flight_light(const shadow_flight_table *t, double r, double mu_s);

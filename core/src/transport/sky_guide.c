@@ -110,7 +110,7 @@ static int normalise_level(sky_guide_level *g)
 }
 
 int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int offsets, int threads,
-                    const shadow_flight_table *flights)
+                    const shadow_flight_table *flights, const atomic_int *cancel)
 {
     const atmosphere *atm = single->atm;
     double r0 = v3_length(observer);
@@ -129,7 +129,7 @@ int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int
                 l->edge_sin[j] = sin(row_elevation(j, l->horizon));
         }
     build_job job = {g, single, sun_frame_at(observer, single->sun_dir), 0, flights};
-    if (parallel_for(threads, (int64_t)g->levels * SKY_GUIDE_ROWS, 1, build_rows, &job, NULL, NULL) ||
+    if (parallel_for(threads, (int64_t)g->levels * SKY_GUIDE_ROWS, 1, build_rows, &job, cancel, NULL) ||
         atomic_load(&job.no_memory))
         return -1;
     int usable = 0;

@@ -75,9 +75,9 @@ typedef struct sky_guide {
  * the light of order 2 from shadow_flight_order2 is added; NULL leaves it out.  A vertex uses the offset whose
  * local sun is nearest its own, then the altitude nearest its own among that offset's levels that
  * see light (a black level is left out).  Returns 0 when every level is black (the guide is then
- * unusable), -1 when memory ran out or its threads could not run, else 1. */
+ * unusable), -1 when memory ran out, its threads could not run or *cancel was set, else 1. */
 int sky_guide_build(sky_guide *g, const struct path_context *single, vec3 observer, int offsets, int threads,
-                    const struct shadow_flight_table *flights);
+                    const struct shadow_flight_table *flights, const atomic_int *cancel);
 
 /* A direction at the vertex x (Earth-centred) from three uniform numbers, and the density of a
  * direction d there (per steradian). */

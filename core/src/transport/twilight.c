@@ -30,7 +30,8 @@
  * 13.3 s, -18 14.5 -> 12.6 s); the paths that start higher, in thinner air, are shorter. */
 #define FIRST_VERTEX_LIGHT_SHARE 0.5
 
-twilight_sampling *twilight_sampling_create(const fm_sky *sky, int guide_offsets, int threads, int *no_memory)
+twilight_sampling *twilight_sampling_create(const fm_sky *sky, int guide_offsets, int threads,
+                                            const atomic_int *cancel, int *no_memory)
 {
     *no_memory = 0;
     if (!(v3_dot(sky->sun_dir, sky->observer) < 0.0))
@@ -44,13 +45,13 @@ twilight_sampling *twilight_sampling_create(const fm_sky *sky, int guide_offsets
     double sun_elevation = asin(clamp_cosine(v3_dot(v3_normalize(sky->observer), sky->sun_dir)));
     tw->deep = sun_elevation < DEEP_TWILIGHT_DEG * FM_DEG;
     /* the flights' table first: in deep twilight the sky guide adds the light of order 2 from it */
-    if (tw->deep && shadow_flight_build(&tw->flights, &single, sky->observer, threads)) {
+    if (tw->deep && shadow_flight_build(&tw->flights, &single, sky->observer, threads, cancel)) {
         free(tw);
         *no_memory = 1;
         return NULL;
     }
     int built = sky_guide_build(&tw->guide, &single, sky->observer, tw->deep ? guide_offsets : 1, threads,
-                                tw->deep ? &tw->flights : NULL);
+                                tw->deep ? &tw->flights : NULL, cancel);
     if (built <= 0) {
         free(tw); /* a black sky (deep night): nothing to guide toward */
         *no_memory = built < 0;
