@@ -15,6 +15,7 @@
 #include "base/units.h"
 #include "base/vec.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -216,83 +217,82 @@ static fm_status validate(const fm_sky_params *p, fm_error *err)
         return s;
     if (p->aerosol_phase != FM_AEROSOL_PHASE_MIE && p->aerosol_phase != FM_AEROSOL_PHASE_HG)
         return fm_fail_parameter(err, "aerosol_phase", "%d is not a known phase model", (int)p->aerosol_phase);
-    if ((s = validate_date(p, err)))
-        return s;
     return param_check(err, "threads", p->threads);
+}
+
+/* The molecules, ozone and aerosols of the built-in atmosphere: the ozone column as given or from the
+ * climatology; the profile shape for the date and latitude when there is a date, else the U.S.
+ * Standard one. */
+static fm_status builtin_atmosphere(fm_sky *sky, const fm_sky_params *p, const spectral_grid *grid, fm_error *err)
+{
+    double ozone_du = p->ozone_column_du;
+    ozone_profile shape = OZONE_PROFILE_US_STANDARD;
+    fm_status s;
+    if (p->year != 0) {
+        shape = ozone_profile_for(p->latitude_deg, date_day_of_year(p->year, p->month, p->day));
+        if (ozone_du == FM_OZONE_FROM_CLIMATOLOGY &&
+            (s = ozone_climatology_for_date(p->year, p->month, p->day, p->latitude_deg, p->longitude_deg, &ozone_du,
+                                            err)))
+            return s;
+    }
+    if ((s = atmosphere_init_clear_sky(&sky->atm, grid, ozone_du, shape, p->ground_albedo, err)) ||
+        (s = add_aerosols(sky, p, ozone_du, ozone_profile_effective_temperature_k(shape), err)))
+        return s;
+    snprintf(sky->composition.ozone_profile, sizeof sky->composition.ozone_profile, "%s", ozone_profile_name(shape));
+    return FM_OK;
+}
+
+/* Everything of the sky for its resolved parameters p; on failure fm_sky_destroy frees what was built. */
+static fm_status build_sky(fm_sky *sky, const fm_sky_params *p, fm_error *err)
+{
+    spectral_grid grid;
+    if (p->wavelength_nm > 0.0)
+        spectral_grid_single(&grid, p->wavelength_nm);
+    else
+        spectral_grid_visible(&grid);
+    double inv_d2 = 1.0 / (p->earth_sun_distance_au * p->earth_sun_distance_au);
+    for (int k = 0; k < grid.count; k++)
+        grid.solar_irradiance[k] *= inv_d2;
+    fm_status s = p->atmosphere_file ? custom_atmosphere(sky, p, &grid, inv_d2, err)
+                                     : builtin_atmosphere(sky, p, &grid, err);
+    if (s)
+        return s;
+    sun_disk_init(&sky->sun, &sky->atm.grid, p->earth_sun_distance_au);
+    sky->sun_dir = direction_from_elevation_azimuth(p->sun_elevation_deg * FM_DEG, p->sun_azimuth_deg * FM_DEG);
+    sky->observer = v3(0.0, 0.0, sky->atm.bottom_radius_m + p->observer_altitude_m);
+    assert(fabs(v3_length(sky->sun_dir) - 1.0) < 1e-12);
+    assert(v3_length(sky->observer) >= sky->atm.bottom_radius_m && v3_length(sky->observer) < sky->atm.top_radius_m);
+    if ((s = column_table_build(&sky->columns, &sky->atm, COLUMN_TABLE_R, COLUMN_TABLE_MU, p->threads, err)) ||
+        (s = depth_table_build(&sky->mid_depth, &sky->columns, &sky->atm, sky->atm.grid.count / 2, err)) ||
+        (s = sun_irradiance_build(&sky->sun_table, &sky->atm, &sky->columns, &sky->sun, SUN_TABLE_R, SUN_TABLE_MU,
+                                  err)))
+        return s;
+    return FM_OK;
 }
 
 fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err)
 {
     *out = NULL;
-    /* the sun from the date, time and place (sky_sun.c); from here on params is the resolved copy */
+    /* the date first: the sun from the date, time and place (sky_sun.c) needs a valid one; from here
+     * on params is the resolved copy, whose date is the same */
     fm_sky_params resolved;
     fm_solar_position solar;
     unsigned sun_computed = 0;
     int has_solar = 0;
     fm_status s;
     if ((s = validate_date(params, err)) ||
-        (s = sky_resolve_sun(params, &resolved, &solar, &sun_computed, &has_solar, err)))
-        return s;
-    params = &resolved;
-    if ((s = validate(params, err)))
+        (s = sky_resolve_sun(params, &resolved, &solar, &sun_computed, &has_solar, err)) ||
+        (s = validate(&resolved, err)))
         return s;
     fm_sky *sky = calloc(1, sizeof *sky);
     if (!sky)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
-    sky->params = *params;
+    sky->params = resolved;
     sky->has_solar = has_solar;
     sky->sun_computed = sun_computed;
     if (has_solar)
         sky->solar = solar;
-
-    spectral_grid grid;
-    if (params->wavelength_nm > 0.0)
-        spectral_grid_single(&grid, params->wavelength_nm);
-    else
-        spectral_grid_visible(&grid);
-    double inv_d2 = 1.0 / (params->earth_sun_distance_au * params->earth_sun_distance_au);
-    for (int k = 0; k < grid.count; k++)
-        grid.solar_irradiance[k] *= inv_d2;
-
-    if (params->atmosphere_file) {
-        if ((s = custom_atmosphere(sky, params, &grid, inv_d2, err))) {
-            free(sky);
-            return s;
-        }
-    } else {
-        /* ozone: the column as given or from the climatology; the profile shape for the date and
-         * latitude when there is a date, else the U.S. Standard one */
-        double ozone_du = params->ozone_column_du;
-        ozone_profile shape = OZONE_PROFILE_US_STANDARD;
-        if (params->year != 0) {
-            shape = ozone_profile_for(params->latitude_deg,
-                                      date_day_of_year(params->year, params->month, params->day));
-            if (ozone_du == FM_OZONE_FROM_CLIMATOLOGY &&
-                (s = ozone_climatology_for_date(params->year, params->month, params->day, params->latitude_deg,
-                                                params->longitude_deg, &ozone_du, err))) {
-                free(sky);
-                return s;
-            }
-        }
-        if ((s = atmosphere_init_clear_sky(&sky->atm, &grid, ozone_du, shape, params->ground_albedo, err))) {
-            free(sky);
-            return s;
-        }
-        if ((s = add_aerosols(sky, params, ozone_du, ozone_profile_effective_temperature_k(shape), err))) {
-            fm_sky_destroy(sky);
-            return s;
-        }
-        snprintf(sky->composition.ozone_profile, sizeof sky->composition.ozone_profile, "%s", ozone_profile_name(shape));
-    }
-    sun_disk_init(&sky->sun, &sky->atm.grid, params->earth_sun_distance_au);
-    sky->sun_dir = direction_from_elevation_azimuth(params->sun_elevation_deg * FM_DEG,
-                                                    params->sun_azimuth_deg * FM_DEG);
-    sky->observer = v3(0.0, 0.0, sky->atm.bottom_radius_m + params->observer_altitude_m);
-
-    if ((s = column_table_build(&sky->columns, &sky->atm, COLUMN_TABLE_R, COLUMN_TABLE_MU, params->threads, err)) ||
-        (s = depth_table_build(&sky->mid_depth, &sky->columns, &sky->atm, sky->atm.grid.count / 2, err)) ||
-        (s = sun_irradiance_build(&sky->sun_table, &sky->atm, &sky->columns, &sky->sun, SUN_TABLE_R,
-                                  SUN_TABLE_MU, err))) {
+    if ((s = build_sky(sky, &resolved, err))) {
         fm_sky_destroy(sky);
         return s;
     }

@@ -104,11 +104,6 @@ double ozone_profile_density_per_du(ozone_profile p, double altitude_m)
     return raw_density(fm_afgl_profiles[p], altitude_m / FM_KM) * (FM_DU_MOLECULES_PER_M2 / column_m2[p]);
 }
 
-double ozone_profile_temperature_k(ozone_profile p, double altitude_m)
-{
-    return valid(p) ? raw_temperature(fm_afgl_profiles[p], altitude_m / FM_KM) : 0.0;
-}
-
 double ozone_profile_effective_temperature_k(ozone_profile p)
 {
     if (!valid(p))

@@ -39,9 +39,6 @@ const char *ozone_profile_name(ozone_profile p);
  * and above 120 km.  0 for an invalid p. */
 double ozone_profile_density_per_du(ozone_profile p, double altitude_m);
 
-/* Temperature (K) of the profile's model atmosphere, linear between levels; 0 for an invalid p. */
-double ozone_profile_temperature_k(ozone_profile p, double altitude_m);
-
 /* Ozone-weighted mean temperature (K) over the column, integral n T dz / integral n dz, from the
  * profile's own temperatures; 0 for an invalid p. */
 double ozone_profile_effective_temperature_k(ozone_profile p);

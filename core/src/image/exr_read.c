@@ -77,7 +77,7 @@ fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
         return fm_fail(err, FM_ERR_IO, "cannot read '%s': no temporary file for decoding DWA (%s)", path,
                        strerror(errno));
     char msg[256];
-    fm_status s = exr_recode(path, tmp, EXR_RECODE_ZIP, 0.0f, msg, sizeof msg) != 0
+    fm_status s = recode_exr(path, tmp, RECODE_ZIP, 0.0f, msg, sizeof msg) != 0
                       ? fm_fail(err, FM_ERR_IO, "cannot read '%s': %s", path, msg)
                       : read_exr(tmp, out, err);
     platform_remove(tmp);

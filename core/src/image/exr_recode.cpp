@@ -11,13 +11,13 @@
 #include <exception>
 #include <vector>
 
-int exr_recode(const char *src, const char *dst, exr_recode_target target, float dwa_level, char *msg,
+int recode_exr(const char *src, const char *dst, recode_target target, float dwa_level, char *msg,
                size_t msg_size)
 {
     try {
         Imf::InputFile in(src);
         Imf::Header header = in.header(); // every attribute, typed as written
-        if (target == EXR_RECODE_DWAA) {
+        if (target == RECODE_DWAA) {
             header.compression() = Imf::DWAA_COMPRESSION;
             header.dwaCompressionLevel() = dwa_level;
         } else {

@@ -10,13 +10,14 @@
 extern "C" {
 #endif
 
-typedef enum exr_recode_target { EXR_RECODE_ZIP, EXR_RECODE_DWAA } exr_recode_target;
+typedef enum recode_target { RECODE_ZIP, RECODE_DWAA } recode_target;
 
 /* Rewrites the scanline EXR at src as dst with another compression (DWAA at dwa_level: OpenEXR's
  * default is 45, higher is smaller and lossier), keeping every header attribute and every pixel
  * as stored, except that DWA is lossy: it quantises the channels it knows as colour (R, G, B, Y,
- * ...) through half precision, even 32-bit float ones, so values beyond 65504 do not survive it.  Returns 0 on success, else nonzero with one line in msg. */
-int exr_recode(const char *src, const char *dst, exr_recode_target target, float dwa_level, char *msg,
+ * ...) through half precision, even 32-bit float ones, so values beyond 65504 do not survive it.
+ * Returns 0 on success, else nonzero with one line in msg. */
+int recode_exr(const char *src, const char *dst, recode_target target, float dwa_level, char *msg,
                size_t msg_size);
 
 #ifdef __cplusplus

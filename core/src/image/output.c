@@ -217,7 +217,7 @@ static fm_status write_dwaa(const char *path, const fm_image *image, const metad
     if (!s && cancel && atomic_load(cancel))
         s = fm_fail(err, FM_ERR_CANCELLED, "cancelled while writing '%s'", path);
     char msg[256];
-    if (!s && exr_recode(staging, path, EXR_RECODE_DWAA, FM_DWAA_LEVEL, msg, sizeof msg) != 0)
+    if (!s && recode_exr(staging, path, RECODE_DWAA, FM_DWAA_LEVEL, msg, sizeof msg) != 0)
         s = fm_fail(err, FM_ERR_IO, "cannot write '%s' with DWAA compression: %s", path, msg);
     platform_remove(staging);
     free(staging);

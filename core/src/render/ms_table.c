@@ -7,6 +7,7 @@
 #include "transport/next_order_shape.h"
 #include "transport/sky_grid_fit.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -94,6 +95,7 @@ static int rising_segments(const fm_sky *sky, const twilight_sampling *twilight)
     if (!(mu_s > 0.0 && asin(clamp_cosine(mu_s)) < RISING_SUN_DEG * FM_DEG))
         return 0; /* a higher sun, or night (no twilight sampling: a black sky) */
     sun_irradiance_lookup(pc.sun_table, &sky->atm, pc.sun, r, mu_s, T);
+    assert(T[sky->atm.grid.count / 2] >= 0.0 && T[sky->atm.grid.count / 2] <= 1.0); /* a transmittance */
     return T[sky->atm.grid.count / 2] < RISING_BELOW;
 }
 
@@ -203,6 +205,7 @@ static int deep_twilight_extra_paths(const render_job *job, double sample_scale,
         }
     if (!used)
         return 0;
+    assert(most >= 0.0 && most <= DEEP_EXTRA_MAX);
     double noise = sqrt(sum / used), target = DEEP_NODE_NOISE / sqrt(sample_scale);
     double more = fmin((noise / target) * (noise / target) - 1.0, most);
     /* a pass of less than a quarter more would take the noise down by less than a tenth */

@@ -3,6 +3,7 @@
 #include "base/units.h"
 #include "transport/sky_guide.h"
 
+#include <assert.h>
 #include <math.h>
 
 quality_settings render_quality_settings(fm_quality quality, double scale)
@@ -60,6 +61,7 @@ static double deep_twilight_path_scale(fm_quality quality, double sun_elevation_
         return 1.0;
     double f = e > MORE_PATHS_FULL_DEG ? (MORE_PATHS_FROM_DEG - e) / (MORE_PATHS_FROM_DEG - MORE_PATHS_FULL_DEG)
                                        : paths_before_night(e);
+    assert(f >= 0.0 && f <= 1.0);
     return 1.0 + (MORE_PATHS_MAX - 1.0) * f;
 }
 

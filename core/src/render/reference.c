@@ -3,6 +3,7 @@
 #include "base/rng.h"
 #include "camera/equirect.h"
 
+#include <assert.h>
 #include <math.h>
 
 /* One equirect pixel of the reference: N paths through uniformly jittered positions in it; the mean
@@ -19,6 +20,7 @@ void reference_pixel(const render_job *job, const path_context *pc, int x, int y
         rng r = rng_for(job->seed, item, (uint64_t)p);
         double jx = rng_uniform(&r), jy = rng_uniform(&r);
         vec3 d = equirect_direction(W, H, x + jx, y + jy);
+        assert(fabs(v3_length(d) - 1.0) < 1e-12);
         double L[FM_MAX_WAVELENGTHS] = {0};
         path_trace(pc, sky->observer, d, (p + offset) % K, &r, L);
         float v[FM_MAX_WAVELENGTHS];
@@ -76,6 +78,7 @@ void reference_rows_camera(void *ctx, int64_t begin, int64_t end, int thread)
                 double w = camera_sample(&job->cam, x + jx, y + jy, &d);
                 if (!(w > 0.0))
                     continue; /* outside the fisheye's circle */
+                assert(fabs(v3_length(d) - 1.0) < 1e-12);
                 double L[FM_MAX_WAVELENGTHS] = {0};
                 path_trace(&pc, sky->observer, d, (p + offset) % K, &r, L);
                 float v[FM_MAX_WAVELENGTHS];

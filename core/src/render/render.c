@@ -16,6 +16,7 @@
 #include "render/sun_disk_raster.h"
 #include "transport/single_scatter.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -268,6 +269,8 @@ static fm_status build_ground(render_job *job, int *from_table)
     double visible = acos(fmin(1.0, sky->atm.bottom_radius_m / r_obs)); /* ground seen up to the horizon */
     ground_quadrature gq = {q->ground_rows, q->ground_cols, q->ss_points};
     double theta_s = acos(clamp_cosine(sky->sun_dir.z));
+    assert(r_obs >= sky->atm.bottom_radius_m && r_obs < sky->atm.top_radius_m);
+    assert(visible >= 0.0 && visible <= 0.5 * FM_PI && theta_s >= 0.0 && theta_s <= FM_PI);
     *from_table = ground_irradiance_angle_count(theta_s, visible) == 1;
     return ground_irradiance_build(&job->ground, &all, theta_s, visible, gq, *from_table ? 0 : q->ground_paths,
                                    job->seed, job->params->threads, job->params->cancel);

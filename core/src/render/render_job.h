@@ -11,6 +11,7 @@
 #include "transport/sky_grid.h"
 #include "transport/twilight.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdatomic.h>
 
@@ -37,7 +38,9 @@ typedef struct render_job {
 /* The direction at an elevation and an azimuth relative to the sun's (rad). */
 static inline vec3 render_view_direction(const fm_sky *sky, double elevation, double rel_azimuth)
 {
-    return direction_from_elevation_azimuth(elevation, sky->params.sun_azimuth_deg * FM_DEG + rel_azimuth);
+    vec3 d = direction_from_elevation_azimuth(elevation, sky->params.sun_azimuth_deg * FM_DEG + rel_azimuth);
+    assert(fabs(v3_length(d) - 1.0) < 1e-12);
+    return d;
 }
 
 /* An azimuth (rad, from north toward east) relative to the sun's, folded into [0, pi]. */

@@ -5,6 +5,7 @@
 #include "camera/equirect.h"
 #include "render/channels.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -80,6 +81,8 @@ fm_status sun_disk_rasterise(const fm_sky *sky, const camera *cam, fm_image *img
 
     /* optical depth (every wavelength) versus the cosine of the zenith angle across the disk */
     double robs = v3_length(sky->observer);
+    assert(robs >= atm->bottom_radius_m && robs < atm->top_radius_m);
+    assert(fabs(v3_length(sky->sun_dir) - 1.0) < 1e-12);
     double e0 = asin(clamp_cosine(sky->sun_dir.z));
     double mu_lo = sin(e0 - 1.01 * a), mu_hi = sin(fmin(e0 + 1.01 * a, 0.5 * FM_PI));
     double *depth = malloc(sizeof(double) * DISK_DEPTH_SAMPLES * (size_t)K);
@@ -114,6 +117,7 @@ fm_status sun_disk_rasterise(const fm_sky *sky, const camera *cam, fm_image *img
             if (rr >= 1.0)
                 continue;
             vec3 d = v3_normalize(frame_to_world(&f, v3(tan(a) * x, tan(a) * y, 1.0)));
+            assert(fabs(v3_length(d) - 1.0) < 1e-12);
             if (ray_hits_ground(atm, robs, d.z)) /* the observer's zenith is +Z */
                 continue;
             int px, py;
