@@ -114,6 +114,8 @@ def draw_settings(layout, context):
     box.prop(p, "resolution")
     box.prop(p, "quality")
     box.prop(p, "sun_mode")
+    if p.sun_mode == "LAMP":
+        box.prop(p, "camera_disk")
     box.prop(p, "north_offset")
     col = box.column(align=True)
     col.prop(p, "sky_strength")

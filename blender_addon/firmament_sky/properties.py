@@ -100,6 +100,9 @@ class FirmamentSkySettings(bpy.types.PropertyGroup):
         ("DISK", "Disk in Map", "The sun disk in the map, no lamp (Cycles; noisier shadows)"),
         ("LAMP_CAMERA_DISK", "Lamp + Visible Disk", "Lamp for lighting, the disk visible to the camera only"),
     ], default="LAMP", description="How the sun lights the scene (never counted twice)")
+    camera_disk: BoolProperty(name="Sun Disk Seen by the Camera", default=True,
+                               description="With the Sun Lamp: the camera sees the sun's disk (the lamp does the "
+                                           "lighting; reflections and lighting never see it twice)")
     north_offset: FloatProperty(name="North Offset", subtype="ANGLE", unit="ROTATION", default=0.0,
                                 soft_min=-3.14159, soft_max=3.14159,
                                 description="Rotates the sky and sun: compass azimuth A appears at scene azimuth "
@@ -146,7 +149,7 @@ SETTING_KEYS = ("sun_source", "year", "month", "day", "hour", "minute", "second"
                 "longitude", "sun_elevation", "sun_azimuth", "biome", "aerosol_amount", "turbidity", "aod550",
                 "use_humidity", "humidity", "ozone_mode", "ozone_du", "albedo", "altitude", "resolution",
                 "quality", "sun_mode", "north_offset", "apply_exposure", "metering", "threads", "bake_start",
-                "bake_end", "bake_step_min", "sky_strength", "sun_strength", "ground", "ground_colour")
+                "bake_end", "bake_step_min", "sky_strength", "sun_strength", "ground", "ground_colour", "camera_disk")
 # what a sky preset holds (the rest are render choices)
 PRESET_KEYS = ("sun_source", "year", "month", "day", "hour", "minute", "second", "utc_offset", "latitude",
                "longitude", "sun_elevation", "sun_azimuth", "biome", "aerosol_amount", "turbidity", "aod550",

@@ -164,6 +164,9 @@ def build_world_nodes(world, sky_image, disk_image, rotation_z, settings=None, s
     sky_bg.inputs["Strength"].default_value = settings.get("sky_strength", 1.0)
     if settings.get("ground", "MAP") != "MAP":
         _ground_nodes(nodes, links, mapping, sky_bg, settings, sun)
+    if settings.get("sun_mode") == "LAMP" and settings.get("camera_disk") and sun and \
+            sun["elevation_deg"] + sun["angular_diameter_deg"] / 2 >= 0.0:
+        _camera_disk_nodes(nodes, links, mapping, sky_bg, settings, sun)
     if disk_image is None:
         links.new(sky_bg.outputs["Background"], out.inputs["Surface"])
         return
@@ -188,35 +191,61 @@ def _clear_animation(obj):
             idb.animation_data_clear()
 
 
+def _mix_into(nodes, links, bg, name, factor, rgb, location):
+    """Between the Background's colour and what feeds it: where factor is 1, the colour rgb."""
+    source = bg.inputs["Color"].links[0].from_socket
+    mix = _node(nodes, "ShaderNodeMix", name, location, data_type="RGBA")
+    fac = [i for i in mix.inputs if i.name == "Factor" and i.type == "VALUE"][0]
+    a, b = [i for i in mix.inputs if i.type == "RGBA"][:2]
+    links.new(factor, fac)
+    links.new(source, a)
+    b.default_value = (rgb[0], rgb[1], rgb[2], 1.0)
+    links.new([o for o in mix.outputs if o.type == "RGBA"][0], bg.inputs["Color"])
+
+
+def _node(nodes, kind, name, location, **attrs):
+    n = nodes.new(kind)
+    n.name = n.label = NODE_PREFIX + name
+    n.location = location
+    for k, v in attrs.items():
+        setattr(n, k, v)
+    return n
+
+
 def _ground_nodes(nodes, links, mapping, bg, settings, sun):
     """Below the horizon (the looked-up direction's z < 0) the world shows a chosen ground instead of
     the map's: black, or a Lambertian ground of the given reflectance under this sky (radiance
     reflectance x global horizontal illuminance / (683 pi), in Blender's units)."""
-    env_link = bg.inputs["Color"].links[0]
-    sep = nodes.new("ShaderNodeSeparateXYZ")
-    sep.name = sep.label = NODE_PREFIX + "Direction"
-    sep.location = (-100, 600)
+    sep = _node(nodes, "ShaderNodeSeparateXYZ", "Direction", (-100, 600))
     links.new(mapping.outputs["Vector"], sep.inputs["Vector"])
-    below = nodes.new("ShaderNodeMath")
-    below.name = below.label = NODE_PREFIX + "Below Horizon"
-    below.operation = "LESS_THAN"
+    below = _node(nodes, "ShaderNodeMath", "Below Horizon", (100, 600), operation="LESS_THAN")
     below.inputs[1].default_value = 0.0
-    below.location = (100, 600)
     links.new(sep.outputs["Z"], below.inputs[0])
-    mix = nodes.new("ShaderNodeMix")
-    mix.name = mix.label = NODE_PREFIX + "Ground"
-    mix.data_type = "RGBA"
-    mix.location = (250, 450)
-    fac = [i for i in mix.inputs if i.name == "Factor" and i.type == "VALUE"][0]
-    a, b = [i for i in mix.inputs if i.type == "RGBA"][:2]
-    result = [o for o in mix.outputs if o.type == "RGBA"][0]
-    links.new(below.outputs["Value"], fac)
-    links.new(env_link.from_socket, a)
     lum = (sun or {}).get("global_lux") or 0.0
     k = lum / (683.0 * math.pi) if settings["ground"] == "COLOUR" else 0.0
     rgb = Color(settings.get("ground_colour", (0.0, 0.0, 0.0)))
-    b.default_value = (rgb[0] * k, rgb[1] * k, rgb[2] * k, 1.0)
-    links.new(result, bg.inputs["Color"])
+    _mix_into(nodes, links, bg, "Ground", below.outputs["Value"], [c * k for c in rgb], (250, 450))
+
+
+def _camera_disk_nodes(nodes, links, mapping, bg, settings, sun):
+    """The sun disk for camera rays only (the lamp lights; nothing is counted twice): a uniform
+    disk of the sun's angular size and its radiance, the direct normal irradiance / the disk's solid
+    angle, where the looked-up direction is within the sun's radius."""
+    radius = math.radians(sun["angular_diameter_deg"]) / 2
+    solid_angle = 2 * math.pi * (1 - math.cos(radius))
+    dot = _node(nodes, "ShaderNodeVectorMath", "Toward Sun", (-100, 800), operation="DOT_PRODUCT")
+    links.new(mapping.outputs["Vector"], dot.inputs[0])
+    dot.inputs[1].default_value = sun["direction"]  # the map's frame: the mapping's output
+    inside = _node(nodes, "ShaderNodeMath", "In Sun Disk", (100, 800), operation="GREATER_THAN")
+    inside.inputs[1].default_value = math.cos(radius)
+    links.new(dot.outputs["Value"], inside.inputs[0])
+    path = _node(nodes, "ShaderNodeLightPath", "Camera Path", (100, 1000))
+    camera = _node(nodes, "ShaderNodeMath", "Camera Sees Sun", (250, 900), operation="MULTIPLY")
+    links.new(inside.outputs["Value"], camera.inputs[0])
+    links.new(path.outputs["Is Camera Ray"], camera.inputs[1])
+    scale = settings.get("sun_strength", 1.0) / max(settings.get("sky_strength", 1.0), 1e-6) / solid_angle
+    rgb = Color(sun["irradiance_rgb"]).from_rec709_linear_to_scene_linear()
+    _mix_into(nodes, links, bg, "Sun Disk", camera.outputs["Value"], [c * scale for c in rgb], (450, 600))
 
 
 def setup_lamp(scene, sun, north_offset, strength=1.0):
@@ -328,7 +357,7 @@ def apply_series(scene, settings, frames):
     if world is None:
         world = scene.world = bpy.data.worlds.new("Firmament World")
     build_world_nodes(world, sky_image, None, mapping_rotation_z(settings["north_offset"], suns[0]["azimuth_at_center_deg"]),
-                      dict(settings, ground="MAP"))
+                      dict(settings, ground="MAP", camera_disk=False))  # a static disk would not follow the lamp
     env = world.node_tree.nodes[NODE_PREFIX + "Sky"]
     first = scene.frame_start
     iu = env.image_user

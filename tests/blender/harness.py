@@ -289,3 +289,12 @@ def render_in_new_process(blend, out=None):
         lines = [ln for ln in r.stdout.splitlines() if not ln.startswith("Fra:")]
         check(r.returncode == 0, "%s in a new process (exit %d)%s" % (
             mode, r.returncode, "" if r.returncode == 0 else ":\n" + "\n".join(lines[-15:])))
+
+
+def env_of(bg):
+    """The Environment Texture feeding a Background, through the add-on's Mix nodes (ground, camera
+    disk: their first colour input carries the map)."""
+    node = bg.inputs["Color"].links[0].from_node
+    while node.type == "MIX":
+        node = [i for i in node.inputs if i.type == "RGBA"][0].links[0].from_node
+    return node

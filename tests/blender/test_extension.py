@@ -35,8 +35,10 @@ nodes = scene.world.node_tree.nodes
 out = [n for n in nodes if n.type == "OUTPUT_WORLD" and n.is_active_output][0]
 bg = out.inputs["Surface"].links[0].from_node
 h.check(bg.type == "BACKGROUND" and abs(bg.inputs["Strength"].default_value - 1.0) < 1e-9, "background, strength 1")
-env = bg.inputs["Color"].links[0].from_node
+env = h.env_of(bg)
 h.check(env.type == "TEX_ENVIRONMENT" and env.image == sky, "environment texture holds the map")
+disk = nodes.get("Firmament Sun Disk")
+h.check(disk is not None and bg.inputs["Color"].links[0].from_node == disk, "the camera-only sun disk feeds the background")
 mapping = env.inputs["Vector"].links[0].from_node
 h.check(mapping.type == "MAPPING" and mapping.vector_type == "POINT", "mapping node (point)")
 tc = mapping.inputs["Vector"].links[0]

@@ -62,7 +62,7 @@ def map_checks(mode_label, north_offset_deg):
         bg_sky = first
     h.check(bg_sky.type == "BACKGROUND" and abs(bg_sky.inputs["Strength"].default_value - 1.0) < 1e-9,
             "%s: background strength 1" % mode_label)
-    env = bg_sky.inputs["Color"].links[0].from_node
+    env = h.env_of(bg_sky)
     h.check(env.type == "TEX_ENVIRONMENT" and env.image == sky, "%s: environment texture holds the map" % mode_label)
     mapping = env.inputs["Vector"].links[0].from_node
     h.check(mapping.type == "MAPPING" and mapping.vector_type == "POINT", "%s: mapping node" % mode_label)
@@ -162,7 +162,7 @@ bpy.ops.firmament_sky.generate()
 h.check([o.name for o in h.sun_lamps()] == ["My Sun"], "a renamed lamp is reused: %s" % [o.name for o in h.sun_lamps()])
 h.check(len([l for l in bpy.data.lights if l.name.startswith("Firmament")]) == 1, "one Firmament light datablock")
 nodes = scene.world.node_tree.nodes
-h.check(len([n for n in nodes if n.name.startswith("Firmament")]) == 4, "four Firmament nodes (%d)" %
+h.check(len([n for n in nodes if n.name.startswith("Firmament")]) == 9, "nine Firmament nodes, five the camera's disk (%d)" %
         len([n for n in nodes if n.name.startswith("Firmament")]))
 # a sun below the horizon: the lamp is hidden, not a 0 W lamp shining up through the ground
 p.sun_source, p.sun_elevation = "ANGLES", -4.0

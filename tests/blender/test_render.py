@@ -20,6 +20,7 @@ cam = demo_courtyard.build(scene)
 bpy.ops.firmament_sky.load_preset(filepath=h.shipped_preset(os.environ.get("FIRMAMENT_TEST_PRESET", "clear-noon")))
 p = h.fast_settings(scene, width=int(os.environ.get("FIRMAMENT_TEST_WIDTH", "256")))
 p.apply_exposure = True
+p.camera_disk = False  # the lamp alone first: the camera's view of the sun without any disk
 p.north_offset = math.radians(float(os.environ.get("FIRMAMENT_TEST_NORTH", "0")))
 h.check(bpy.ops.firmament_sky.generate() == {"FINISHED"}, "generate")
 ev = scene.view_settings.exposure
@@ -168,4 +169,20 @@ for mode in ("DISK", "LAMP_CAMERA_DISK"):
     h.check(peak > 20 * peak_a and abs(at % 32 - 16) <= 2 and abs(at // 32 - 16) <= 2,
             "sun mode %s: the camera sees the disk at the lamp's direction (peak %.3g at %d,%d; %.3g without)"
             % (mode, peak, at % 32, at // 32, peak_a))
+# the default Sun Lamp mode with the camera-only disk: the camera sees a disk as bright as the map's,
+# the sunlit ground is lit as with the lamp alone (the disk adds no light)
+p.sun_mode, p.camera_disk = "LAMP", True
+h.check(bpy.ops.firmament_sky.generate() == {"FINISHED"}, "generate, sun lamp + camera-only disk")
+scene.world.cycles.sample_map_resolution = 256
+shot = render_linear(os.path.join(h.OUT, "courtyard_camera_disk.exr"), cam, (W, H))
+h.close(mean_of(shot, lit_idx) / base, 1.0, 0.05, "camera-only disk: sunlit ground as with the lamp alone")
+scene.cycles.samples = 4
+view = render_linear(os.path.join(h.OUT, "sun_view_camera_disk.exr"), sun_cam, (32, 32))
+peak = max(lum(view[k:k + 3]) for k in range(0, len(view), 4))
+at = max(range(0, len(view), 4), key=lambda k: lum(view[k:k + 3])) // 4
+sun_light = h.sun_lamps()[0].data
+disk_l = lum([sun_light.energy * c for c in sun_light.color]) / (2 * math.pi * (1 - math.cos(sun_light.angle / 2)))
+h.check(0.5 < peak / disk_l < 1.05 and abs(at % 32 - 16) <= 2 and abs(at // 32 - 16) <= 2,
+        "camera-only disk at the lamp's direction with the sun's radiance, DNI / disk solid angle "
+        "(peak %.3g vs %.3g at %d,%d; a pixel is 0.32 deg, the disk 0.52)" % (peak, disk_l, at % 32, at // 32))
 h.finish()
