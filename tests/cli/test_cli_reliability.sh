@@ -90,6 +90,45 @@ expect_usage_error "numbered series name over 255 bytes" render --width 16 --qua
 expect_usage_error "path over 4095 bytes" render --width 16 --quality preview \
     -o "$(printf 'd/%.0s' $(seq 1 2100))s.exr"
 
+# --- 3. atmosphere files within physical ranges: a planet of 1e-300 km is refused, not a crash ----
+atm() { # atm NAME RADIUS_KM TOP_KM PROFILE: a one-constituent atmosphere file
+    printf '{"planet_radius_km": %s, "top_altitude_km": %s, "solar_irradiance": 1, "constituents": [{"profile": %s, "scattering": 13.5e-6, "phase": {"type": "rayleigh"}}]}\n' \
+        "$2" "$3" "$4" >"$work/$1.json"
+}
+exp8='{"type": "exponential", "scale_height_km": 8}'
+atm tiny 1e-300 60 "$exp8"
+expect_usage_error "planet radius 1e-300 km" render --atmosphere "$work/tiny.json" --wavelength 550 --width 8
+grep -qF 'planet_radius_km: must be in [100, 1e+06]' "$work/stderr" && ok || fail "radius message: $(cat "$work/stderr")"
+atm huge_profile 6360 60 '{"type": "tabulated", "altitudes_km": [-1e306, 1e306], "values": [1, 1]}'
+expect_usage_error "profile over +-1e306 km" render --atmosphere "$work/huge_profile.json" --wavelength 550 --width 8
+# the corners of the ranges render finite maps
+atm small 100 10000 "$exp8"
+atm large 1e6 1 '{"type": "exponential", "scale_height_km": 0.1}'
+for a in small large; do
+    rm -rf "$work/out" && mkdir -p "$work/out"
+    "$FM" render --atmosphere "$work/$a.json" --wavelength 550 --width 16 --quality preview --progress none \
+        -o "$work/out/a.exr" 2>"$work/stderr" && ok || fail "atmosphere $a: $(cat "$work/stderr")"
+done
+
+# --- 6, 7. biome layers: too thin is refused; a map is never written with NaN ---------------------
+biome() { printf '{"name": "b", "humidity_percent": 50, "layers": [{"name": "l", "bottom_km": 1, "top_km": %s, "number_density_cm3": {"waso": %s}}]}\n' "$2" "$3" >"$work/$1.json"; }
+biome thin 1.000000000001 3000
+expect_usage_error "layer thinner than the altitude grid" render --biome "$work/thin.json" --width 8
+grep -qF 'top_km: must be at least 0.1 km above bottom_km' "$work/stderr" && ok || fail "thin layer: $(cat "$work/stderr")"
+# an elevated layer of optical depth ~19: the map is finite, or nothing is written (exit 1, one line)
+biome dense 2 3000000
+rm -rf "$work/out" && mkdir -p "$work/out"
+(cd "$work/out" && "$FM" render --biome "$work/dense.json" --width 64 --quality preview --progress none \
+    -o s.exr 2>"$work/stderr")
+rc=$?
+if [ $rc -eq 0 ]; then
+    grep -q 'null' "$work/out/s.json" && fail "dense layer: non-finite values in the sidecar" || ok
+else
+    [ $rc -eq 1 ] && [ "$(wc -l <"$work/stderr")" -eq 1 ] && grep -q 'not finite' "$work/stderr" && ok ||
+        fail "dense layer: exit $rc: $(cat "$work/stderr")"
+    expect_empty_dir "dense layer refused"
+fi
+
 # --- 4. an opaque medium: paths end once absorption took their weight, the render finishes -------
 cat >"$work/opaque.json" <<'EOF'
 {"planet_radius_km": 6360, "top_altitude_km": 60, "solar_irradiance": 1,

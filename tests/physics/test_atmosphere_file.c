@@ -383,7 +383,7 @@ static void malformed_files_are_refused(void **state)
         {"negative coefficient",
          FILE_WITH("{\"profile\": {\"type\": \"exponential\", \"scale_height_km\": 8}, \"absorption\": "
                    "{\"wavelengths_nm\": [400, 700], \"values\": [1e-6, -1e-6]}}"),
-         550, ": $.constituents[0].absorption.values[1]: must be non-negative, not -1e-06"},
+         550, ": $.constituents[0].absorption.values[1]: must be in [0, 1], not -1e-06"},
         {"wavelengths not ascending",
          FILE_WITH("{\"profile\": {\"type\": \"exponential\", \"scale_height_km\": 8}, \"absorption\": "
                    "{\"wavelengths_nm\": [400, 400], \"values\": [1e-6, 1e-6]}}"),

@@ -64,6 +64,10 @@ static fm_status parse_densities(const json_reader *rd, const cJSON *densities, 
     return FM_OK;
 }
 
+/* two steps of the 50 m grid that atmosphere/profile.h samples profiles on: a thinner layer would
+ * lose its optical depth between the samples */
+#define MIN_LAYER_M 100.0
+
 static fm_status parse_layer(const json_reader *rd, const cJSON *item, const char *path, biome_layer *layer)
 {
     static const char *const keys[] = {"name", "bottom_km", "top_km", "scale_height_km", "humidity_percent",
@@ -82,10 +86,14 @@ static fm_status parse_layer(const json_reader *rd, const cJSON *item, const cha
         (s = json_optional_number(rd, item, path, "scale_height_km", scale_height_km, 0.0, &scale_km)) ||
         (s = json_optional_number(rd, item, path, "humidity_percent", humidity, -1.0, &rh)))
         return s;
-    if (!(top_km > bottom_km)) {
+    if (!(top_km - bottom_km >= MIN_LAYER_M / FM_KM)) {
         char p[JSON_PATH_CHARS];
         json_child_path(p, path, ".top_km");
-        return json_bad(rd, p, "must be above bottom_km (%g), not %g", bottom_km, top_km);
+        if (!(top_km > bottom_km))
+            return json_bad(rd, p, "must be above bottom_km (%g), not %g", bottom_km, top_km);
+        return json_bad(rd, p, "must be at least %g km above bottom_km (%g) (a thinner layer falls between the "
+                               "altitude grid's 50 m steps), not %.15g",
+                        MIN_LAYER_M / FM_KM, bottom_km, top_km);
     }
     layer->bottom_m = bottom_km * FM_KM;
     layer->top_m = top_km * FM_KM;

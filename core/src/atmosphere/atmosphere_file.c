@@ -9,8 +9,17 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Physically meaningful ranges (docs/atmosphere-file.md): outside them the tables' arithmetic loses
+ * its meaning (a planet of 1e-300 km divides by zero) long before any real atmosphere is refused. */
+#define MIN_RADIUS_KM 100.0  /* below the smallest bodies with an atmosphere (Pluto 1188 km) */
+#define MAX_RADIUS_KM 1e6    /* above the Sun (696000 km) */
+#define MIN_TOP_KM 1.0       /* 20 steps of the 50 m profile grid */
 #define MAX_TOP_KM 10000.0
-#define MAX_RADIUS_KM 1e6
+#define MIN_SCALE_HEIGHT_KM 0.1 /* two steps of the profile grid: a thinner layer would be smeared */
+#define MAX_SCALE_HEIGHT_KM 1e4
+#define MAX_ALTITUDE_KM 1e5     /* a tabulated profile's altitudes, within +-this */
+#define MAX_PROFILE 1e3         /* a tabulated profile's values: a thousand times its reference density */
+#define MAX_COEFFICIENT 1.0     /* m^-1: fog and the thickest clouds reach about 0.15 */
 #define MAX_RHO (6.0 / 7.0)        /* depolarisation factor of natural light: 0 (spheres) to 6/7 */
 
 /* The file's reader and the grid its spectral quantities are read for. */
@@ -186,7 +195,8 @@ static fm_status read_profile(const reader *rd, const cJSON *node, const char *p
         if (member(node, "altitudes_km") || member(node, "values"))
             return json_bad(&rd->json, path, "an exponential profile takes only \"scale_height_km\"");
         double h_km;
-        if ((st = json_required_number(&rd->json, node, path, "scale_height_km", json_positive, &h_km)))
+        const json_interval scale = {MIN_SCALE_HEIGHT_KM, MAX_SCALE_HEIGHT_KM, 0, 0};
+        if ((st = json_required_number(&rd->json, node, path, "scale_height_km", scale, &h_km)))
             return st;
         double h_m = h_km * FM_KM;
         if (profile_sample(out, exponential_density, &h_m, top_m, FM_PROFILE_SPACING_M))
@@ -205,9 +215,10 @@ static fm_status read_profile(const reader *rd, const cJSON *node, const char *p
         json_child_path(pv, path, ".values");
         double *a = NULL, *v = NULL;
         int na = 0, nv = 0;
-        if (!(st = json_get_numbers(&rd->json, alt, pa, 2, json_any, &a, &na)) &&
+        const json_interval altitude = {-MAX_ALTITUDE_KM, MAX_ALTITUDE_KM, 0, 0}, value = {0.0, MAX_PROFILE, 0, 0};
+        if (!(st = json_get_numbers(&rd->json, alt, pa, 2, altitude, &a, &na)) &&
             !(st = json_check_ascending(&rd->json, pa, a, na)) &&
-            !(st = json_get_numbers(&rd->json, val, pv, 2, json_non_negative, &v, &nv))) {
+            !(st = json_get_numbers(&rd->json, val, pv, 2, value, &v, &nv))) {
             if (nv != na)
                 st = json_bad(&rd->json, path, "has %d altitudes but %d values", na, nv);
             else if (a[0] > 0.0 || a[na - 1] * FM_KM < top_m)
@@ -436,6 +447,7 @@ static fm_status read_constituent(const reader *rd, const cJSON *node, const cha
 
     /* coefficients: scattering + absorption, or extinction + single-scattering albedo */
     const int K = rd->grid->count;
+    const json_interval coefficient = {0.0, MAX_COEFFICIENT, 0, 0};
     int has_ext = member(node, "extinction") != NULL, has_ssa = member(node, "single_scattering_albedo") != NULL;
     if (has_ext || has_ssa) {
         if (member(node, "scattering") || member(node, "absorption"))
@@ -447,7 +459,7 @@ static fm_status read_constituent(const reader *rd, const cJSON *node, const cha
                             has_ext ? "single_scattering_albedo" : "extinction");
         double ext[FM_MAX_WAVELENGTHS], ssa[FM_MAX_WAVELENGTHS];
         const json_interval unit = {0.0, 1.0, 0, 0};
-        if ((st = optional_spectral(rd, node, path, "extinction", json_non_negative, name, 0.0, ext, NULL)) ||
+        if ((st = optional_spectral(rd, node, path, "extinction", coefficient, name, 0.0, ext, NULL)) ||
             (st = optional_spectral(rd, node, path, "single_scattering_albedo", unit, name, 0.0, ssa, NULL)))
             return st;
         for (int k = 0; k < K; k++) {
@@ -456,8 +468,8 @@ static fm_status read_constituent(const reader *rd, const cJSON *node, const cha
         }
     } else {
         int has_s = 0, has_a = 0;
-        if ((st = optional_spectral(rd, node, path, "scattering", json_non_negative, name, 0.0, sp->sigma_s, &has_s)) ||
-            (st = optional_spectral(rd, node, path, "absorption", json_non_negative, name, 0.0, sp->sigma_a, &has_a)))
+        if ((st = optional_spectral(rd, node, path, "scattering", coefficient, name, 0.0, sp->sigma_s, &has_s)) ||
+            (st = optional_spectral(rd, node, path, "absorption", coefficient, name, 0.0, sp->sigma_a, &has_a)))
             return st;
         if (!has_s && !has_a)
             return json_bad(&rd->json, path,
@@ -506,7 +518,7 @@ static fm_status build(const reader *rd, const cJSON *root, atmosphere *atm, dou
     if ((st = json_get_string(&rd->json, root, "$", "name", 0, &name)) ||
         (st = json_get_string(&rd->json, root, "$", "description", 0, &description)))
         return st;
-    const json_interval radius = {0.0, MAX_RADIUS_KM, 1, 0}, top = {0.0, MAX_TOP_KM, 1, 0}, unit = {0.0, 1.0, 0, 0};
+    const json_interval radius = {MIN_RADIUS_KM, MAX_RADIUS_KM, 0, 0}, top = {MIN_TOP_KM, MAX_TOP_KM, 0, 0}, unit = {0.0, 1.0, 0, 0};
     double radius_km, top_km;
     if ((st = json_required_number(&rd->json, root, "$", "planet_radius_km", radius, &radius_km)) ||
         (st = json_required_number(&rd->json, root, "$", "top_altitude_km", top, &top_km)))

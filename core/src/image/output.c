@@ -76,6 +76,15 @@ fm_status fm_output_set_job(fm_output *o, const char *json_object, fm_error *err
     return FM_OK;
 }
 
+/* How many of the pixels' values are NaN or infinite: a map never holds one. */
+static size_t non_finite_values(const fm_image *img)
+{
+    size_t n = (size_t)img->width * img->height * img->channels, bad = 0;
+    for (size_t i = 0; i < n; i++)
+        bad += !isfinite(img->pixels[i]);
+    return bad;
+}
+
 /* The largest magnitude of the pixels, for the half-float range check (NaN counts as too large). */
 static double largest_value(const fm_image *img)
 {
@@ -236,6 +245,11 @@ fm_status fm_output_stage(fm_output *o, const fm_image *image, const atomic_int 
 {
     if (o->staged || !o->files[FILE_EXR].tmp)
         return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "output already written");
+    size_t bad = non_finite_values(image);
+    if (bad)
+        return fm_fail(err, FM_ERR_INTERNAL, "the render produced %zu values that are not finite (NaN or infinity): "
+                                             "nothing was written",
+                       bad);
     fm_status s = check_record(image, err);
     if (s)
         return s;
@@ -281,6 +295,10 @@ static fm_status write_spectral_file(const char *file, const char *path, const f
     fm_status s = check_record(colour, err);
     if (s)
         return s;
+    size_t bad = non_finite_values(spectral);
+    if (bad)
+        return fm_fail(err, FM_ERR_INTERNAL, "the spectral map holds %zu values that are not finite: nothing was "
+                                             "written", bad);
     metadata meta;
     metadata_collect(&meta, colour, path);
     s = image_write_exr(file, spectral, &meta, 0, FM_EXR_ZIP, colour->record.threads, cancel, err);
