@@ -3,10 +3,11 @@
 # build: the default sky and a time series equal within 1e-4 relative RMS (same seed; they differ
 # by the C libraries' sin/exp/pow and the compiled-in colour spaces' double precision against
 # OpenColorIO's float), the sidecar's numbers within 1e-6, `firmament sun` within its printed
-# digits, --list-colorspaces the same, bad input (exit 2, one line, nothing written), an existing
-# output kept when a render fails and replaced when one succeeds, a UTF-8 file name, Windows path
-# separators, --threads, JSON progress, and Ctrl-C (Wine delivers SIGINT as a console control
-# event: exit 130, no temporary file left).
+# digits, --list-colorspaces the same and $OCIO naming another config refused, bad input (exit 2,
+# one line, nothing written), an existing output kept when a render fails and replaced when one
+# succeeds, a UTF-8 file name, Windows path separators, --threads, JSON progress, and Ctrl-C (Wine
+# delivers SIGINT as a console control event: exit 130, no temporary file left); the zip is
+# unpacked in a folder whose name has spaces and non-ASCII letters.
 # Usage: wine.sh ZIP LINUX_FIRMAMENT WORK_DIR   (the Wine prefix is made once in WORK_DIR/wineprefix)
 set -euo pipefail
 zip=$(realpath "$1")
@@ -21,7 +22,7 @@ fail() {
     failures=$((failures + 1))
 }
 
-run=$work/run
+run="$work/run é 空" # the package in a folder whose name is not ASCII and has spaces
 rm -rf "$run"
 mkdir -p "$run/win" "$run/lin"
 python3 -c 'import sys, zipfile; zipfile.ZipFile(sys.argv[1]).extractall(sys.argv[2])' "$zip" "$run"
@@ -93,6 +94,13 @@ sys.exit(1 if bad or set(a) != set(b) else 0)
 PY
 [ "$(win render --list-colorspaces | tr -d '\r')" = "$("$linux" render --list-colorspaces)" ] ||
     fail "--list-colorspaces differs from the Linux build's"
+# another OpenColorIO config cannot be used without OpenColorIO: one line, exit 2
+set +e
+OCIO="$run/firmament_sky/presets/skies/golden-hour.json" win render --width 64 -o "$run/ocio.exr" 2>"$run/ocio.err"
+code=$?
+set -e
+[ "$code" -eq 2 ] && [ "$(wc -l <"$run/ocio.err")" -eq 1 ] && grep -q "no OpenColorIO" "$run/ocio.err" ||
+    fail "\$OCIO naming another config: exit $code, $(cat "$run/ocio.err")"
 
 # Bad input: exit 2, one line on stderr, nothing written.
 set +e
