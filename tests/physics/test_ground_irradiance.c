@@ -15,8 +15,8 @@
 #include "base/rng.h"
 #include "base/units.h"
 #include "spectrum/spectral_grid.h"
-#include "transport/ground_irradiance.h"
 #include "render/render.h"
+#include "transport/ground_irradiance_build.h"
 #include "transport/twilight.h"
 
 #include <math.h>

@@ -34,6 +34,7 @@
 #include "spectrum/spectral_grid.h"
 #include "transport/single_scatter.h"
 #include "transport/shadow_flight.h"
+#include "transport/sky_guide_build.h"
 #include "transport/sky_path.h"
 #include "transport/sun_frame.h"
 #include "transport/sunlit_segment.h"

@@ -251,12 +251,6 @@ static double table_xmu(const atmosphere *atm, double H, double r, double rho, d
     return d_max > d_min ? (d - d_min) / (d_max - d_min) : 0.0;
 }
 
-double top_horizon_distance(const atmosphere *atm)
-{
-    double rb = atm->bottom_radius_m, rt = atm->top_radius_m;
-    return sqrt(rt * rt - rb * rb);
-}
-
 /* The cosine of the direction x_mu at radius r. */
 static double table_mu(const atmosphere *atm, double H, double r, double xmu)
 {

@@ -30,9 +30,6 @@ int ray_hits_ground(const atmosphere *atm, double r, double mu);
 double ray_distance_to_ground(const atmosphere *atm, double r, double mu);
 /* Distance to where the ray leaves the atmosphere: the ground or the top. */
 double ray_distance_to_boundary(const atmosphere *atm, double r, double mu, int *hits_ground);
-/* sqrt(rt^2 - rb^2): the distance from the ground to the top along the horizon, the scale of the
- * tables' radius mapping (Bruneton's H). */
-double top_horizon_distance(const atmosphere *atm);
 /* Cosine of the zenith angle of the horizon seen from radius r (<= 0). */
 double horizon_mu(const atmosphere *atm, double r);
 

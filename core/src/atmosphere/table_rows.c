@@ -1,6 +1,5 @@
 #include "atmosphere/table_rows.h"
 
-#include "atmosphere/optical_depth.h"
 #include "atmosphere/profile.h"
 #include "base/status.h"
 
@@ -34,6 +33,12 @@ static int edge_altitudes(const atmosphere *atm, double *z, int max_count)
                 z[n++] = zi;
     }
     return n;
+}
+
+double top_horizon_distance(const atmosphere *atm)
+{
+    double rb = atm->bottom_radius_m, rt = atm->top_radius_m;
+    return sqrt(rt * rt - rb * rb);
 }
 
 fm_status table_rows_init(table_rows *rows, const atmosphere *atm, int uniform_count, fm_error *err)

@@ -21,6 +21,10 @@ typedef struct table_rows {
     int *first;       /* [cells] the last row at or below the start of each step */
 } table_rows;
 
+/* sqrt(rt^2 - rb^2): the distance from the ground to the top along the horizon, the scale of the
+ * tables' radius mapping (Bruneton's H). */
+double top_horizon_distance(const atmosphere *atm);
+
 /* uniform_count rows uniform in x_r (>= 2) and the rows of the profiles' edges;
  * FM_ERR_OUT_OF_MEMORY on allocation failure. */
 fm_status table_rows_init(table_rows *rows, const atmosphere *atm, int uniform_count, fm_error *err);

@@ -6,6 +6,7 @@
 #ifndef FM_BASE_RNG_H
 #define FM_BASE_RNG_H
 
+#include "base/hash.h"
 #include "base/sobol.h"
 
 #include <stddef.h>
@@ -19,15 +20,6 @@ typedef struct rng {
     int qmc_levels;              /* scrambled digits (sobol_owen) */
     const sobol_scramble *qmc_table; /* the scramble tabulated, or NULL (rng_use_scramble) */
 } rng;
-
-/* SplitMix64 finaliser: a bijective 64-bit mix, used to derive seeds from tuples. */
-static inline uint64_t mix64(uint64_t z)
-{
-    z += 0x9E3779B97F4A7C15ull;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
 
 static inline uint32_t rng_next_u32(rng *r)
 {

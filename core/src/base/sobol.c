@@ -1,6 +1,6 @@
 #include "base/sobol.h"
 
-#include "base/rng.h"
+#include "base/hash.h"
 
 #include <pthread.h>
 #include <stdlib.h>

@@ -14,6 +14,7 @@
 #include "render/reference.h"
 #include "render/render_job.h"
 #include "render/sun_disk_raster.h"
+#include "transport/ground_irradiance_build.h"
 #include "transport/single_scatter.h"
 
 #include <assert.h>

@@ -20,7 +20,6 @@
 #define FM_TRANSPORT_GROUND_IRRADIANCE_H
 
 #include "firmament/firmament.h"
-#include "transport/path.h"
 
 typedef struct ground_irradiance {
     int count;                /* angles */
@@ -29,18 +28,6 @@ typedef struct ground_irradiance {
     int K;
 } ground_irradiance;
 
-/* The order-1 quadrature: rows in elevation, columns in azimuth over half the sky (each at most
- * FM_GAUSS_MAX, base/quadrature.h), Gauss-Legendre points per piece along each ray (single_scatter.h). */
-typedef struct ground_quadrature {
-    int rows, cols, points;
-} ground_quadrature;
-
-/* Builds the table for local sun zenith angles within max_offset (rad) of theta_s: order 1 from
- * all_orders' sun and atmosphere on the given grid, orders >= 2 from `paths` paths of all_orders
- * (its min_order raised to 2); paths = 0 leaves orders >= 2 to the caller (ground_irradiance_add). */
-fm_status ground_irradiance_build(ground_irradiance *g, const path_context *all_orders, double theta_s,
-                                  double max_offset, ground_quadrature quadrature, int paths, uint64_t seed,
-                                  int threads, const atomic_int *cancel);
 void ground_irradiance_free(ground_irradiance *g);
 
 /* How many sun angles the table for (theta_s, max_offset) has: 1 when the observer is on the

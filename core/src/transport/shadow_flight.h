@@ -28,8 +28,8 @@
 #include "base/rng.h"
 #include "base/vec.h"
 #include "transport/free_flight.h"
+#include "transport/path_context.h"
 
-struct path_context;
 
 #define SHADOW_FLIGHT_LEVELS 20 /* altitudes, 0 to 100 km */
 #define SHADOW_FLIGHT_SUNS 26   /* local sun elevations, from the observer's up, 1 degree apart */
@@ -43,10 +43,8 @@ typedef struct shadow_flight_table {
     unsigned char level_at_km[SHADOW_FLIGHT_TOP_KM + 1]; /* the level below each whole km, a first guess */
 } shadow_flight_table;
 
-/* Builds I from single_scatter_radiance with `single` (orders 1..1) at points above and toward the
- * sun from `observer`, on `threads` threads.  Returns -1 when memory ran out or *cancel was set, else 0. */
-int shadow_flight_build(shadow_flight_table *t, const struct path_context *single, vec3 observer, int threads,
-                        const atomic_int *cancel);
+/* The altitudes of the levels (km above the ground). */
+extern const double shadow_flight_level_km[SHADOW_FLIGHT_LEVELS];
 
 /* I at radius r (m) and local sun cosine mu_s: bilinear, clamped to the table. */
 double shadow_flight_light(const shadow_flight_table *t, double r, double mu_s);
@@ -63,11 +61,16 @@ double shadow_flight_light_and_ambient(const shadow_flight_table *t, double r, d
 /* The light of order 2 seen from origin along dir: I scattered once more along that ray (isotropic
  * scattering, sigma_s T at the grid's middle wavelength, 16 points), in I's units.  For the sky
  * guide (sky_guide.h): in the shadow it outweighs single scattering, which is all the guide had. */
-double shadow_flight_order2(const shadow_flight_table *t, const struct path_context *single, vec3 origin, vec3 dir);
+double shadow_flight_order2(const shadow_flight_table *t, const path_context *single, vec3 origin, vec3 dir);
+
+/* sigma_s T I at the middle wavelength integrated along seg from its origin (trapezoids on `points`
+ * + 1 points crowded at the origin, where a low point's air is densest). */
+double shadow_flight_light_along(const shadow_flight_table *t, const path_context *single, const ray_segment *seg,
+                                 int points);
 
 /* The next interaction on seg: returns 1 for a scattering at *t_out, 0 for the ground (at seg's end),
  * after multiplying w[k] by that event's f/p for every grid wavelength. */
-int shadow_flight(const struct path_context *ctx, const shadow_flight_table *table, const ray_segment *seg, rng *r,
+int shadow_flight(const path_context *ctx, const shadow_flight_table *table, const ray_segment *seg, rng *r,
                   double *w, double *t_out);
 
 #endif

@@ -15,7 +15,7 @@
 #ifndef FM_TRANSPORT_SINGLE_SCATTER_H
 #define FM_TRANSPORT_SINGLE_SCATTER_H
 
-#include "transport/path.h"
+#include "transport/path_context.h"
 
 /* The view ray's part of L1 from `origin` at one elevation. */
 typedef struct single_scatter_ray {

@@ -38,8 +38,6 @@
 #include "base/vec.h"
 #include "firmament/firmament.h"
 
-struct path_context;
-struct shadow_flight_table;
 
 #define SKY_GUIDE_ALTITUDES 7
 #define SKY_GUIDE_MAX_OFFSETS 6
@@ -68,16 +66,8 @@ typedef struct sky_guide {
     sky_guide_level level[SKY_GUIDE_LEVELS];
 } sky_guide;
 
-/* Builds the guide from single_scatter_radiance with `single` at altitudes above `observer` (its
- * own altitude first) on `threads` threads; with offsets > 1 (at most SKY_GUIDE_MAX_OFFSETS), also
- * at those altitudes 2, 4, 6, 9 and 12 degrees of arc toward the sun, whose local sun stands that
- * much higher (deep twilight: the vertices that matter are there).  With flights (deep twilight),
- * the light of order 2 from shadow_flight_order2 is added; NULL leaves it out.  A vertex uses the offset whose
- * local sun is nearest its own, then the altitude nearest its own among that offset's levels that
- * see light (a black level is left out).  Returns 0 when every level is black (the guide is then
- * unusable), -1 when memory ran out, its threads could not run or *cancel was set, else 1. */
-int sky_guide_build(sky_guide *g, const struct path_context *single, vec3 observer, int offsets, int threads,
-                    const struct shadow_flight_table *flights, const atomic_int *cancel);
+/* The distances toward the sun of the levels' offsets (degrees of arc). */
+extern const double sky_guide_offset_deg[SKY_GUIDE_MAX_OFFSETS];
 
 /* A direction at the vertex x (Earth-centred) from three uniform numbers, and the density of a
  * direction d there (per steradian). */

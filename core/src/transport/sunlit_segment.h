@@ -25,7 +25,7 @@
 
 #include "base/rng.h"
 #include "transport/free_flight.h"
-#include "transport/path.h"
+#include "transport/path_context.h"
 
 /* Species columns from a segment's origin to distance t along it, from the column table (to the top
  * of the atmosphere) as a difference of two lookups; exact quadrature where the table cannot. */

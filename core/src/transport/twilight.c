@@ -3,6 +3,9 @@
 #include "base/rng.h"
 #include "base/units.h"
 #include "spectrum/spectral_grid.h"
+#include "transport/path.h"
+#include "transport/shadow_flight_build.h"
+#include "transport/sky_guide_build.h"
 #include "transport/view_ray_vertices.h"
 
 #include <math.h>

@@ -23,7 +23,7 @@
 #define FM_TRANSPORT_VIEW_RAY_VERTICES_H
 
 #include "transport/free_flight.h"
-#include "transport/path.h"
+#include "transport/path_context.h"
 
 #define VIEW_RAY_CELLS 64
 

@@ -1,0 +1,61 @@
+/* What a path estimator needs to know about the sky it traces: the atmosphere, the sun and its
+ * tables, and which of the sampling techniques (path.h) are in use.  The tables are built above
+ * the estimators (their builders run estimators) and read through their lookups below them. */
+#ifndef FM_TRANSPORT_PATH_CONTEXT_H
+#define FM_TRANSPORT_PATH_CONTEXT_H
+
+#include "atmosphere/optical_depth.h"
+#include "base/vec.h"
+#include "atmosphere/sun_irradiance.h"
+
+struct ground_irradiance;
+struct shadow_flight_table;
+struct sky_guide;
+
+/* path_context.segment_sunlight: none; the segments that enter the Earth's umbra; every segment
+ * (twilight); the umbra's and every rising one (a low sun behind thick haze: the sunlit air is above
+ * the haze, which the paths reach by climbing). */
+enum { SEGMENT_SUNLIGHT_NONE, SEGMENT_SUNLIGHT_UMBRA, SEGMENT_SUNLIGHT_ALL, SEGMENT_SUNLIGHT_RISING };
+
+typedef struct path_context {
+    const atmosphere *atm;
+    const sun_disk *sun;
+    const sun_irradiance *sun_table;
+    const column_table *columns; /* species columns to the top (transmittance along segments) */
+    const depth_table *mid_depth; /* the middle wavelength's optical depth to the top (shadow_flight.c) */
+    vec3 sun_dir;       /* unit vector toward the sun's centre (Earth-centred frame) */
+    int min_order, max_order;
+    int force_escapes;  /* force collisions on segments that would leave through the top */
+    /* Fast path: paths whose first interaction is the ground are dropped (path_trace), because
+     * single_scatter_radiance adds the ground's reflection of the tabulated diffuse irradiance. */
+    int skip_ground_first;
+    const struct ground_irradiance *ground_diffuse;
+    /* Sun-guided directions: with probability sun_guide_fraction a scattering direction is drawn
+     * from sun_guide (a forward-peaked phase function) about the sun's direction instead of from
+     * the local phase function, combined by one-sample MIS.  The next vertex's sunlight is then
+     * sampled where its aerosol forward peak makes it large. */
+    const phase_function *sun_guide;
+    double sun_guide_fraction;
+    /* Which segments get their next interaction's sunlight by the expected value along the segment
+     * (sunlit_segment.h) instead of the point estimate: SEGMENT_SUNLIGHT_*. */
+    int segment_sunlight;
+    /* Twilight: with probability sky_guide_fraction a direction is drawn from the sky guide
+     * (sky_guide.h), toward the sunlit air; NULL when the sun is up. */
+    const struct sky_guide *sky_guide;
+    double sky_guide_fraction;
+    /* Deep twilight: segments place their next interaction by shadow_flight (shadow_flight.h)
+     * instead of delta tracking; NULL otherwise. */
+    const struct shadow_flight_table *shadow_flights;
+    /* With shadow_flights: Russian roulette at each new vertex, not before the flight, each path's
+     * survival raised by how much more light that vertex receives than its first point did
+     * (shadow_flight_light against shadow_flight_light_and_ambient); see path.c. */
+    int light_led_roulette;
+    /* With shadow_flights: the share of a table node's first vertices placed along the view ray by
+     * scattering x transmittance x the light there (view_ray_vertices.h); 0 by day. */
+    double first_vertex_light_share;
+    /* With shadow_flights: paths whose weight has grown far past 1 are split into copies that share
+     * it (path.c); 0 leaves them whole. */
+    int split_heavy_paths;
+} path_context;
+
+#endif

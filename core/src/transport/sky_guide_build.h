@@ -1,0 +1,23 @@
+/* Building the sky guide (sky_guide.h) from single-scattering quadrature (single_scatter.h) and, in
+ * deep twilight, the flights' light of order 2 (shadow_flight.h). */
+#ifndef FM_TRANSPORT_SKY_GUIDE_BUILD_H
+#define FM_TRANSPORT_SKY_GUIDE_BUILD_H
+
+#include "transport/path_context.h"
+#include "transport/shadow_flight.h"
+#include "transport/sky_guide.h"
+
+#include <stdatomic.h>
+
+/* Builds the guide from single_scatter_radiance with `single` at altitudes above `observer` (its
+ * own altitude first) on `threads` threads; with offsets > 1 (at most SKY_GUIDE_MAX_OFFSETS), also
+ * at those altitudes 2, 4, 6, 9 and 12 degrees of arc toward the sun, whose local sun stands that
+ * much higher (deep twilight: the vertices that matter are there).  With flights (deep twilight),
+ * the light of order 2 from shadow_flight_order2 is added; NULL leaves it out.  A vertex uses the offset whose
+ * local sun is nearest its own, then the altitude nearest its own among that offset's levels that
+ * see light (a black level is left out).  Returns 0 when every level is black (the guide is then
+ * unusable), -1 when memory ran out, its threads could not run or *cancel was set, else 1. */
+int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int offsets, int threads,
+                    const shadow_flight_table *flights, const atomic_int *cancel);
+
+#endif
