@@ -5,6 +5,7 @@
 #include "base/threads.h"
 #include "base/units.h"
 #include "base/vec.h"
+#include "spectrum/spectral.h"
 
 #include <math.h>
 #include <sched.h>
@@ -238,8 +239,7 @@ void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, c
     double w[4];
     size_t idx[4];
     if (locate(table, atm, sun, r, mu_s, w, idx)) {
-        for (int k = 0; k < K; k++)
-            normal[k] = 0.0;
+        spectral_fill(normal, 0.0, K);
         return;
     }
     exp_of_depths(table->normal, w, idx, K, normal);
@@ -270,8 +270,7 @@ int sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *a
     size_t idx[4];
     const int K = table->count;
     if (locate(table, atm, sun, r, mu_s, w, idx)) {
-        for (int k = 0; k < K; k++)
-            depth[k] = INFINITY;
+        spectral_fill(depth, INFINITY, K);
         return 0;
     }
     interpolate_depths(table->normal, w, idx, K, depth);

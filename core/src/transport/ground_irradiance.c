@@ -1,6 +1,7 @@
 #include "transport/ground_irradiance.h"
 
 #include "base/units.h"
+#include "spectrum/spectral.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -19,8 +20,7 @@ int ground_irradiance_angle_count(double theta_s, double max_offset)
 void ground_irradiance_add(ground_irradiance *g, const double *E)
 {
     for (int n = 0; n < g->count; n++)
-        for (int k = 0; k < g->K; k++)
-            g->E[(size_t)n * g->K + k] += E[k];
+        spectral_add(&g->E[(size_t)n * g->K], E, g->K);
 }
 
 void ground_irradiance_free(ground_irradiance *g)

@@ -4,6 +4,7 @@
 #include "base/rng.h"
 #include "base/threads.h"
 #include "base/units.h"
+#include "spectrum/spectral.h"
 #include "transport/path.h"
 #include "transport/single_scatter.h"
 #include "transport/sun_frame.h"
@@ -125,8 +126,7 @@ static void single_rows(void *ctx, int64_t begin, int64_t end, int thread)
             double L[FM_MAX_WAVELENGTHS] = {0};
             single_scatter_ray_radiance(&ray, job->pc, sun_frame_direction(&f, sin(e), phi), L);
             double weight = 2.0 * sin(e) * cos(e) * de * dphi;
-            for (int k = 0; k < K; k++)
-                out[k] += weight * L[k];
+            spectral_add_scaled(out, weight, L, K);
         }
         single_scatter_ray_free(&ray);
     }
@@ -179,8 +179,7 @@ fm_status ground_irradiance_build(ground_irradiance *g, const path_context *all_
             for (int k = 0; k < K; k++)
                 g->E[(size_t)n * K + k] += partial[((size_t)n * blocks + b) * K + k] * (FM_PI / paths);
         for (int row = 0; row < rows; row++)
-            for (int k = 0; k < K; k++)
-                g->E[(size_t)n * K + k] += single[((size_t)n * rows + row) * K + k];
+            spectral_add(&g->E[(size_t)n * K], &single[((size_t)n * rows + row) * K], K);
     }
     free(partial);
     free(single);

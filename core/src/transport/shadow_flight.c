@@ -1,6 +1,7 @@
 #include "transport/shadow_flight.h"
 
 #include "base/units.h"
+#include "spectrum/spectral.h"
 #include "transport/sunlit_segment.h"
 
 #include <math.h>
@@ -157,8 +158,7 @@ int shadow_flight(const path_context *ctx, const shadow_flight_table *table, con
             double tr[FM_MAX_WAVELENGTHS];
             segment_columns_at(&sc, seg->t_end, col);
             atmosphere_transmittances(atm, col, tr);
-            for (int k = 0; k < K; k++)
-                w[k] *= tr[k] / p_ground;
+            spectral_mul_ratio(w, tr, p_ground, K);
             *t_out = seg->t_end;
             return 0;
         }

@@ -5,6 +5,7 @@
 #include "base/quadrature.h"
 #include "base/units.h"
 #include "phase/phase.h"
+#include "spectrum/spectral.h"
 #include "transport/free_flight.h"
 #include "transport/ground_irradiance.h"
 
@@ -140,12 +141,10 @@ void single_scatter_ray_radiance(const single_scatter_ray *ray, const path_conte
         if (!sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, (origin_sun + t * cos_sun) / rad,
                                          sun_depth))
             continue;
-        for (int k = 0; k < K; k++)
-            coef[k] = 0.0;
+        spectral_fill(coef, 0.0, K);
         for (int c = 0; c < atm->scattering_count; c++)
             if (n[c] != 0.0) /* aerosol layers are absent at most altitudes */
-                for (int k = 0; k < K; k++)
-                    coef[k] += n[c] * scatter[c][k];
+                spectral_add_scaled(coef, n[c], scatter[c], K);
         double tr[FM_MAX_WAVELENGTHS];
         for (int k = 0; k < K; k++)
             tr[k] = -(view_depth[k] + sun_depth[k]);

@@ -3,6 +3,7 @@
 #include "atmosphere/optical_depth.h"
 #include "base/exp_array.h"
 #include "base/units.h"
+#include "spectrum/spectral.h"
 
 #include <math.h>
 
@@ -274,10 +275,7 @@ void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0
         vec3 x = v3_madd(seg->origin, seg->dir, seg->t_end);
         double rad = v3_length(x), tbar[FM_MAX_WAVELENGTHS], thor[FM_MAX_WAVELENGTHS];
         sun_irradiance_lookup_ground(ctx->sun_table, atm, ctx->sun, v3_dot(x, ctx->sun_dir) / rad, tbar, thor);
-        double any = 0.0;
-        for (int k = 0; k < K; k++)
-            any += thor[k];
-        if (any > 0.0) {
+        if (spectral_sum(thor, K) > 0.0) {
             segment_columns_at(&sc, seg->t_end, col);
             double tr[FM_MAX_WAVELENGTHS];
             atmosphere_transmittances(atm, col, tr);

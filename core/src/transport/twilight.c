@@ -2,7 +2,7 @@
 
 #include "base/rng.h"
 #include "base/units.h"
-#include "spectrum/spectral_grid.h"
+#include "spectrum/spectral.h"
 #include "transport/path.h"
 #include "transport/shadow_flight_build.h"
 #include "transport/sky_guide_build.h"
@@ -108,14 +108,11 @@ void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int 
             double y3 = spectral_grid_luminance(&sky->atm.grid, later);
             orders->yy[0] += y2 * y2;
             orders->yy[1] += y3 * y3;
-            for (int k = 0; k < K; k++) {
-                orders->later[k] += later[k];
-                own[k] += later[k];
-            }
+            spectral_add(orders->later, later, K);
+            spectral_add(own, later, K);
         }
         if (Lp == own)
-            for (int k = 0; k < K; k++)
-                L[k] += own[k];
+            spectral_add(L, own, K);
         if (m) {
             double xyz[3] = {0.0, own[0], 0.0}; /* Y: the luminance, or a monochromatic sky's value */
             if (sky->atm.grid.colour) {

@@ -2,6 +2,7 @@
 
 #include "atmosphere/optical_depth.h"
 #include "base/vec.h"
+#include "spectrum/spectral.h"
 #include "transport/shadow_flight.h"
 
 #include <math.h>
@@ -40,8 +41,7 @@ static void scattered_fraction(const view_ray_vertices *v, const path_context *c
     atmosphere_densities(atm, ray_segment_radius(&v->seg, t), n);
     atmosphere_coefficients_from_densities(atm, n, sig_s, sig_t);
     atmosphere_transmittances(atm, col, f);
-    for (int k = 0; k < atm->grid.count; k++)
-        f[k] *= sig_s[k];
+    spectral_mul(f, sig_s, atm->grid.count);
 }
 
 void view_ray_columns(const view_ray_vertices *v, const atmosphere *atm, double t, double *col)
