@@ -20,9 +20,9 @@
 #include <stdatomic.h>
 
 /* Nodes are computed on first use, SUN_BLOCK of a row at a time: the paths of one render meet a
- * band of local sun elevations around the observer's, so most of the table is never read (1024 x
- * 512 preview: 15% of it for sun 30, 38% for the urban sunset at sun 2, 65% at -14).  A lookup
- * builds the blocks it reads, on whichever thread reads them first. */
+ * band of local sun elevations around the observer's, so most of the table is never read
+ * (docs/decisions/2026-12-06-sampling-densities.md).  A lookup builds the blocks it reads, on
+ * whichever thread reads them first. */
 #define SUN_BLOCK 16
 
 typedef struct sun_irradiance {

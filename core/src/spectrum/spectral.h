@@ -53,6 +53,27 @@ static inline void spectral_scale(double *a, double x, int K)
         a[k] *= x;
 }
 
+/* a[k] /= x */
+static inline void spectral_divide(double *a, double x, int K)
+{
+    for (int k = 0; k < K; k++)
+        a[k] /= x;
+}
+
+/* a[k] = -b[k] */
+static inline void spectral_negate(double *a, const double *b, int K)
+{
+    for (int k = 0; k < K; k++)
+        a[k] = -b[k];
+}
+
+/* a[k] += x - b[k]: an optical depth relative to one wavelength's, summed */
+static inline void spectral_add_difference(double *a, double x, const double *b, int K)
+{
+    for (int k = 0; k < K; k++)
+        a[k] += x - b[k];
+}
+
 /* a[k] *= b[k] / x: a ratio to one wavelength's value, or a weight over a pdf */
 static inline void spectral_mul_ratio(double *a, const double *b, double x, int K)
 {
@@ -73,6 +94,15 @@ static inline double spectral_sum(const double *a, int K)
     double s = 0.0;
     for (int k = 0; k < K; k++)
         s += a[k];
+    return s;
+}
+
+/* sum of a[k] b[k], from 0 in order of k */
+static inline double spectral_dot(const double *a, const double *b, int K)
+{
+    double s = 0.0;
+    for (int k = 0; k < K; k++)
+        s += a[k] * b[k];
     return s;
 }
 

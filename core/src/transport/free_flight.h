@@ -39,6 +39,13 @@ void free_flight_majorant_depth(const atmosphere *atm, const ray_segment *seg, d
 int free_flight_advance(const atmosphere *atm, const ray_segment *seg, double t0, double tau, int hero,
                         double *t_out, double *depth, int *shell);
 
+/* Whether radius r (m) lies in the atmosphere's shell, to within the rounding of a point computed on
+ * the ground or at the top (1e-9 of the radius: 6 mm). */
+static inline int atmosphere_shell_contains(const atmosphere *atm, double r)
+{
+    return r >= atm->bottom_radius_m * (1.0 - 1e-9) && r <= atm->top_radius_m * (1.0 + 1e-9);
+}
+
 /* Shell index containing radius r. */
 int atmosphere_shell_of(const atmosphere *atm, double r);
 

@@ -13,7 +13,7 @@ int ground_irradiance_angle_count(double theta_s, double max_offset)
     double lo = fmax(0.0, theta_s - max_offset), hi = fmin(FM_PI, theta_s + max_offset);
     /* angles no farther apart than NODE_SPACING, between 2 and 5: an observer at eye height (2 m)
      * sees the ground over +-0.05 degrees of sun angle, where two suffice for the linear
-     * interpolation (and five had cost 1 s more than at 0 m) */
+     * interpolation (docs/decisions/2026-12-06-quadrature-accuracy.md) */
     return hi - lo < 1e-4 ? 1 : (int)fmin(5.0, fmax(2.0, ceil((hi - lo) / NODE_SPACING) + 1.0));
 }
 

@@ -11,10 +11,9 @@
  *  - orders >= 2 (ground-sky interreflections included) by many paths: pi * mean(L) over
  *    cosine-distributed directions; or, for an observer on the ground, by the caller from the
  *    multiple-scattering table, whose sky half is that very radiance (render.c, ground_from_table).
- * Order 1 is most of the diffuse light by day and, through the forward peak, most of the paths'
- * noise: at sun 30 deg their standard deviation per path is 3.4 (desert dust) / 2.3 (urban) / 1.8
- * (rural) of E_d for all orders and 0.8 / 1.2 / 0.5 for orders >= 2.  The fast path then adds the ground's reflection
- * deterministically and its multiple-scattering paths skip the ground as a first interaction, so
+ * Order 1 is most of the diffuse light by day and, through the aerosols' forward peak, most of the
+ * paths' noise, so it is integrated rather than sampled.  The fast path then adds the ground's
+ * reflection deterministically and its multiple-scattering paths skip the ground as a first interaction, so
  * nothing is counted twice and the ground carries no per-direction noise. */
 #ifndef FM_TRANSPORT_GROUND_IRRADIANCE_H
 #define FM_TRANSPORT_GROUND_IRRADIANCE_H

@@ -67,14 +67,9 @@ static void build_blocks(void *ctx, int64_t begin, int64_t end, int thread)
  * symmetric about the sun's vertical plane (phi in [0, pi], counted twice).  Gauss-Legendre in
  * variables that crowd the nodes where radiance changes fastest: the elevations [0, e_c] and
  * [e_c, pi/2] apart (e_c the sun's elevation clamped to the hemisphere), the first crowded at both
- * ends (the horizon's bright rim, the sun), the second at e_c; the azimuth crowded at the sun's.
- * Against 64 x 64 nodes with 6 points per ray piece, 32 x 32 are within 0.01% (desert dust, clear air
- * and rural turbidity 4 at sun 30, rural at sun 80, urban sunset, twilight -4 and -10), 24 x 32 with
- * 4 points within 0.05% by day and 0.3% at twilight; with 3 points per piece (both qualities now,
- * single_scatter.c) 32 x 32 within 9e-5 and 24 x 32 within 1.9e-4 (desert dust, clear air, urban
- * sunset, rural at -4; 4 points 2e-4).  The path tracer restricted to order 1 agrees within its
- * noise (0.2%, 2 million paths).  Each row shares its view ray's part (single_scatter.h).  Work item = (node, row); rows are summed
- * afterwards in a fixed order. */
+ * ends (the horizon's bright rim, the sun), the second at e_c; the azimuth crowded at the sun's
+ * (accuracy: docs/decisions/2026-12-06-quadrature-accuracy.md).  Each row shares its view ray's
+ * part (single_scatter.h).  Work item = (node, row); rows are summed afterwards in a fixed order. */
 #define FAR_FROM_SUN (12.0 * FM_DEG) /* rows this far from the sun's elevation: a quarter of the columns */
 
 /* Row r's elevation and weight (d elevation) for a sun at elevation e_s. */

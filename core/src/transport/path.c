@@ -1,78 +1,52 @@
 #include "transport/path.h"
 
+#include "base/checks.h"
 #include "base/exp_array.h"
 #include "base/threads.h"
 #include "base/units.h"
 #include "phase/phase.h"
+#include "spectrum/spectral.h"
 #include "transport/free_flight.h"
+#include "transport/path_direction.h"
 #include "transport/shadow_flight.h"
-#include "transport/sky_guide.h"
 #include "transport/sunlit_segment.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stddef.h>
 
-void medium_phase(const atmosphere *atm, const double *n, double cos_theta, double *p, double *sigma_s)
-{
-    /* One phase_evaluate_all per species (a tabulated phase function then searches its angle grid
-     * once, not once per wavelength); the sums run over species in the same order as before. */
-    const int K = atm->grid.count;
-    double num[FM_MAX_WAVELENGTHS] = {0}, den[FM_MAX_WAVELENGTHS] = {0}, value[FM_MAX_WAVELENGTHS];
-    for (int c = 0; c < atm->scattering_count; c++) {
-        const species *sp = &atm->species[c];
-        if (n[c] == 0.0)
-            continue; /* aerosol layers are absent at most altitudes */
-        phase_evaluate_all(&sp->phase, K, cos_theta, value);
-        for (int k = 0; k < K; k++) {
-            double s = sp->sigma_s[k] * n[c];
-            num[k] += s * value[k];
-            den[k] += s;
-        }
-    }
-    for (int k = 0; k < K; k++) {
-        p[k] = den[k] > 0.0 ? num[k] / den[k] : 0.0;
-        if (sigma_s)
-            sigma_s[k] = den[k];
-    }
-}
+/* ---- Roulette and splitting: the weight a path carries ---------------------------------------- */
 
-static vec3 rotate_direction(vec3 d, double cos_theta, double phi)
-{
-    frame f = frame_from_normal(d);
-    double sin_theta = safe_sqrt(1.0 - cos_theta * cos_theta);
-    return v3_normalize(frame_to_world(&f, v3(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta)));
-}
-
-static double average(const double *q, int K)
-{
-    double s = 0.0;
-    for (int k = 0; k < K; k++)
-        s += q[k];
-    return s / K;
-}
-
-/* The largest of a path's spectral weights q_k w_k (times W / average(q), its scale). */
-static double largest_weight(const double *q, const double *w, int K)
-{
-    double m = 0.0;
-    for (int k = 0; k < K; k++)
-        m = larger(m, q[k] * w[k]);
-    return m;
-}
-
-/* Russian roulette on the largest spectral weight; returns 0 if the path dies.  Paths play only once
- * their weight falls below FM_ROULETTE_THRESHOLD, and survivors are raised to that weight, not to 1:
- * a path sent into an unlikely direction by the sun guide (weight << 1) would otherwise come back
- * with weight 1 and undo the guide's gain.  (Measured at 550 nm, sun 30 deg, view 45 deg: relative
- * standard deviation per multiple-scattering path 3.6 -> 1.4 for rural, 4.8 -> 1.9 for desert dust,
- * at 20-30 % more time per path.)  The weight is multiplied by lift (1, or deep twilight's
- * light_lift below) before the comparison, and at least min_survive of the paths live on (0, or
- * deep twilight's LIGHT_LED_MIN_SURVIVAL below). */
+/* Russian roulette plays once a path's weight (its largest spectral weight q_k w_k W / mean(q)) is
+ * below this, and raises survivors to it, not to 1: a path sent into an unlikely direction by the
+ * sun guide has a weight << 1 on purpose, and raising it to 1 would undo the guide's gain
+ * (docs/decisions/2026-12-06-russian-roulette.md). */
 #define FM_ROULETTE_THRESHOLD 0.1
+/* Deep twilight's light-led roulette keeps at least this share of the paths at each vertex, so a
+ * survivor's weight grows at most tenfold per vertex (docs/decisions/2026-12-06-light-led-roulette.md). */
+#define LIGHT_LED_MIN_SURVIVAL 0.1
+/* Deep twilight splits a path whose weight has passed SPLIT_WEIGHT into at most SPLIT_COPIES copies
+ * that share it, and each path may make SPLIT_BUDGET copies beyond itself: the heavy tail of its
+ * path estimates, left whole, has no variance (docs/decisions/2026-12-06-path-splitting.md). */
+#define SPLIT_WEIGHT 3.0
+#define SPLIT_COPIES 4
+#define SPLIT_BUDGET 32
+/* exp(-600): the weight behind an absorption optical depth of 600, far below any light a map holds */
+#define OPAQUE_WEIGHT 2.65e-261
+
+/* A path's weight as roulette and splitting weigh it: its largest spectral weight q_k w_k W / mean(q). */
+static double path_weight(double W, const double *q, const double *w, int K)
+{
+    return spectral_max_product(q, w, K) * (W / spectral_mean(q, K));
+}
+
+/* Russian roulette on the path's weight times lift (1, or the light-led roulette's light_lift);
+ * returns 0 if the path dies, else scales W by 1 / survival.  At least min_survive of the paths
+ * live on; past order 8 at most 95% (every order is included, and the longest paths end). */
 static int roulette(double *W, const double *q, const double *w, int K, int order, double lift, double min_survive,
                     rng *r)
 {
-    double m = largest_weight(q, w, K) * (*W / average(q, K) * lift);
+    double m = spectral_max_product(q, w, K) * (*W / spectral_mean(q, K) * lift);
     double survive = fmin(m / FM_ROULETTE_THRESHOLD, order > 8 ? 0.95 : 1.0);
     survive = survive > min_survive ? survive : min_survive;
     if (survive >= 1.0)
@@ -83,151 +57,18 @@ static int roulette(double *W, const double *q, const double *w, int K, int orde
     return 1;
 }
 
+/* Keeps the pdf ratios q within range: only their ratios to their mean matter. */
 static void renormalise(double *q, int K)
 {
-    double m = 0.0;
-    for (int k = 0; k < K; k++)
-        m = larger(m, q[k]);
+    double m = spectral_max(q, K);
     if (m > 1e100 || (m < 1e-100 && m > 0.0))
-        for (int k = 0; k < K; k++)
-            q[k] /= m;
+        spectral_divide(q, m, K);
 }
 
-/* A direction drawn from the sun guide (path.h) about the sun, at the hero wavelength h. */
-static vec3 sun_guide_direction(const path_context *ctx, int h, rng *r)
-{
-    double cos_sun = phase_sample(ctx->sun_guide, h, rng_uniform(r));
-    return rotate_direction(ctx->sun_dir, cos_sun, 2.0 * FM_PI * rng_uniform(r));
-}
-
-/* One-sample MIS over the techniques of a direction, balance heuristic: with f[k] the directional
- * factor and pdf[k] the mixture's density for wavelength k, w[k] *= f / pdf and q[k] *= pdf / pdf_h. */
-static void mis_weigh(int K, int h, const double *f, const double *pdf, double *q, double *w)
-{
-    for (int k = 0; k < K; k++) {
-        w[k] *= pdf[k] > 0.0 ? f[k] / pdf[k] : 0.0;
-        q[k] *= pdf[k] / pdf[h];
-    }
-}
-
-/* A new direction at a scattering vertex with densities n, arriving along d; updates the spectral
- * pdf ratios q and weights w.  Local technique: choose a species in proportion to its sigma_s at the
- * hero wavelength, then draw from its phase function; the mixture's pdf for wavelength k is the
- * medium phase p_k.  With probability a the sun guide draws instead, about the sun's direction, so the
- * next vertex's sunlight is sampled where its forward peak makes it large (one-sample MIS, balance
- * heuristic over both techniques: pdf_k = (1 - a) p_k + a guide_k, weight p_k / pdf_k). */
-static vec3 scatter_direction(const path_context *ctx, vec3 x, const double *n, const double *sig_s, vec3 d, int h,
-                              rng *r, double *q, double *w)
-{
-    const atmosphere *atm = ctx->atm;
-    const int K = atm->grid.count;
-    const double a = ctx->sun_guide ? ctx->sun_guide_fraction : 0.0;
-    const double b = ctx->sky_guide ? ctx->sky_guide_fraction : 0.0;
-    double cos_theta, phase[FM_MAX_WAVELENGTHS];
-    vec3 nd;
-    double technique = (a > 0.0 || b > 0.0) ? rng_uniform(r) : 1.0;
-    if (technique < a) {
-        nd = sun_guide_direction(ctx, h, r);
-        cos_theta = clamp_cosine(v3_dot(d, nd));
-    } else if (technique < a + b) {
-        double u1 = rng_uniform(r), u2 = rng_uniform(r), u3 = rng_uniform(r);
-        nd = sky_guide_sample(ctx->sky_guide, x, ctx->sun_dir, u1, u2, u3);
-        cos_theta = clamp_cosine(v3_dot(d, nd));
-    } else {
-        double pick = rng_uniform(r) * sig_s[h];
-        int c = 0;
-        while (c < atm->scattering_count - 1) {
-            pick -= atm->species[c].sigma_s[h] * n[c];
-            if (pick < 0.0)
-                break;
-            c++;
-        }
-        cos_theta = phase_sample(&atm->species[c].phase, h, rng_uniform(r));
-        nd = rotate_direction(d, cos_theta, 2.0 * FM_PI * rng_uniform(r));
-    }
-    medium_phase(atm, n, cos_theta, phase, NULL);
-    if (a > 0.0 || b > 0.0) {
-        double guide[FM_MAX_WAVELENGTHS] = {0}, pdf[FM_MAX_WAVELENGTHS];
-        if (a > 0.0)
-            phase_evaluate_all(ctx->sun_guide, K, clamp_cosine(v3_dot(nd, ctx->sun_dir)), guide);
-        double sky = b > 0.0 ? sky_guide_pdf(ctx->sky_guide, x, ctx->sun_dir, nd) : 0.0;
-        for (int k = 0; k < K; k++)
-            pdf[k] = (1.0 - a - b) * phase[k] + a * guide[k] + b * sky;
-        mis_weigh(K, h, phase, pdf, q, w);
-    } else {
-        for (int k = 0; k < K; k++)
-            q[k] *= phase[k] / phase[h];
-    }
-    return nd;
-}
-
-/* The sun guide at the ground only while the sun is this high above the point's horizon (sine of
- * 10 degrees): lower, the aureole's light comes in grazing (cosine below 0.17) and the guided
- * quarter of the directions is mostly lost to the cosine lobe; at the urban sunset (sun 2, turbidity
- * 2) the fast path's multiple-scattering paths, which bounce, made the 1024 x 512 final map's error
- * against the converged reference 0.45 -> 0.60% RMS with the guide there. */
-#define GROUND_GUIDE_MIN_SINE 0.17364817766693033
-
-/* A direction leaving the Lambertian ground at the point whose outward normal is `normal`; updates
- * the spectral pdf ratios q and weights w (albedo_k (cos / pi) / pdf_k).  Cosine-weighted about the
- * normal or, with probability a while the sun is high enough (above), drawn from the sun guide about
- * the sun (one-sample MIS, balance heuristic, as scatter_direction): the ground's light from
- * the aureole is the aerosols' forward peak, which cosine sampling finds only by chance (reference
- * mode at sun 30, a ground pixel's relative standard deviation per path: desert dust 1.2, urban 0.8,
- * rural 0.35, clear air 0.10).  Returns 0 for a guided direction into the ground (no light). */
-static int ground_direction(const path_context *ctx, vec3 normal, int h, rng *r, double *q, double *w, vec3 *out)
-{
-    const atmosphere *atm = ctx->atm;
-    const int K = atm->grid.count;
-    const double a =
-        ctx->sun_guide && v3_dot(normal, ctx->sun_dir) > GROUND_GUIDE_MIN_SINE ? ctx->sun_guide_fraction : 0.0;
-    vec3 d;
-    if (a > 0.0 && rng_uniform(r) < a) {
-        d = sun_guide_direction(ctx, h, r);
-    } else {
-        double u1 = rng_uniform(r), u2 = rng_uniform(r);
-        frame f = frame_from_normal(normal);
-        d = frame_cosine_direction(&f, u1, u2); /* strictly upward: it leaves the ground */
-    }
-    double cos_n = v3_dot(d, normal);
-    if (!(cos_n > 0.0))
-        return 0;
-    if (a > 0.0) {
-        double guide[FM_MAX_WAVELENGTHS], pdf[FM_MAX_WAVELENGTHS], f[FM_MAX_WAVELENGTHS], lambert = cos_n / FM_PI;
-        phase_evaluate_all(ctx->sun_guide, K, clamp_cosine(v3_dot(d, ctx->sun_dir)), guide);
-        for (int k = 0; k < K; k++) {
-            f[k] = atm->ground_albedo[k] * lambert;
-            pdf[k] = (1.0 - a) * lambert + a * guide[k];
-        }
-        mis_weigh(K, h, f, pdf, q, w);
-    } else {
-        for (int k = 0; k < K; k++)
-            w[k] *= atm->ground_albedo[k];
-    }
-    *out = d;
-    return 1;
-}
-
-/* The light-led roulette keeps at least a tenth of the paths at each vertex.  The light at a vertex
- * in the shadow says little of what its path will find: a path that began high up in the light
- * (first vertices follow it, view_ray_vertices.h), with a small weight, and then flew into the
- * shadow 30 km up was kept once in 1890 times, and, with its weight raised that much, met the sunlit
- * band a few vertices on: at sun -18 one such path was 1568 times its node's mean.  With the floor
- * a survivor's weight grows at most tenfold per vertex.  Rural, 256 x 128 final, twelve seeds, the
- * relative SD of one map: sun -18 3.53 -> 3.38% (seeds 13-24 3.72 -> 3.27%), -14 2.01 -> 1.91%,
- * -10 1.26 -> 1.25%, in the same time (a floor of 0.3: -18 3.26 / 3.28% in 4% more). */
-#define LIGHT_LED_MIN_SURVIVAL 0.1
-
-/* Deep twilight's roulette (path_context.light_led_roulette): a guided flight that lands where the
- * light is bright has a small weight, sigma_s T / pdf with the pdf proportional to that light
- * (shadow_flight.h), and a roulette on the weight alone ended most such paths and multiplied the
- * survivors' weight up to 50 or 200 times: at sun -18 the largest path estimates, up to 6000 times
- * a node's mean, were of that kind, and a single map was 8% darker than the mean of many.  So the
- * roulette plays at the new vertex, on the weight times the light there relative to the
- * light at the path's first point (orders 1 and 2 there: in the shadow, single scattering alone
- * is 3700 times too dark), never below the plain roulette's.  Rural, 128 x 64 final, six seeds, the
- * sky's relative standard deviation of one map (CPU time for the six): sun -10 2.75 -> 2.04%
- * (55 -> 85 s), -14 8.9 -> 4.5% (47 -> 80 s), -18 20.5 -> 13.8% (38 -> 69 s). */
+/* The light-led roulette's lift at x: how much more light x receives (orders 1 and 2,
+ * shadow_flight_light) than the path's first point did, at least 1.  A guided flight that lands in
+ * bright light has a small weight (its pdf follows that light, shadow_flight.h), and a roulette on
+ * the weight alone would end it; on weight x lift it plays on the light the path will bring. */
 static double light_lift(const path_context *ctx, vec3 x, double start_light)
 {
     if (!(start_light > 0.0))
@@ -236,58 +77,7 @@ static double light_lift(const path_context *ctx, vec3 x, double start_light)
     return light > start_light ? light / start_light : 1.0;
 }
 
-/* Deep twilight splits a path whose weight has grown past SPLIT_WEIGHT into copies (at most
- * SPLIT_COPIES, and SPLIT_BUDGET beyond the first path in all) that share its weight and go on from
- * its new direction each on its own.  A path that bounces in the dark air near the observer by
- * directions and distances that the guides give little density (the phase function's quarter of
- * the directions, the flights' share by scattering alone) gains two to four times its weight a
- * bounce, up to a hundred, before it meets the light: at the horizon 160 degrees from the sun (sun
- * -18), the 3% of paths whose weight passed 3 made half the node's second moment.  The copies take
- * that tail apart; the weight is the path's alone, not led by the light, which would split the
- * paths that the light's guides already sent to bright places.  Rural, 256 x 128 final, twelve
- * seeds, the relative SD of one map: -18 3.37 -> 2.51% (seeds 13-24 3.28 -> 2.55%), the first 2
- * degrees above the horizon 7.5-9.7 -> 4.5-5.3%; -14 1.90 -> 1.63%, -10 1.25 -> 1.06%; a
- * 1024 x 512 final map at -18 in 27% more time (5.0 -> 6.3 s).  Without the budget, at -18: as
- * here 2.63% in 15% more time than with it; led by the light (the roulette's lift) 2.85% in 58%
- * more time than whole paths; above 5 2.88% in 16% more; above 2 in 8 copies 2.65% in 53% more. */
-#define SPLIT_WEIGHT 3.0
-#define SPLIT_COPIES 4
-
-/* Deep twilight also splits, before its next direction is drawn, a path whose weight times the
- * light at its vertex (relative to its first point's, the roulette's lift) has passed SPLIT_WEIGHT:
- * each copy draws its own direction.  Hazy deep twilight's path estimates had a power-law tail too
- * heavy for a variance (urban at turbidity 2, sun -18, a node 160 degrees from the sun, 409 600
- * paths: tail index 1.4-1.8 by Hill's estimator over the largest 50-1000 paths, so more paths
- * hardly helped: four times the paths took a map's noise only from 5.5 to 4.3%).  The tail was
- * paths whose weight fell more slowly than the light rose as they climbed toward the sunlit air
- * (weight x light up 300 times in three flights), then drew one direction through the brightest
- * of it; the split by weight alone, after the direction, could not take such a path apart (its
- * weight stayed below 3; a larger budget changed nothing).  With both splits and a budget of 32
- * copies: that node's tail index 2.2-2.7, the largest path 726 times the mean instead of 4566, the
- * relative SD per path 15.6 -> 6.3 in 1.42 times the CPU (rural: index 2.1-3.3 -> 2.7-4.4, 4.6 ->
- * 3.3 in 1.28 times); a budget of 64 or 128 gave 6.2 in 1.6-1.8 times, a threshold of 6 12.6, and
- * the light-led split alone (none by weight) 8.1 with index 1.7-3. */
-#define SPLIT_BUDGET 32
-
-/* Where a copy of a split path starts: at a segment's origin with these weights (path_trace's);
- * with at_vertex, at the scattering vertex origin, arrived along dir, to draw its own direction. */
-typedef struct path_resume {
-    const double *q, *w;
-    double W, start_light;
-    int order, splits_left, at_vertex;
-} path_resume;
-
-/* A path's weight as roulette and splitting weigh it: its largest spectral weight q_k w_k W / mean(q). */
-static double path_weight(double W, const double *q, const double *w, int K)
-{
-    return largest_weight(q, w, K) * (W / average(q, K));
-}
-
-/* exp(-600): the weight behind an absorption optical depth of 600, far below any light a map holds */
-#define OPAQUE_WEIGHT 2.65e-261
-
-/* How many copies a path whose weight (as roulette weighs it, times lift) is m splits into: 1 for
- * none. */
+/* How many copies a path of weight m (as roulette weighs it, times lift) splits into: 1 for none. */
 static int split_copies(double m, int splits_left)
 {
     if (!(m > SPLIT_WEIGHT) || splits_left <= 0)
@@ -296,256 +86,465 @@ static int split_copies(double m, int splits_left)
     return copies - 1 < splits_left ? copies : splits_left + 1;
 }
 
-/* Where a contribution of the given order goes: L_later, if given, takes orders 3 and up. */
-static double *order_sink(double *L, double *L_later, int order)
+/* ---- The path's state and the tracer ----------------------------------------------------------- */
+
+/* The medium at a point: species densities, scattering and extinction coefficients. */
+typedef struct vertex_medium {
+    double n[FM_MAX_SPECIES];
+    spectral sig_s, sig_t;
+} vertex_medium;
+
+/* What a path does next. */
+typedef enum path_stage {
+    STAGE_FLIGHT,    /* fly from pos along d */
+    STAGE_VERTEX,    /* scatter at pos, arrived along d (path_trace_from, a copy split at a vertex) */
+    STAGE_DIRECTION, /* draw the next direction at the vertex pos in `medium`, arrived along d */
+} path_stage;
+
+/* Everything a path carries from one event to the next. */
+typedef struct path_state {
+    spectral q;          /* each wavelength's path pdf relative to the hero's (spectral MIS) */
+    spectral w;          /* each wavelength's f / p */
+    double W;            /* weight shared by every wavelength: roulette's and splitting's */
+    double start_light;  /* light-led roulette: the light at the path's first point (> 0), else 0 */
+    int order;           /* interactions so far */
+    int splits_left;     /* copies it may still split into */
+    int vertices_done;   /* it has left a vertex: roulette may play */
+    int counted;         /* STAGE_VERTEX: the vertex's sunlight was counted (by the path it split from) */
+    path_stage stage;
+    vec3 pos, d;         /* m, Earth-centred; unit direction */
+    vertex_medium medium; /* at pos, for STAGE_DIRECTION */
+} path_state;
+
+/* Paths waiting their turn: the copies of split paths and the paths they split from, run last in
+ * first out, so in the order a recursion into each copy would run them (the same random numbers).
+ * Each split pushes at most two entries and lowers the budget of all it pushes by at least one. */
+#define PATH_STACK (2 * SPLIT_BUDGET + 1)
+typedef struct waiting_path {
+    path_state state;
+    int copies; /* runs of this state still to go */
+} waiting_path;
+
+/* What stays the same over one call of path_trace: the context, the hero wavelength, the random
+ * numbers, where contributions go, and the waiting paths. */
+typedef struct tracer {
+    const path_context *ctx;
+    const atmosphere *atm;
+    int K, h;
+    rng *r;
+    double *L, *L_later;
+    int light_led;      /* deep twilight's roulette at the new vertex (path_context.light_led_roulette) */
+    double min_survive; /* the roulette's floor: LIGHT_LED_MIN_SURVIVAL when light-led, else 0 */
+    int waiting;
+    waiting_path stack[PATH_STACK];
+} tracer;
+
+static void push_path(tracer *tr, const path_state *p, int copies)
 {
-    return L_later && order > 2 ? L_later : L;
+    assert(tr->waiting < PATH_STACK);
+    tr->stack[tr->waiting].state = *p;
+    tr->stack[tr->waiting++].copies = copies;
 }
 
-/* The path from origin along dir; with first_weight, it begins with a scattering at origin (arrived
- * along dir) whose spectral weights are first_weight; with resume, it goes on as a copy of a split
- * path from origin along dir.  Contributions go to L, or those of orders 3 and up to L_later when it
- * is given. */
-static void trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L, double *L_later,
-                  const double *first_weight, const path_resume *resume)
+/* The next waiting path into *p; 0 when none is left. */
+static int pop_path(tracer *tr, path_state *p)
 {
-    const atmosphere *atm = ctx->atm;
-    const int K = atm->grid.count, h = hero;
-    const double *E0 = atm->grid.solar_irradiance;
-    double q[FM_MAX_WAVELENGTHS], w[FM_MAX_WAVELENGTHS];
-    double sig_s[FM_MAX_WAVELENGTHS], sig_t[FM_MAX_WAVELENGTHS], tbar[FM_MAX_WAVELENGTHS];
-    double phase[FM_MAX_WAVELENGTHS], depth[FM_MAX_WAVELENGTHS], force[FM_MAX_WAVELENGTHS];
-    double n[FM_MAX_SPECIES];
+    if (tr->waiting == 0)
+        return 0;
+    waiting_path *top = &tr->stack[tr->waiting - 1];
+    *p = top->state;
+    if (--top->copies == 0)
+        tr->waiting--;
+    return 1;
+}
+
+/* The path's throughput, the first factors of a contribution: c_k = W / mean(q) q_k w_k. */
+static void throughput(const tracer *tr, const path_state *p, double *c)
+{
+    spectral_product(c, p->W / spectral_mean(p->q, tr->K), p->q, p->w, tr->K);
+}
+
+/* Adds the contribution c of `order` to L, or to L_later for orders 3 and up when it is given. */
+static void add_light(tracer *tr, int order, const double *c)
+{
+    spectral_add(tr->L_later && order > 2 ? tr->L_later : tr->L, c, tr->K);
+}
+
+static void medium_at(const atmosphere *atm, double radius, vertex_medium *m)
+{
+    atmosphere_densities(atm, radius, m->n);
+    atmosphere_coefficients_from_densities(atm, m->n, m->sig_s, m->sig_t);
+}
+
+/* ---- Free flights ------------------------------------------------------------------------------ */
+
+/* What a tentative collision turns out to be: the path scatters there, flies on, or ends (absorption
+ * has taken its weight below anything a map holds). */
+typedef enum collision { COLLISION_SCATTER, COLLISION_NULL, COLLISION_OPAQUE } collision;
+
+/* A tentative collision at distance t along seg, in the majorant's shell (delta tracking), or
+ * placed there by a shadow flight (shell SHELL_PLACED: a scattering by construction, its weight
+ * applied by the flight). */
+typedef collision (*collision_fn)(tracer *tr, path_state *p, const ray_segment *seg, double t, int shell);
+#define SHELL_PLACED (-1)
+
+/* How a free flight ends: at a scattering, at the segment's end (the ground or the top), or with
+ * the path (an opaque medium, or nothing to collide with on a segment forced to collide). */
+typedef enum flight { FLIGHT_SCATTER, FLIGHT_END_OF_SEGMENT, FLIGHT_PATH_ENDS } flight;
+
+/* At a tentative collision of delta tracking the hero scatters with probability sigma_s / majorant;
+ * otherwise absorption and null collisions continue together, with probability
+ * (majorant - sigma_s) / majorant, and the surviving fraction (majorant - sigma_t) /
+ * (majorant - sigma_s) is a weight, not a coin flip, so absorbing layers (ozone, soot) end no paths
+ * (unless absorption leaves nothing: COLLISION_OPAQUE).  Every wavelength's pdf of the event enters q. */
+static collision collide(tracer *tr, path_state *p, const ray_segment *seg, double t, int shell)
+{
+    const int K = tr->K, h = tr->h;
+    vertex_medium *m = &p->medium;
+    medium_at(tr->atm, ray_segment_radius(seg, t), m);
+    if (shell == SHELL_PLACED)
+        return COLLISION_SCATTER;
+    const double *maj = tr->atm->shell_majorant[shell];
+    if (rng_uniform(tr->r) * maj[h] < m->sig_s[h]) {
+        spectral_mul_ratio(p->q, m->sig_s, m->sig_s[h], K);
+        return COLLISION_SCATTER;
+    }
+    double cont_h = maj[h] - m->sig_s[h];
     for (int k = 0; k < K; k++) {
-        q[k] = 1.0;
-        w[k] = first_weight ? first_weight[k] : 1.0;
+        double cont = maj[k] - m->sig_s[k];
+        p->w[k] *= cont > 0.0 ? larger(maj[k] - m->sig_t[k], 0.0) / cont : 0.0;
+        p->q[k] *= cont / cont_h;
     }
-    double W = 1.0;
-    int order = 0, at_vertex = first_weight != NULL, vertices_done = 0, splits_left = SPLIT_BUDGET;
-    int counted = 0; /* a copy at a vertex whose sunlight the split path has counted */
-    vec3 pos = origin, d = dir;
-    const int light_led = ctx->shadow_flights && ctx->light_led_roulette;
-    const double min_survive = light_led ? LIGHT_LED_MIN_SURVIVAL : 0.0;
-    double start_light = 0.0; /* light-led roulette: the light at the path's first point, > 0 */
-    if (resume) {
-        for (int k = 0; k < K; k++) {
-            q[k] = resume->q[k];
-            w[k] = resume->w[k];
-        }
-        W = resume->W;
-        order = resume->order;
-        splits_left = resume->splits_left;
-        if (resume->at_vertex) {
-            at_vertex = counted = 1;
-            order--; /* the vertex counts it again */
-        }
-        vertices_done = 1;
-        start_light = resume->start_light;
-    } else if (light_led) {
-        double r0 = v3_length(origin);
-        start_light = shadow_flight_light_and_ambient(ctx->shadow_flights, r0, v3_dot(origin, ctx->sun_dir) / r0);
-        if (!(start_light > 0.0))
-            start_light = 1e-300;
-    }
+    /* an opaque medium: tracking a weight that absorption took below e^-600 on to the segment's end
+     * could take millions of collisions, for nothing */
+    return path_weight(p->W, p->q, p->w, K) > OPAQUE_WEIGHT ? COLLISION_NULL : COLLISION_OPAQUE;
+}
 
+/* A forced collision on a segment that would leave through the top: the first tentative collision
+ * is drawn inside it.  Each wavelength's technique would do the same with its own probability F_k
+ * = 1 - exp(-majorant depth_k) of colliding: weight f/p = F_k, and F_k enters that technique's pdf.
+ * Returns 0 when the segment's majorant depth is nil (nothing to collide with), else the optical
+ * depth to the first tentative collision in *tau. */
+static int force_collision(tracer *tr, path_state *p, const ray_segment *seg, double *tau)
+{
+    const int K = tr->K, h = tr->h;
+    spectral depth, force;
+    free_flight_majorant_depth(tr->atm, seg, 0.0, seg->t_end, depth);
+    if (!(depth[h] > 1e-12))
+        return 0;
+    spectral_negate(force, depth, K);
+    expm1_array(force, force, K);
+    spectral_negate(force, force, K);
+    spectral_mul(p->w, force, K);
+    for (int k = 0; k < K; k++) /* a wavelength the medium does not touch cannot make this path */
+        p->q[k] = force[k] > 0.0 ? p->q[k] * force[h] / force[k] : 0.0;
+    assert(is_probability(force[h]));
+    *tau = -log1p(-rng_uniform(tr->r) * force[h]);
+    return 1;
+}
+
+/* Delta tracking from the optical depth tau at the hero's majorant until `collide` scatters the path
+ * or the segment ends.  A flight's pdf for wavelength k is exp(-majorant depth_k) times the pdf of
+ * its events: the depths relative to the hero's are summed over the flight and enter q at its end,
+ * one exp per wavelength per flight, not per tentative collision. */
+static flight delta_tracking(tracer *tr, path_state *p, const ray_segment *seg, double tau,
+                             collision_fn on_collision, double *t)
+{
+    const int K = tr->K, h = tr->h;
+    spectral pending = {0}, depth;
+    flight end = FLIGHT_END_OF_SEGMENT;
+    *t = 0.0;
     for (;;) {
-        if (parallel_cancelled())
-            return; /* the render is cancelled: its sums are thrown away */
-        ray_segment seg;
-        ray_segment_init(&seg, atm, pos, d);
-        double t = 0.0, tau, umbra0, umbra1;
-        int scattered = 0, along = 0, late_roulette = 0;
-        if (at_vertex) {
-            /* the given first vertex: a scattering at the segment's origin */
-            at_vertex = 0;
-            atmosphere_densities(atm, v3_length(pos), n);
-            atmosphere_coefficients_from_densities(atm, n, sig_s, sig_t);
-            /* air that scatters nothing at the hero wavelength here (an absorbing-only atmosphere
-             * file) has no phase function to draw the next direction from: no light this way */
-            if (!(sig_s[h] > 0.0))
-                return;
-            scattered = 1;
-            goto vertex;
+        int shell;
+        int collided = free_flight_advance(tr->atm, seg, *t, tau, h, t, depth, &shell);
+        spectral_add_difference(pending, depth[h], depth, K);
+        if (!collided)
+            break; /* reached the ground or the top */
+        collision c = on_collision(tr, p, seg, *t, shell);
+        if (c == COLLISION_OPAQUE)
+            return FLIGHT_PATH_ENDS;
+        if (c == COLLISION_SCATTER) {
+            end = FLIGHT_SCATTER;
+            break;
         }
-        /* Across the Earth's shadow: the next interaction's sunlight as the segment's expected value
-         * (before the flight and its forced-collision weight), and no point estimate after the flight. */
-        if (ctx->segment_sunlight && order + 1 >= ctx->min_order) {
-            along = segment_umbra(ctx, &seg, &umbra0, &umbra1);
-            int every = ctx->segment_sunlight == SEGMENT_SUNLIGHT_ALL ||
-                        (ctx->segment_sunlight == SEGMENT_SUNLIGHT_RISING && seg.s0 > 0.0);
-            if (!along && every) {
-                along = 1; /* no umbra to skip */
-                umbra0 = umbra1 = seg.t_end;
-            }
-        }
-        if (along) {
-            double S[FM_MAX_WAVELENGTHS] = {0};
-            segment_sunlight(ctx, &seg, umbra0, umbra1, r, S);
-            double scale = W / average(q, K), *sink = order_sink(L, L_later, order + 1);
-            for (int k = 0; k < K; k++)
-                sink[k] += scale * q[k] * w[k] * S[k];
-            if (ctx->max_order > 0 && order + 1 >= ctx->max_order)
-                return;
-        }
-        /* Russian roulette once the light that the last direction found is counted: here when the
-         * segment's sunlight was counted along it, else at the next vertex, after its point estimate
-         * (late_roulette; sun 30, 256 x 128 final: desert dust 1.6 times the efficiency, README) */
-        late_roulette = vertices_done && (light_led || !along);
-        if (vertices_done && !late_roulette && !roulette(&W, q, w, K, order, 1.0, 0.0, r))
-            return;
-        if (ctx->shadow_flights) {
-            scattered = shadow_flight(ctx, ctx->shadow_flights, &seg, r, w, &t);
-            if (scattered) {
-                atmosphere_densities(atm, ray_segment_radius(&seg, t), n);
-                atmosphere_coefficients_from_densities(atm, n, sig_s, sig_t);
-            }
-            goto vertex;
-        }
-        if (ctx->force_escapes && !seg.hits_ground) {
-            /* Forced collision: the first tentative collision is drawn inside the segment.  Each
-             * wavelength's technique would do the same with its own probability F_k of colliding:
-             * weight f/p = F_k, and F_k enters that technique's pdf. */
-            free_flight_majorant_depth(atm, &seg, 0.0, seg.t_end, depth);
-            if (!(depth[h] > 1e-12))
-                return;
-            for (int k = 0; k < K; k++)
-                force[k] = -depth[k];
-            expm1_array(force, force, K);
-            for (int k = 0; k < K; k++)
-                force[k] = -force[k];
-            for (int k = 0; k < K; k++) {
-                w[k] *= force[k];
-                /* a wavelength the medium does not touch cannot produce this path at all */
-                q[k] = force[k] > 0.0 ? q[k] * force[h] / force[k] : 0.0;
-            }
-            tau = -log1p(-rng_uniform(r) * force[h]);
-        } else {
-            tau = -log1p(-rng_uniform(r));
-        }
-
-        /* Delta tracking until a scattering or the end of the segment.  The pdf of a flight for
-         * wavelength k is exp(-depth_k) times the probability of the event that ends it. */
-        /* The flights' transmittance ratios exp(depth_h - depth_k) are summed as depths and applied
-         * once the flight ends: one exp per wavelength per segment, not per tentative collision. */
-        double pending[FM_MAX_WAVELENGTHS] = {0};
-        for (;;) {
-            int shell;
-            int collided = free_flight_advance(atm, &seg, t, tau, h, &t, depth, &shell);
-            for (int k = 0; k < K; k++)
-                pending[k] += depth[h] - depth[k];
-            if (!collided)
-                break; /* reached the ground or the top */
-            double rad = ray_segment_radius(&seg, t);
-            atmosphere_densities(atm, rad, n);
-            atmosphere_coefficients_from_densities(atm, n, sig_s, sig_t);
-            const double *maj = atm->shell_majorant[shell];
-            if (rng_uniform(r) * maj[h] < sig_s[h]) {
-                for (int k = 0; k < K; k++)
-                    q[k] *= sig_s[k] / sig_s[h];
-                scattered = 1;
-                break;
-            }
-            /* Not a scattering: absorption and null collisions continue together, chosen with
-             * probability (majorant - sigma_s) / majorant; the surviving fraction
-             * (majorant - sigma_t) / (majorant - sigma_s) is a weight, not a coin flip, so
-             * absorbing layers (ozone, soot) cost no paths. */
-            double cont_h = maj[h] - sig_s[h];
-            for (int k = 0; k < K; k++) {
-                double cont = maj[k] - sig_s[k];
-                w[k] *= cont > 0.0 ? larger(maj[k] - sig_t[k], 0.0) / cont : 0.0;
-                q[k] *= cont / cont_h;
-            }
-            /* an opaque medium: a weight that absorption took below e^-600 carries nothing, and
-             * tracking it on to the segment's end could take millions of collisions */
-            if (!(path_weight(W, q, w, K) > OPAQUE_WEIGHT))
-                return;
-            tau = -log1p(-rng_uniform(r));
-        }
-        exp_array(pending, pending, K);
-        for (int k = 0; k < K; k++)
-            q[k] *= pending[k];
-        renormalise(q, K);
-
-    vertex:
-        if (scattered) {
-            vec3 x = v3_madd(seg.origin, seg.dir, t);
-            double rad = v3_length(x);
-            order++;
-            if (!along && order >= ctx->min_order && !counted) {
-                double mu_s = v3_dot(x, ctx->sun_dir) / rad;
-                sun_irradiance_lookup(ctx->sun_table, atm, ctx->sun, rad, mu_s, tbar);
-                medium_phase(atm, n, v3_dot(d, ctx->sun_dir), phase, NULL);
-                double scale = W / average(q, K), *sink = order_sink(L, L_later, order);
-                for (int k = 0; k < K; k++)
-                    sink[k] += scale * q[k] * w[k] * phase[k] * E0[k] * tbar[k];
-            }
-            if (ctx->max_order > 0 && order >= ctx->max_order)
-                return;
-            const double lift = light_lift(ctx, x, start_light); /* 1 unless light-led */
-            if (late_roulette && !roulette(&W, q, w, K, order, lift, min_survive, r))
-                return;
-            counted = 0;
-            const int split = ctx->shadow_flights && ctx->split_heavy_paths;
-            int copies = split && light_led ? split_copies(path_weight(W, q, w, K) * lift, splits_left) : 1;
-            if (copies > 1) { /* led by the light: each copy draws its own direction here */
-                W /= copies;
-                splits_left -= copies - 1;
-                const path_resume copy = {q, w, W, start_light, order, splits_left, 1};
-                for (int c = 1; c < copies; c++)
-                    trace(ctx, x, d, hero, r, L, L_later, NULL, &copy);
-            }
-            vec3 nd = scatter_direction(ctx, x, n, sig_s, d, h, r, q, w);
-            renormalise(q, K);
-            pos = x;
-            d = nd;
-            copies = split ? split_copies(path_weight(W, q, w, K), splits_left) : 1;
-            if (copies > 1) { /* by the weight alone: the copies share the direction */
-                W /= copies;
-                splits_left -= copies - 1;
-                const path_resume copy = {q, w, W, start_light, order, splits_left, 0};
-                for (int c = 1; c < copies; c++)
-                    trace(ctx, pos, d, hero, r, L, L_later, NULL, &copy);
-            }
-        } else if (seg.hits_ground) {
-            vec3 x = v3_madd(seg.origin, seg.dir, seg.t_end);
-            double rad = v3_length(x);
-            vec3 normal = v3_scale(x, 1.0 / rad);
-            order++;
-            if (order == 1 && ctx->skip_ground_first)
-                return;
-            if (!along && order >= ctx->min_order) {
-                double mu_s = v3_dot(normal, ctx->sun_dir);
-                double *thor = phase; /* reuse: horizontal transmittance */
-                sun_irradiance_lookup_ground(ctx->sun_table, atm, ctx->sun, mu_s, tbar, thor);
-                double scale = W / average(q, K), *sink = order_sink(L, L_later, order);
-                for (int k = 0; k < K; k++)
-                    sink[k] += scale * q[k] * w[k] * atm->ground_albedo[k] / FM_PI * E0[k] * thor[k];
-            }
-            if (ctx->max_order > 0 && order >= ctx->max_order)
-                return;
-            if (late_roulette && !roulette(&W, q, w, K, order, light_lift(ctx, x, start_light), min_survive, r))
-                return;
-            double any = 0.0;
-            for (int k = 0; k < K; k++)
-                any += w[k] * atm->ground_albedo[k];
-            if (!(any > 0.0) || !ground_direction(ctx, normal, h, r, q, w, &d))
-                return;
-            renormalise(q, K);
-            pos = v3_scale(normal, atm->bottom_radius_m);
-        } else {
-            return; /* left the atmosphere */
-        }
-        vertices_done = 1;
+        tau = -log1p(-rng_uniform(tr->r));
     }
+    exp_array(pending, pending, K);
+    spectral_mul(p->q, pending, K);
+    renormalise(p->q, K);
+    return end;
+}
+
+/* The path's next interaction along seg: a scattering at *t (the medium there in p->medium), the
+ * segment's end (the ground, or out through the top), or the path's end.  In deep
+ * twilight the shadow flights place it toward the light; otherwise delta tracking, its first
+ * collision forced inside a segment that would leave through the top (thin air's paths stay
+ * useful). */
+static flight free_flight(tracer *tr, path_state *p, const ray_segment *seg, collision_fn on_collision, double *t)
+{
+    const path_context *ctx = tr->ctx;
+    double tau;
+    if (ctx->shadow_flights) {
+        *t = 0.0;
+        if (!shadow_flight(ctx, ctx->shadow_flights, seg, tr->r, p->w, t))
+            return FLIGHT_END_OF_SEGMENT; /* the ground */
+        return on_collision(tr, p, seg, *t, SHELL_PLACED) == COLLISION_SCATTER ? FLIGHT_SCATTER : FLIGHT_PATH_ENDS;
+    }
+    if (!seg->hits_ground) {
+        if (!force_collision(tr, p, seg, &tau))
+            return FLIGHT_PATH_ENDS;
+    } else {
+        tau = -log1p(-rng_uniform(tr->r));
+    }
+    return delta_tracking(tr, p, seg, tau, on_collision, t);
+}
+
+/* ---- Vertices ---------------------------------------------------------------------------------- */
+
+static int leave_scatter_vertex(tracer *tr, path_state *p);
+
+/* The sunlight a scattering at x (arrived along p->d) passes on: E0 phase Tbar (sun_irradiance.h). */
+static void add_sunlight(tracer *tr, const path_state *p, vec3 x)
+{
+    const path_context *ctx = tr->ctx;
+    double rad = v3_length(x), mu_s = v3_dot(x, ctx->sun_dir) / rad;
+    spectral tbar, phase, c;
+    sun_irradiance_lookup(ctx->sun_table, tr->atm, ctx->sun, rad, mu_s, tbar);
+    medium_phase(tr->atm, p->medium.n, v3_dot(p->d, ctx->sun_dir), phase, NULL);
+    throughput(tr, p, c);
+    spectral_mul(c, phase, tr->K);
+    spectral_mul(c, tr->atm->grid.solar_irradiance, tr->K);
+    spectral_mul(c, tbar, tr->K);
+    add_light(tr, p->order, c);
+}
+
+/* The sunlight the Lambertian ground at the point of outward normal `normal` reflects:
+ * albedo / pi E0 Thor, Thor the transmittance of the sun's horizontal irradiance (sun_irradiance.h). */
+static void add_ground_sunlight(tracer *tr, const path_state *p, vec3 normal)
+{
+    const path_context *ctx = tr->ctx;
+    const int K = tr->K;
+    spectral tbar, thor, c;
+    sun_irradiance_lookup_ground(ctx->sun_table, tr->atm, ctx->sun, v3_dot(normal, ctx->sun_dir), tbar, thor);
+    throughput(tr, p, c);
+    spectral_mul(c, tr->atm->ground_albedo, K);
+    spectral_divide(c, FM_PI, K);
+    spectral_mul(c, tr->atm->grid.solar_irradiance, K);
+    spectral_mul(c, thor, K);
+    add_light(tr, p->order, c);
+}
+
+/* A scattering at x in p->medium, arrived along p->d.  along: the segment's sunlight was counted
+ * along it (no point estimate here); late: the roulette plays here, after the light is counted.
+ * Returns 1 while the path goes on, 0 when it ended or waits on the stack behind its copies. */
+static int scatter_vertex(tracer *tr, path_state *p, vec3 x, int along, int late)
+{
+    const path_context *ctx = tr->ctx;
+    assert(atmosphere_shell_contains(tr->atm, v3_length(x)));
+    p->order++;
+    if (!along && p->order >= ctx->min_order && !p->counted)
+        add_sunlight(tr, p, x);
+    if (ctx->max_order > 0 && p->order >= ctx->max_order)
+        return 0;
+    const double lift = light_lift(ctx, x, p->start_light); /* 1 unless light-led */
+    if (late && !roulette(&p->W, p->q, p->w, tr->K, p->order, lift, tr->min_survive, tr->r))
+        return 0;
+    p->counted = 0;
+    p->pos = x;
+    int copies = ctx->shadow_flights && ctx->split_heavy_paths && tr->light_led
+                     ? split_copies(path_weight(p->W, p->q, p->w, tr->K) * lift, p->splits_left)
+                     : 1;
+    if (copies == 1)
+        return leave_scatter_vertex(tr, p);
+    /* led by the light: each copy draws its own direction here, then the path itself */
+    p->W /= copies;
+    p->splits_left -= copies - 1;
+    p->stage = STAGE_DIRECTION;
+    push_path(tr, p, 1);
+    path_state copy = *p;
+    copy.stage = STAGE_VERTEX;
+    copy.counted = copy.vertices_done = 1;
+    copy.order--; /* the vertex counts it again */
+    push_path(tr, &copy, copies - 1);
+    return 0;
+}
+
+/* The next direction from the scattering vertex p->pos; a path heavy for its light splits into
+ * copies that share the direction. */
+static int leave_scatter_vertex(tracer *tr, path_state *p)
+{
+    const path_context *ctx = tr->ctx;
+    const int K = tr->K;
+    p->d = scatter_direction(ctx, p->pos, p->medium.n, p->medium.sig_s, p->d, tr->h, tr->r, p->q, p->w);
+    renormalise(p->q, K);
+    p->vertices_done = 1;
+    p->stage = STAGE_FLIGHT;
+    int copies = ctx->shadow_flights && ctx->split_heavy_paths
+                     ? split_copies(path_weight(p->W, p->q, p->w, K), p->splits_left)
+                     : 1;
+    if (copies == 1)
+        return 1;
+    p->W /= copies;
+    p->splits_left -= copies - 1;
+    push_path(tr, p, copies); /* the copies, then the path itself: all alike */
+    return 0;
+}
+
+/* A reflection at the ground point x (Lambertian, ground_albedo), as scatter_vertex. */
+static int ground_vertex(tracer *tr, path_state *p, vec3 x, int along, int late)
+{
+    const path_context *ctx = tr->ctx;
+    const atmosphere *atm = tr->atm;
+    double rad = v3_length(x);
+    vec3 normal = v3_scale(x, 1.0 / rad);
+    p->order++;
+    if (p->order == 1 && ctx->skip_ground_first)
+        return 0;
+    if (!along && p->order >= ctx->min_order)
+        add_ground_sunlight(tr, p, normal);
+    if (ctx->max_order > 0 && p->order >= ctx->max_order)
+        return 0;
+    if (late && !roulette(&p->W, p->q, p->w, tr->K, p->order, light_lift(ctx, x, p->start_light), tr->min_survive,
+                          tr->r))
+        return 0;
+    if (!(spectral_dot(p->w, atm->ground_albedo, tr->K) > 0.0) ||
+        !ground_direction(ctx, normal, tr->h, tr->r, p->q, p->w, &p->d))
+        return 0;
+    renormalise(p->q, tr->K);
+    p->pos = v3_scale(normal, atm->bottom_radius_m);
+    p->vertices_done = 1;
+    p->stage = STAGE_FLIGHT;
+    return 1;
+}
+
+/* ---- Segments ---------------------------------------------------------------------------------- */
+
+/* Across the Earth's shadow (path_context.segment_sunlight): the next interaction's sunlight as the
+ * segment's expected value, counted before the flight.  Returns 1 when counted so, 0 when the
+ * vertex will take its point estimate, -1 when the path has reached max_order. */
+static int segment_sunlight_along(tracer *tr, const path_state *p, const ray_segment *seg)
+{
+    const path_context *ctx = tr->ctx;
+    double umbra0, umbra1;
+    if (!ctx->segment_sunlight || p->order + 1 < ctx->min_order)
+        return 0;
+    int along = segment_umbra(ctx, seg, &umbra0, &umbra1);
+    int every = ctx->segment_sunlight == SEGMENT_SUNLIGHT_ALL ||
+                (ctx->segment_sunlight == SEGMENT_SUNLIGHT_RISING && seg->s0 > 0.0);
+    if (!along && every) {
+        along = 1; /* no umbra to skip */
+        umbra0 = umbra1 = seg->t_end;
+    }
+    if (!along)
+        return 0;
+    spectral S = {0}, c;
+    segment_sunlight(ctx, seg, umbra0, umbra1, tr->r, S);
+    throughput(tr, p, c);
+    spectral_mul(c, S, tr->K);
+    add_light(tr, p->order + 1, c);
+    return ctx->max_order > 0 && p->order + 1 >= ctx->max_order ? -1 : 1;
+}
+
+/* One segment from p->pos along p->d and the event that ends it.  Russian roulette plays once the
+ * light the last direction found is counted: before the flight when the segment's sunlight was
+ * counted along it, else at the next vertex after its point estimate (late), where a guided
+ * direction's small weight pays off.  Returns 1 while the path goes on. */
+static int fly_segment(tracer *tr, path_state *p)
+{
+    ray_segment seg;
+    ray_segment_init(&seg, tr->atm, p->pos, p->d);
+    int along = segment_sunlight_along(tr, p, &seg);
+    if (along < 0)
+        return 0;
+    int late = p->vertices_done && (tr->light_led || !along);
+    if (p->vertices_done && !late && !roulette(&p->W, p->q, p->w, tr->K, p->order, 1.0, 0.0, tr->r))
+        return 0;
+    double t;
+    flight end = free_flight(tr, p, &seg, collide, &t);
+    if (end == FLIGHT_PATH_ENDS)
+        return 0;
+    if (end == FLIGHT_SCATTER)
+        return scatter_vertex(tr, p, v3_madd(seg.origin, seg.dir, t), along, late);
+    if (seg.hits_ground)
+        return ground_vertex(tr, p, v3_madd(seg.origin, seg.dir, seg.t_end), along, late);
+    return 0; /* left the atmosphere */
+}
+
+/* A scattering at p->pos that begins a path (path_trace_from) or a copy of one split there. */
+static int start_at_vertex(tracer *tr, path_state *p)
+{
+    medium_at(tr->atm, v3_length(p->pos), &p->medium);
+    /* air that scatters nothing at the hero wavelength here (an absorbing-only atmosphere file) has
+     * no phase function to draw the next direction from: no light this way */
+    if (!(p->medium.sig_s[tr->h] > 0.0))
+        return 0;
+    return scatter_vertex(tr, p, v3_madd(p->pos, p->d, 0.0), 0, 0);
+}
+
+/* Runs one path, then the copies it split into and theirs, depth first; stops when the render is
+ * cancelled (its sums are thrown away). */
+static void trace(tracer *tr, path_state *p)
+{
+    do {
+        int going = 1;
+        while (going) {
+            if (p->stage != STAGE_DIRECTION && parallel_cancelled())
+                return;
+            switch (p->stage) {
+            case STAGE_FLIGHT: going = fly_segment(tr, p); break;
+            case STAGE_VERTEX: going = start_at_vertex(tr, p); break;
+            case STAGE_DIRECTION: going = leave_scatter_vertex(tr, p); break;
+            }
+        }
+    } while (pop_path(tr, p));
+}
+
+/* A path from origin along dir (unit), with weights `weight` (or 1), at `stage`. */
+static void trace_from(const path_context *ctx, vec3 origin, vec3 dir, const double *weight, path_stage stage,
+                       int hero, rng *r, double *L, double *L_later)
+{
+    assert(is_unit(dir));
+    const int K = ctx->atm->grid.count;
+    tracer tr; /* field by field: its stack is large and needs no zeros */
+    tr.ctx = ctx;
+    tr.atm = ctx->atm;
+    tr.K = K;
+    tr.h = hero;
+    tr.r = r;
+    tr.L = L;
+    tr.L_later = L_later;
+    tr.light_led = ctx->shadow_flights && ctx->light_led_roulette;
+    tr.min_survive = tr.light_led ? LIGHT_LED_MIN_SURVIVAL : 0.0;
+    tr.waiting = 0;
+    path_state p;
+    p.W = 1.0;
+    p.start_light = 0.0;
+    p.order = p.vertices_done = p.counted = 0;
+    p.splits_left = SPLIT_BUDGET;
+    p.stage = stage;
+    p.pos = origin;
+    p.d = dir;
+    spectral_fill(p.q, 1.0, K);
+    if (weight)
+        spectral_copy(p.w, weight, K);
+    else
+        spectral_fill(p.w, 1.0, K);
+    if (tr.light_led) {
+        double r0 = v3_length(origin);
+        p.start_light = shadow_flight_light_and_ambient(ctx->shadow_flights, r0, v3_dot(origin, ctx->sun_dir) / r0);
+        if (!(p.start_light > 0.0))
+            p.start_light = 1e-300;
+    }
+    trace(&tr, &p);
 }
 
 void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L)
 {
-    trace(ctx, origin, dir, hero, r, L, NULL, NULL, NULL);
+    trace_from(ctx, origin, dir, NULL, STAGE_FLIGHT, hero, r, L, NULL);
 }
 
 void path_trace_from(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r, double *L,
                      double *L_later)
 {
-    trace(ctx, x, dir, hero, r, L, L_later, weight, NULL);
+    trace_from(ctx, x, dir, weight, STAGE_VERTEX, hero, r, L, L_later);
 }

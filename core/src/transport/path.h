@@ -46,8 +46,4 @@ void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r
 void path_trace_from(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r, double *L,
                      double *L_later);
 
-/* Mixture phase function sigma_s-weighted over species at densities n: fills p[k] for every grid
- * wavelength (returns the scattering coefficients in sigma_s[k]). */
-void medium_phase(const atmosphere *atm, const double *n, double cos_theta, double *p, double *sigma_s);
-
 #endif

@@ -10,8 +10,8 @@ const double shadow_flight_level_km[SHADOW_FLIGHT_LEVELS] = {0,  1,  2,  3,  5, 
                                                       25, 30, 35, 40, 47, 55, 65, 75, 87, 100};
 
 /* The level below radius r and the fraction *a of the way to the next, clamped to the table.  The
- * search starts at the level below the whole km under r (a scan from level 0 took a tenth of the
- * flights' time). */
+ * search starts at the level below the whole km under r, not at level 0: this runs at every cell end
+ * of every flight. */
 static int level_below(const shadow_flight_table *t, double r, double *a)
 {
     double km = (r - t->bottom_radius) / FM_KM;
@@ -34,9 +34,8 @@ double shadow_flight_light(const shadow_flight_table *t, double r, double mu_s)
            a * ((1.0 - b) * t->value[i + 1][j] + b * t->value[i + 1][j + 1]);
 }
 
-/* The sky guide's order-2 light per direction (shadow_flight_order2): at 16 points its build takes
- * 0.07 s of one core at final quality instead of 0.41 s at 48, and the maps are as noisy (sun -14
- * and -18, twelve seeds each: 3.54 / 7.21% at 48, 3.54 / 7.28% at 16). */
+/* The sky guide's order-2 light per direction (shadow_flight_order2): a density needs no accurate
+ * integral (docs/decisions/2026-12-06-sampling-densities.md). */
 #define ORDER2_POINTS 16
 
 /* sigma_s T at the middle wavelength (the depth table's) at distance t along the segment of sd, T

@@ -11,9 +11,8 @@
 
 /* The sphere average of I: rows of elevation crowded at the point's horizon (where the sunlit air
  * is seen at twilight), columns of azimuth from the sun over one half (the sky is symmetric about the
- * sun's vertical), 2 quadrature points per ray piece: 0.5 s for the table on two threads.  A grid of
- * 8 + 16 rows, 12 columns and 4 points (1.9 s) gave maps as noisy (512 x 256, seed-to-seed RMS:
- * sun -10 5.1 vs 5.4%, -14 19 vs 16%): a density needs no accurate integral. */
+ * sun's vertical), 2 quadrature points per ray piece: a density needs no accurate integral
+ * (docs/decisions/2026-12-06-sampling-densities.md). */
 #define ROWS_DOWN 6
 #define ROWS_UP 10
 #define HALF_COLS 8

@@ -15,10 +15,8 @@
 
 #define SS_POINTS 6      /* Gauss-Legendre points per piece (single_scatter_radiance) */
 #define SS_SUB_POINTS 4  /* points of the nested column quadratures */
-/* Grey majorant optical depth per piece.  With 3 Gauss points per piece (both qualities) the maps
- * are within 2e-5 RMS of a converged quadrature (8 points, pieces of 0.25) for clear, rural, urban
- * sunset (sun 2, T 2), rural T 4 at sun 0.5, desert dust T 3 and maritime skies, 9e-5 at 10 km
- * up; before (4 or 6 points, pieces of 0.5) 0.2-3e-5, for 8% more of an urban sunset's preview. */
+/* Grey majorant optical depth per piece: no piece optically thick, so that 3 Gauss points
+ * integrate its exponentials (docs/decisions/2026-12-06-quadrature-accuracy.md). */
 #define SS_MAX_PIECE_DEPTH 1.0
 #define SS_MAX_BOUNDS 140      /* altitude breakpoints along a ray (ray_pieces) */
 #define SS_MAX_SPLIT 32        /* subdivisions of one piece */

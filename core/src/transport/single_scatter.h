@@ -28,8 +28,8 @@ typedef struct single_scatter_ray {
 } single_scatter_ray;
 
 /* Fills the view ray's part for the ray from origin along dir with `points` Gauss-Legendre nodes
- * per piece (6 in single_scatter_radiance; 4 differ from 6 by at most 0.05% of a map, at the urban
- * sunset's horizon); FM_ERR_OUT_OF_MEMORY on failure. */
+ * per piece (6 in single_scatter_radiance; docs/decisions/2026-12-06-quadrature-accuracy.md);
+ * FM_ERR_OUT_OF_MEMORY on failure. */
 fm_status single_scatter_ray_init(single_scatter_ray *ray, const path_context *ctx, vec3 origin, vec3 dir,
                                   int points);
 void single_scatter_ray_free(single_scatter_ray *ray);

@@ -12,26 +12,17 @@
  * level's horizon on the vertex's own (below: the sunlit band grazes the horizon); in deep
  * twilight there are levels farther toward the sun as well, and each cell's luminance adds the light
  * of order 2 seen that way (shadow_flight.h): in the shadow a point receives far more of it than of
- * single scattering (sun -18, at the ground: 3700 times), so a guide of single scattering alone
- * sent the paths from the dark air toward the narrow band of sunlit air and left the rest of their
- * light to the phase function (rural, 256 x 128 final, twelve seeds, the relative SD of one map:
- * sun -10 2.15 -> 2.04%, -14 4.71 -> 3.54%, -18 12.7 -> 7.3%; 1024 x 512 final in 10, 20 and 30%
- * more time: paths that find light live longer).  The density
- * is the same for every wavelength; it enters the path's spectral MIS as a third technique beside
- * the phase function and the sun guide (one-sample MIS, balance heuristic).  Any density keeps
- * the estimator unbiased; this one puts the directions where the next order's sunlight is.
+ * single scattering.  The density is the same for every wavelength; it enters the path's spectral
+ * MIS as a third technique beside the phase function and the sun guide (one-sample MIS, balance
+ * heuristic).  Any density keeps the estimator unbiased; this one puts the directions where the
+ * next order's sunlight is.
  *
  * The horizons lined up: a vertex between two levels' altitudes has its horizon lower or higher
  * than the nearest level's by the difference of their dips (a vertex 3 km above the level at 32 km:
  * 0.26 degrees, several of the guide's rows there), and the sunlit band seen from high up lies just
- * above the horizon, as thin as that.  Laid over the vertex's sky by elevation alone, the level's
- * band missed the vertex's, whose light the phase function then found by chance: at sun -18 paths
- * of 1000 times a node's mean, a vertex 35 km up sending its next segment along the band toward
- * the sun.  So elevations are stretched linearly from the vertex's horizon to the level's, between
- * the horizon and the zenith and between the nadir and the horizon (rural, 256 x 128 final, twelve
- * seeds, the relative SD of one map: sun -18 4.75 -> 3.53% (seeds 13-24 4.93 -> 3.72%), -14
- * 2.73 -> 2.01%, -10 1.32 -> 1.26%, -4 0.68 -> 0.67%; a 1024 x 512 final map at -18 5.80 ->
- * 5.95 s). */
+ * above the horizon, as thin as that.  So elevations are stretched linearly from the vertex's
+ * horizon to the level's, between the horizon and the zenith and between the nadir and the horizon
+ * (docs/decisions/2026-12-06-sky-guide.md). */
 #ifndef FM_TRANSPORT_SKY_GUIDE_H
 #define FM_TRANSPORT_SKY_GUIDE_H
 

@@ -136,11 +136,9 @@ typedef struct lit_proxy {
 
 /* A cell's proxy: exponential between its two ends when both are lit and the ends move the same
  * way as their neighbours (the integrand falls with the air's density and rises with the
- * sunlight, nearly exponentially over a cell: against the larger end as a constant, with every
- * segment taken along, 10% less variance at sun 30 rural and 30% at sun 6 urban (turbidity 2); at
- * twilight, 512 x 256 final, seed-pair RMS over two pairs: sun -4 0.67 / 0.54 -> 0.64 / 0.54%,
- * -10 2.35 / 2.79 -> 2.28 / 2.50%); else, near a peak where the chord would pass below it, or next
- * to the dark, the larger end as a constant. */
+ * sunlight, nearly exponentially over a cell; docs/decisions/2026-12-06-sampling-densities.md);
+ * else, near a peak where the chord would pass below it, or next to the dark, the larger end as a
+ * constant. */
 static void proxy_cells(lit_proxy *p)
 {
     const double *h = p->h, cell = p->cell;

@@ -11,26 +11,18 @@
 #include <math.h>
 #include <stdlib.h>
 
-/* Half the directions from the guide: of 0.25 / 0.5 tried, 0.5 was best at -4 and -10 degrees. */
+/* Half the directions from the sky guide (docs/decisions/2026-12-06-twilight-thresholds.md). */
 #define SKY_GUIDE_FRACTION 0.5
 
 /* Deep twilight's sampling (guided flights, shadow_flight.h; the sky guide's levels toward the sun
  * and its light of order 2; the light-led roulette, heavy paths split, the first vertices led by
- * the light, the fit through the shape) from this sun elevation down.  The flights alone, against
- * delta tracking, six table nodes at 2048 paths, rural, efficiency 1 / (variance x time): sun -4
- * 0.75x, -6 1.2x, -8 1.8x, -10 2.4x, -14 5.7x, -18 3.2x; they began at -7.  All of it together,
- * against the plain twilight sampling, whole maps (256 x 128 final, one map's relative standard
- * deviation of its luminance over twelve seeds, R / G, then the time of a 1024 x 512 final map):
- * rural -4 0.77 -> 0.50%, R / G 0.49 -> 0.27%, 4.1 -> 11.1 s (efficiency 0.88 in luminance);
- * -5 0.98 -> 0.60%, 0.80 -> 0.34%; -6 1.47 -> 0.69%, 1.29 -> 0.54%, 4.1 -> 10.6 s (1.75; the
- * preview 3.52 -> 1.83%, 0.75 -> 1.65 s: 1.68); urban at turbidity 2 (ten seeds) -4 4.59 -> 2.01%
- * (1.8), -6 6.13 -> 2.48% (2.3).  So from -4.5 down. */
+ * the light, the fit through the shape) from this sun elevation down: above it the flights cost
+ * more time than they save (docs/decisions/2026-12-06-twilight-thresholds.md). */
 #define DEEP_TWILIGHT_DEG -4.5
 
 /* In deep twilight half the first vertices follow the light along the view ray
- * (view_ray_vertices.h): the maps are as noisy (rural, 256 x 128 final, twelve seeds: sun -14
- * 3.54 -> 3.59%, -18 7.3 -> 7.1%) in 10-13% less CPU (three seeds each, alternating: -14 14.8 ->
- * 13.3 s, -18 14.5 -> 12.6 s); the paths that start higher, in thinner air, are shorter. */
+ * (view_ray_vertices.h): paths that start higher, in thinner air, are shorter, and the maps as
+ * noisy (docs/decisions/2026-12-06-twilight-thresholds.md). */
 #define FIRST_VERTEX_LIGHT_SHARE 0.5
 
 twilight_sampling *twilight_sampling_create(const fm_sky *sky, int guide_offsets, int threads,
@@ -84,9 +76,8 @@ void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int 
                          uint64_t item, int offset, double *L, node_moments *m, double *shape, node_orders *orders)
 {
     const int K = sky->atm.grid.count;
-    /* First vertices stratified along the view ray (view_ray_vertices.h), by day too: against delta
-     * tracking from the observer, 256 x 128 final maps, two seeds: rural sun 30 seed-to-seed RMS
-     * 0.56 -> 0.46% in 9% less time, urban sunset (sun 2, turbidity 2) 4.2 -> 3.8% in 17% less. */
+    /* First vertices stratified along the view ray (view_ray_vertices.h), by day too: less noise in
+     * less time than delta tracking from the observer (docs/decisions/2026-12-06-twilight-thresholds.md). */
     view_ray_vertices v;
     if (shape)
         *shape = 0.0;

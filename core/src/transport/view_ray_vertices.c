@@ -8,11 +8,9 @@
 #include <math.h>
 
 /* Share of the density spread by length, so that it is positive wherever the integrand can be.  By
- * day the rest, sigma_s T, is where the light is scattered: a sixth by length put a tenth of the
- * vertices above 40 km, where nothing scatters; at 1/25 the relative variance per path is 17% lower
- * for rural and clear air at sun 30 and 10% lower for the urban sunset, in the same time (map noise
- * at 512 x 256, four seeds: 0.48 -> 0.44% and 3.65 -> 3.38% RMS).  At twilight the light reaches the
- * vertices high up, which sigma_s T underrates: a sixth. */
+ * day the rest, sigma_s T, is where the light is scattered, and a larger share would put vertices
+ * high up where nothing scatters; at twilight the light reaches the vertices high up, which
+ * sigma_s T underrates (docs/decisions/2026-12-06-sampling-densities.md). */
 #define SPREAD_DAY (1.0 / 25.0)
 #define SPREAD_TWILIGHT (1.0 / 6.0)
 
