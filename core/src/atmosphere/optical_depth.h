@@ -56,10 +56,8 @@ int column_table_lookup(const column_table *table, const atmosphere *atm, double
 
 /* One wavelength's optical depth to the top (sum over species of sigma_t(k) x column) on a column
  * table's nodes, bilinear the same way: 1 / species of its memory.  The deep-twilight flights'
- * density (shadow_flight.c) needs no more than that at 25 points per segment, and the whole table
- * (rural: 137 rows x 512 directions x 5 species, 1.4 MB) let its lookups miss the cache: a fifth of a
- * deep-twilight render went to them; with this table (280 kB) a 1024 x 512 final map at sun -18
- * took 29.3 -> 26.9 s, as noisy as before (rural 256 x 128, twelve seeds: 2.51%, 2.52%). */
+ * density (shadow_flight.c) needs no more than that at 25 points per segment, and this table stays
+ * in cache where the whole column table does not (docs/decisions/2026-12-06-random-numbers-and-lookups.md). */
 typedef struct depth_table {
     const column_table *grid; /* its rows and directions */
     int k;                    /* the wavelength's index */

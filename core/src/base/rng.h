@@ -56,9 +56,8 @@ static inline uint64_t rng_qmc_seed(uint64_t seed, uint64_t item)
 /* As rng_for, but the first draws are a quasi-Monte Carlo point: the samples 0 to samples - 1 of
  * one item together stratify each of those dimensions.  Samples take the points in a shuffled order
  * (sobol_shuffle): the caller's own use of the sample number (the hero wavelength cycles with it)
- * would otherwise meet the points' structure (urban sunset, sun 2: seed-to-seed RMS 4.5% with
- * random numbers, 6.4% with the points in order, 3.8% shuffled).  (Past 2^31 samples, plain random
- * numbers.) */
+ * would otherwise meet the points' structure (docs/decisions/2026-12-06-random-numbers-and-lookups.md).
+ * (Past 2^31 samples, plain random numbers.) */
 static inline rng rng_for_qmc(uint64_t seed, uint64_t item, uint64_t sample, uint64_t samples)
 {
     rng r = rng_for(seed, item, sample);

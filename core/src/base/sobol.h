@@ -25,9 +25,8 @@ int sobol_levels(uint64_t points);
 /* The scramble of one seed tabulated: sobol_owen hashes every digit of every coordinate (a tenth of
  * a multiple-scattering path's instructions), while a table holds every coordinate of the 2^levels
  * points already scrambled, built in one pass over the binary tree's nodes (each hashed once) and the
- * points in Gray-code order (one XOR each): an urban sunset's preview 2% faster, sun -18's final
- * map (8192 points per node) 1.5%, for the 16 x 2^levels x 8 bytes of the table (64 kB at 512
- * points, 1 MB at 8192). */
+ * points in Gray-code order (one XOR each), for 16 x 2^levels x 8 bytes (64 kB at 512 points, 1 MB
+ * at 8192; docs/decisions/2026-12-06-random-numbers-and-lookups.md). */
 #define FM_SOBOL_TABLE_LEVELS 13
 typedef struct sobol_scramble {
     int levels;    /* 0: no table (more levels than FM_SOBOL_TABLE_LEVELS, or no memory for it) */

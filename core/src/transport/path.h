@@ -17,8 +17,8 @@
  * Scattering directions are drawn from the local phase function or, a fraction of the time, from an
  * aerosol phase function about the sun (the sun guide, one-sample MIS), so the next vertex's direct
  * sunlight through its aerosol forward peak is not left to chance.  Segments that would leave the
- * atmosphere are optionally forced to collide (weight 1 - exp(-majorant depth)), which keeps
- * thin-air paths useful without bias.  A segment that enters
+ * atmosphere are forced to collide (weight 1 - exp(-majorant depth)), which keeps thin-air paths
+ * useful without bias.  A segment that enters
  * the Earth's umbra (every segment, at twilight) gets its next interaction's sunlight as the
  * expected value along it (sunlit_segment.h) and no point estimate at that interaction; Russian
  * roulette plays after that.  At twilight a third direction technique, the sky guide
@@ -26,6 +26,14 @@
  * toward the light instead of by delta tracking (shadow_flight.h), the roulette spares the paths
  * that have reached brighter air than they started in, and a path whose weight has grown heavy is
  * split into copies that share it.
+ *
+ * The code (path.c) follows the structure of a volumetric path tracer such as pbrt-v4's: a path
+ * state (spectral weights, order, the stage it goes on from); one free-flight routine that places
+ * tentative collisions (delta tracking, its first collision forced on segments that leave through
+ * the top, or deep twilight's shadow flights) and calls back at each to decide scattering or a null
+ * event; vertex handlers for a scattering in the air and a reflection at the ground (a path that
+ * leaves through the top ends: space is black); and an explicit stack for the copies of split
+ * paths, run last in first out, so in the order of a recursion and with its random numbers.
  *
  * Orders: the order of a contribution is the number of interactions (air scattering or ground
  * reflection) on the path, including the vertex where the sun is connected.  Contributions outside

@@ -25,7 +25,6 @@ typedef struct path_context {
     const depth_table *mid_depth; /* the middle wavelength's optical depth to the top (shadow_flight.c) */
     vec3 sun_dir;       /* unit vector toward the sun's centre (Earth-centred frame) */
     int min_order, max_order;
-    int force_escapes;  /* force collisions on segments that would leave through the top */
     /* Fast path: paths whose first interaction is the ground are dropped (path_trace), because
      * single_scatter_radiance adds the ground's reflection of the tabulated diffuse irradiance. */
     int skip_ground_first;

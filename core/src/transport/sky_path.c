@@ -41,7 +41,6 @@ path_context sky_path_context(const fm_sky *sky, int min_order, int max_order)
         .sun_dir = sky->sun_dir,
         .min_order = min_order,
         .max_order = max_order,
-        .force_escapes = 1,
         .skip_ground_first = 0,
         .ground_diffuse = NULL,
     };
