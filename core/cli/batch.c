@@ -2,6 +2,7 @@
 #include "batch.h"
 #include "batch_job.h"
 #include "batch_plan.h"
+#include "batch_summary.h"
 #include "numbers.h"
 #include "report.h"
 
@@ -368,6 +369,8 @@ int run_batch(int argc, char **argv, batch_render_fn render)
         return batch_run(argc - 1, argv + 1, render);
     if (!strcmp(sub, "slurm"))
         return batch_slurm(argc - 1, argv + 1);
-    report_error("usage: firmament batch plan|run|slurm ... (docs/batch.md)");
+    if (!strcmp(sub, "summary"))
+        return batch_summary(argc - 1, argv + 1);
+    report_error("usage: firmament batch plan|run|slurm|summary ... (docs/batch.md)");
     return EXIT_USAGE;
 }

@@ -72,7 +72,13 @@ static int bad(reader *r, int field, const char *what, const char *value)
 
 static int number(reader *r, char **fields, int f, double lo, double hi, double *out)
 {
-    if (!parse_decimal(fields[f - 1], out) || *out < lo || *out > hi)
+    char text[64];
+    const char *v = fields[f - 1];
+    if (v[0] == '.') { /* ".999", as the format writes the AOD's missing code */
+        snprintf(text, sizeof text, "0%s", v);
+        v = text;
+    }
+    if (!parse_decimal(v, out) || *out < lo || *out > hi)
         return bad(r, f, "is not a number in range", fields[f - 1]);
     return 0;
 }
@@ -135,13 +141,18 @@ static int read_hour(reader *r, char *line, epw_hour *h)
     }
     if (number(r, f, F_AOD, 0, 99999, &x))
         return 2;
-    /* past 0.999, a value is a missing code or not an optical depth the renderer takes */
-    if (!is_missing_code(x) && x > 0.0 && x * EPW_AOD_TO_550 <= 5.0)
+    if (!is_missing_code(x)) {
+        if (x * EPW_AOD_TO_550 > 5.0) /* --aod550's range */
+            return bad(r, F_AOD, "is not an optical depth in [0, 3.65] (.999: missing)", f[F_AOD - 1]);
         h->aod550 = x * EPW_AOD_TO_550;
+    }
     if (number(r, f, F_ALBEDO, 0, 99999, &x))
         return 2;
-    if (!is_missing_code(x) && x <= 1.0)
+    if (!is_missing_code(x)) {
+        if (x > 1.0)
+            return bad(r, F_ALBEDO, "is not an albedo in [0, 1] (999: missing)", f[F_ALBEDO - 1]);
         h->albedo = x;
+    }
     return 0;
 }
 
