@@ -248,6 +248,16 @@ def _camera_disk_nodes(nodes, links, mapping, bg, settings, sun):
     _mix_into(nodes, links, bg, "Sun Disk", camera.outputs["Value"], [c * scale for c in rgb], (450, 600))
 
 
+def _scene_bounds(scene):
+    """(centre, radius) of a sphere around the scene's meshes (origin and 8 m when it has none)."""
+    corners = [o.matrix_world @ Vector(c) for o in scene.objects if o.type == "MESH" for c in o.bound_box]
+    if not corners:
+        return Vector((0.0, 0.0, 0.0)), 8.0
+    lo = Vector([min(c[i] for c in corners) for i in range(3)])
+    hi = Vector([max(c[i] for c in corners) for i in range(3)])
+    return (lo + hi) / 2, (hi - lo).length / 2
+
+
 def setup_lamp(scene, sun, north_offset, strength=1.0):
     """Points, sizes and colours the add-on's lamp for one sidecar; a sun whose disk is wholly below
     the horizon hides it (no lamp shining up through the ground)."""
@@ -265,7 +275,8 @@ def setup_lamp(scene, sun, north_offset, strength=1.0):
     d = scene_direction(sun["direction"], north_offset)
     obj.rotation_mode = "XYZ"
     obj.rotation_euler = d.to_track_quat("Z", "Y").to_euler()  # the lamp shines along its -Z
-    obj.location = d * 10.0  # only for the viewport
+    centre, radius = _scene_bounds(scene)
+    obj.location = centre + d * (radius + 2.0)  # only for the viewport: outside the scene, toward the sun
     below = sun["elevation_deg"] + sun["angular_diameter_deg"] / 2 < 0.0 or peak <= 0.0
     obj.hide_render = obj.hide_viewport = below
     return obj

@@ -24,6 +24,9 @@ def map_path():
     return bpy.path.abspath(h.sky_image().filepath)
 
 h.check(bpy.ops.firmament_sky.generate() == {"FINISHED"}, "generate in an unsaved file")
+# the lamp stands outside the scene (ground 80 m wide) toward the sun, out of the way
+lamp = h.sun_lamps()[0]
+h.check(lamp.location.length > 40.0 and lamp.location.z > 0.0, "the lamp is placed outside the scene: %s" % (tuple(round(c, 1) for c in lamp.location),))
 m0 = map_path()
 h.check(os.path.dirname(os.path.dirname(m0)) == maps.cache_dir(), "unsaved: the map is in the cache (%s)" % m0)
 
