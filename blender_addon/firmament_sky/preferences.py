@@ -90,4 +90,6 @@ def find_executable(configured=""):
     on_path = shutil.which("firmament")
     if on_path:
         return on_path, "PATH"
+    if os.path.isfile(BUNDLED):
+        return None, "the bundled %s is not executable and its mode could not be changed" % BUNDLED
     return None, "no executable bundled with the add-on, in the preferences, $FIRMAMENT_EXECUTABLE or PATH"
