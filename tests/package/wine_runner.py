@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""The add-on's bpy-free runner (blender_addon/firmament_sky/runner.py, command.py) driving the
-Windows zip's firmament.exe under Wine, as the add-on does on Windows: the executable's name in the
-zip, an argument list (no shell) with spaces, an apostrophe, & and % and non-ASCII characters in the paths, JSON
-progress read from the .exe's stdout (CRLF line ends), the done event and the files; a failure
+"""The add-on's bpy-free runner (blender_addon/firmament_sky/runner.py, command.py, options.py)
+driving the Windows zip's firmament.exe under Wine, as the add-on does on Windows: the executable's
+name in the zip, its options table (`firmament.exe options --json`), an argument list (no shell)
+with spaces, an apostrophe, & and % and non-ASCII characters in the paths, JSON progress read from
+the .exe's stdout (CRLF line ends), the done event and the files; a failure
 (one line, outputs removed); a cancel (state, outputs removed).  The Windows branch of cancel
 (Ctrl-Break to the child's process group) needs a Windows Python and is not run here: under Wine
 the runner is a Linux process and cancels with SIGTERM, which Wine turns into TerminateProcess.
@@ -13,13 +14,16 @@ import shutil
 import subprocess
 import sys
 import time
+import types
 import zipfile
 
 zip_path, linux, work = sys.argv[1], sys.argv[2], os.path.abspath(sys.argv[3])
 source = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(source, "blender_addon", "firmament_sky"))
-import command  # noqa: E402  (bpy-free modules of the add-on, imported as the tests of Blender do)
-import runner  # noqa: E402
+# The add-on's bpy-free modules, as the package firmament_sky without its __init__ (which needs bpy).
+package = types.ModuleType("firmament_sky")
+package.__path__ = [os.path.join(source, "blender_addon", "firmament_sky")]
+sys.modules["firmament_sky"] = package
+from firmament_sky import command, options, runner  # noqa: E402
 
 os.environ.update(WINEPREFIX=os.path.join(work, "wineprefix"), WINEDEBUG="-all", WINEDLLOVERRIDES="mscoree,mshtml=")
 failures = []
@@ -52,8 +56,17 @@ settings = {
 folder = os.path.join(run, "Mes cartes (ciel & nuit) 100% d'été")
 os.makedirs(folder)
 output, sidecar = os.path.join(folder, "ciel du soir.exr"), os.path.join(folder, "ciel du soir.json")
-args = command.build_arguments(exe, settings, output, sidecar)
-r = runner.Runner(["wine"] + args, outputs=[output, sidecar]).start()
+# The add-on runs the executable it found; on Linux a Windows program runs through wine, so it is
+# given a two-line launcher (exec: the runner's signals reach Wine).  The options table comes from
+# the .exe itself (firmament.exe options --json).
+launcher = os.path.join(run, "firmament-wine")
+with open(launcher, "w") as f:
+    f.write('#!/bin/sh\nexec wine "%s" "$@"\n' % exe)
+os.chmod(launcher, 0o755)
+opts = options.load(launcher)
+check("--biome" in opts and "rural" in options.choices(opts, "--biome"), "the options table read from the .exe")
+args = command.build_arguments(launcher, opts, settings, output, sidecar)
+r = runner.Runner(args, outputs=[output, sidecar]).start()
 fractions = []
 state = r.wait(on_progress=lambda f, stage: fractions.append(f), interval=0.05)
 check(state == runner.Runner.DONE, "render through the runner: %s (%s)" % (state, r.error_text() if state != "done" else ""))
@@ -73,7 +86,7 @@ if os.path.isfile(sidecar):
 # A failure: a value the add-on's own check would refuse, given straight to the executable.
 bad = list(args)
 bad[bad.index("--albedo") + 1] = "2.5"
-r = runner.Runner(["wine"] + bad, outputs=[output, sidecar]).start()
+r = runner.Runner(bad, outputs=[output, sidecar]).start()
 check(r.wait() == runner.Runner.FAILED and r.returncode == 2, "bad albedo fails with exit 2: %s" % r.returncode)
 check(len(r.stderr_lines) == 1 and "albedo" in r.error_text(), "one line naming albedo: %r" % r.stderr_lines)
 check(not os.path.exists(output) and not os.path.exists(sidecar), "the failed run's outputs were removed")
@@ -82,7 +95,7 @@ check(not os.path.exists(output) and not os.path.exists(sidecar), "the failed ru
 big = list(args)
 big[big.index("--width") + 1] = "1024"
 big[big.index("--quality") + 1] = "final"
-r = runner.Runner(["wine"] + big, outputs=[output, sidecar]).start()
+r = runner.Runner(big, outputs=[output, sidecar]).start()
 t0 = time.time()
 while r.poll() == runner.Runner.RUNNING and r.fraction < 0.05 and time.time() - t0 < 120:
     time.sleep(0.1)
