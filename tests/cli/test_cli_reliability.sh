@@ -167,5 +167,21 @@ latency() {
 latency "twilight guide"
 latency "ground irradiance"
 
+# --- 12. compare: NaN pixels and a B-only file are refused, not reported as numbers -------------
+if command -v oiiotool >/dev/null; then
+    rm -rf "$work/cmp" && mkdir -p "$work/cmp"
+    "$FM" render --width 16 --quality preview --progress none -o "$work/cmp/c.exr" 2>/dev/null
+    oiiotool "$work/cmp/c.exr" --ch B -o "$work/cmp/b.exr"
+    oiiotool "$work/cmp/c.exr" --subc 1000 --powc 0.5 -o "$work/cmp/nan.exr" # sqrt of negatives: NaN
+    for f in b nan; do
+        "$FM" compare "$work/cmp/$f.exr" "$work/cmp/c.exr" >"$work/stdout" 2>"$work/stderr"
+        rc=$?
+        [ $rc -eq 2 ] && [ "$(wc -l <"$work/stderr")" -eq 1 ] && ok ||
+            fail "compare $f.exr: exit $rc, expected 2: $(head -c 300 "$work/stdout") $(cat "$work/stderr")"
+    done
+else
+    echo "note: oiiotool missing, compare's NaN and B-only cases skipped"
+fi
+
 echo "$checks checks passed, $failures failed"
 [ $failures -eq 0 ]

@@ -37,6 +37,17 @@ fm_status fm_image_compare(const fm_image *a, const fm_image *b, double exclude_
         return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the images differ in size or channels (%dx%dx%d vs %dx%dx%d)",
                        a->width, a->height, a->channels, b->width, b->height, b->channels);
     const int W = a->width, H = a->height;
+    /* a NaN or infinity would make every statistic NaN (or the max disagree with the RMS) */
+    for (int which = 0; which < 2; which++) {
+        const fm_image *m = which ? b : a;
+        size_t values = (size_t)W * H * m->channels, bad = 0;
+        for (size_t i = 0; i < values; i++)
+            bad += !isfinite(m->pixels[i]);
+        if (bad)
+            return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the %s holds %zu values that are not finite (NaN or "
+                                                         "infinity)",
+                           which ? "reference" : "image", bad);
+    }
     double *errs = malloc(sizeof(double) * (size_t)W * H);
     if (!errs)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");

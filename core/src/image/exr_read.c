@@ -13,6 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* 2^28: a 16384 x 16384 map */
+#define MAX_READ_PIXELS ((int64_t)1 << 28)
+
 static _Thread_local char read_message[256];
 
 static void capture(exr_const_context_t ctxt, exr_result_t code, const char *msg)
@@ -103,26 +106,34 @@ static fm_status read_exr(const char *path, fm_image **out, fm_error *err)
         s = fm_fail(err, FM_ERR_IO, "cannot read '%s': not a scanline image", path);
         goto done;
     }
-    int W = dw.max.x - dw.min.x + 1, H = dw.max.y - dw.min.y + 1;
+    /* the window's size from a corrupt header can overflow an int or ask for terabytes */
+    int64_t W64 = (int64_t)dw.max.x - dw.min.x + 1, H64 = (int64_t)dw.max.y - dw.min.y + 1;
+    if (W64 < 1 || H64 < 1 || W64 * H64 > MAX_READ_PIXELS) {
+        s = fm_fail(err, FM_ERR_IO, "cannot read '%s': its data window is %lld x %lld pixels (at most %lld are read)",
+                    path, (long long)W64, (long long)H64, (long long)MAX_READ_PIXELS);
+        goto done;
+    }
+    int W = (int)W64, H = (int)H64;
     int offsets[4] = {-1, -1, -1, -1}, C = 0;
     if (cl->num_channels > 4) {
         s = fm_fail(err, FM_ERR_IO, "cannot read '%s': expected R, G, B or Y channels, found %d channels", path,
                     cl->num_channels);
         goto done;
     }
+    /* R, G and B together, or Y alone: a file with B only is not a colour image with R = G = 0 */
+    unsigned found = 0;
     for (int i = 0; i < cl->num_channels; i++) {
         const char *n = cl->entries[i].name.str;
-        if (!strcmp(n, "R") || !strcmp(n, "Y"))
-            offsets[i] = 0;
-        else if (!strcmp(n, "G"))
-            offsets[i] = 1;
-        else if (!strcmp(n, "B"))
-            offsets[i] = 2;
-        if (offsets[i] >= 0 && offsets[i] + 1 > C)
-            C = offsets[i] + 1;
+        const char *names = "RGBY";
+        for (int k = 0; k < 4; k++)
+            if (n[0] == names[k] && n[1] == '\0' && !(found & (1u << k))) {
+                found |= 1u << k;
+                offsets[i] = k == 3 ? 0 : k;
+            }
     }
-    if (C != 1 && C != 3) {
-        s = fm_fail(err, FM_ERR_IO, "cannot read '%s': expected R, G, B or Y channels", path);
+    C = found == 7u ? 3 : found == 8u ? 1 : 0;
+    if (!C) {
+        s = fm_fail(err, FM_ERR_IO, "cannot read '%s': expected channels R, G and B, or Y alone", path);
         goto done;
     }
     img = image_create(W, H, C, C == 3 ? FM_IMAGE_RGB_REC709 : FM_IMAGE_SPECTRAL_RADIANCE, 0, 0);
