@@ -2,7 +2,9 @@
 
 #include <math.h>
 
-#if defined(__x86_64__) && defined(__GLIBC__) && defined(__SSE2__)
+/* clang ignores "#pragma GCC target" below: it takes the vector path only where AVX2 is on anyway
+ * (the fuzz build, tests/fuzz/, is made with clang) */
+#if defined(__x86_64__) && defined(__GLIBC__) && defined(__SSE2__) && (!defined(__clang__) || defined(__AVX2__))
 #include <immintrin.h>
 
 /* glibc's vector functions (x86-64 vector function ABI; each an IFUNC choosing the best code for

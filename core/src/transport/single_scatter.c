@@ -51,11 +51,9 @@ static int ray_quadrature_pieces(const atmosphere *atm, const ray_segment *seg, 
         double thickest = 0.0;
         for (int k = 0; k < K; k++)
             thickest = fmax(thickest, depth[k]);
-        int sub = (int)ceil(thickest / SS_MAX_PIECE_DEPTH);
-        if (sub < 1)
-            sub = 1;
-        if (sub > SS_MAX_SPLIT)
-            sub = SS_MAX_SPLIT;
+        /* clamped before the conversion: an opaque medium's depth overflows an int */
+        double pieces_wanted = ceil(thickest / SS_MAX_PIECE_DEPTH);
+        int sub = pieces_wanted >= SS_MAX_SPLIT ? SS_MAX_SPLIT : pieces_wanted >= 1.0 ? (int)pieces_wanted : 1;
         for (int j = 0; j < sub; j++)
             pieces[np++] = bounds[i] + (bounds[i + 1] - bounds[i]) * j / sub;
     }
