@@ -98,12 +98,8 @@ static int batch_run(int argc, char **argv, batch_render_fn render)
         return EXIT_USAGE;
     }
     manifest m;
-    char msg[1024];
-    if (manifest_read(path, &m, msg, sizeof msg)) {
-        report_error("%s", msg);
-        manifest_free(&m);
+    if (manifest_open(path, &m))
         return EXIT_USAGE;
-    }
     if (index >= m.count) {
         report_error("batch run: --index %lld: the manifest has %d jobs (0 to %d)", index, m.count, m.count - 1);
         manifest_free(&m);
@@ -124,12 +120,13 @@ static int batch_run(int argc, char **argv, batch_render_fn render)
             continue;
         }
         job_argv a = {0};
+        char msg[512] = "out of memory";
         char *text = cJSON_PrintUnformatted(job);
         double t0 = platform_monotonic_seconds();
         int c = text && !job_to_argv(&m, job, &a, msg, sizeof msg) && !job_argv_add(&a, "--threads") &&
                         !job_argv_add(&a, threads_text) && !job_argv_add(&a, "--progress") && !job_argv_add(&a, "none")
                     ? render(a.argc, a.argv, text)
-                    : EXIT_RUNTIME;
+                    : (report_error("%s", msg), EXIT_RUNTIME);
         job_argv_free(&a);
         free(text);
         if (c == 0) {
@@ -306,12 +303,8 @@ static int batch_slurm(int argc, char **argv)
     if (!parse_slurm_args(argc, argv, &s))
         return EXIT_USAGE;
     manifest m;
-    char msg[1024];
-    if (manifest_read(s.manifest, &m, msg, sizeof msg)) {
-        report_error("%s", msg);
-        manifest_free(&m);
+    if (manifest_open(s.manifest, &m))
         return EXIT_USAGE;
-    }
     int jobs = m.count;
     manifest_free(&m);
     char exe_dir[4096], exe[4200], default_script[4200];

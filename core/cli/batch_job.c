@@ -3,6 +3,7 @@
 #include "args.h"
 #include "option_table.h"
 #include "preset_args.h"
+#include "report.h"
 
 #include "base/platform.h"
 
@@ -241,6 +242,16 @@ int manifest_read(const char *path, manifest *m, char *msg, size_t msg_size)
         code = 2;
     }
     return code;
+}
+
+int manifest_open(const char *path, manifest *m)
+{
+    char msg[1024];
+    if (!manifest_read(path, m, msg, sizeof msg))
+        return 0;
+    report_error("%s", msg);
+    manifest_free(m);
+    return 2;
 }
 
 void manifest_free(manifest *m)

@@ -23,6 +23,8 @@ typedef struct manifest {
  * them).  Returns 0, or 2 with one line in msg naming the line and the key. */
 int manifest_read(const char *path, manifest *m, char *msg, size_t msg_size);
 void manifest_free(manifest *m);
+/* manifest_read, its error reported (one line): 0, or the exit code 2 with m freed. */
+int manifest_open(const char *path, manifest *m);
 
 /* The job's path under key ("output", "sidecar"), resolved against the manifest's directory
  * (malloc'd; NULL when absent or out of memory). */

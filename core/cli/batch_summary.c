@@ -212,12 +212,8 @@ int batch_summary(int argc, char **argv)
     csv_path = csv_path ? csv_path : csv_default;
     png_path = png_path ? png_path : png_default;
     manifest m;
-    char msg[1024];
-    if (manifest_read(path, &m, msg, sizeof msg)) {
-        report_error("%s", msg);
-        manifest_free(&m);
+    if (manifest_open(path, &m))
         return EXIT_USAGE;
-    }
     double(*lux)[HOURS] = malloc(sizeof(double[DAYS][HOURS]));
     text_buf csv = {0}, png = {0};
     double max_lux = 0.0;
