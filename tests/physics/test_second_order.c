@@ -125,10 +125,10 @@ static void table_orders_part_the_same_paths(void **state)
         double whole[FM_MAX_WAVELENGTHS] = {0}, parted[FM_MAX_WAVELENGTHS] = {0}, later[FM_MAX_WAVELENGTHS] = {0};
         double two[FM_MAX_WAVELENGTHS] = {0}, three[FM_MAX_WAVELENGTHS] = {0};
         node_orders orders = {later, {0.0, 0.0}};
-        twilight_node_paths(sky, &pc, d, N, 5, (uint64_t)i, 0, whole, NULL, NULL, NULL);
-        twilight_node_paths(sky, &pc, d, N, 5, (uint64_t)i, 0, parted, NULL, NULL, &orders);
-        twilight_node_paths(sky, &cut, d, N, 5, (uint64_t)i, 0, two, NULL, NULL, NULL);
-        twilight_node_paths(sky, &later_only, d, N, 5, (uint64_t)i, 0, three, NULL, NULL, NULL);
+        table_node_paths(sky, &pc, d, N, 5, (uint64_t)i, 0, whole, NULL, NULL, NULL);
+        table_node_paths(sky, &pc, d, N, 5, (uint64_t)i, 0, parted, NULL, NULL, &orders);
+        table_node_paths(sky, &cut, d, N, 5, (uint64_t)i, 0, two, NULL, NULL, NULL);
+        table_node_paths(sky, &later_only, d, N, 5, (uint64_t)i, 0, three, NULL, NULL, NULL);
         double y = spectral_grid_luminance(&sky->atm.grid, whole);
         double y3 = spectral_grid_luminance(&sky->atm.grid, later);
         print_message("elevation %2.0f azimuth %3.0f: orders >= 3 %.1f%% of the table's light\n", dirs[i][0],
@@ -178,7 +178,7 @@ static void aureole_is_order_two(void **state)
         vec3 d = direction_from_elevation_azimuth(30.0 * FM_DEG, (180.0 - 180.0 * j / (COLS - 1)) * FM_DEG);
         double whole[FM_MAX_WAVELENGTHS] = {0}, later[FM_MAX_WAVELENGTHS] = {0};
         node_orders orders = {later, {0.0, 0.0}};
-        twilight_node_paths(sky, &pc, d, N, 9, (uint64_t)(100 + j), 0, whole, NULL, NULL, &orders);
+        table_node_paths(sky, &pc, d, N, 9, (uint64_t)(100 + j), 0, whole, NULL, NULL, &orders);
         row[1][j] = spectral_grid_luminance(&sky->atm.grid, later);
         row[0][j] = spectral_grid_luminance(&sky->atm.grid, whole) - row[1][j];
     }
@@ -212,7 +212,7 @@ static void second_order_shape_carries_the_aureole(void **state)
     for (int j = 0; j < COLS; j++) {
         vec3 d = direction_from_elevation_azimuth(30.0 * FM_DEG, (180.0 - 180.0 * j / (COLS - 1)) * FM_DEG);
         double L[1] = {0.0};
-        twilight_node_paths(sky, &pc, d, N, 9, (uint64_t)(200 + j), 0, L, NULL, NULL, NULL);
+        table_node_paths(sky, &pc, d, N, 9, (uint64_t)(200 + j), 0, L, NULL, NULL, NULL);
         two[j] = L[0] / N;
         double shape = next_order_shape(&sky->atm, sky->observer, d, sky->sun_dir, 0, observer_single_scatter, sky);
         ratio[j] = two[j] / shape;

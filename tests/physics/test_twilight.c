@@ -123,7 +123,7 @@ static double multiple_scattering(const fm_sky *sky, const path_context *pc, vec
 {
     double L[FM_MAX_WAVELENGTHS] = {0};
     node_moments m = {0};
-    twilight_node_paths(sky, pc, d, N, 17, item, 0, L, &m, NULL, NULL);
+    table_node_paths(sky, pc, d, N, 17, item, 0, L, &m, NULL, NULL);
     double mean = luminance(sky, L) / N;
     *se = sqrt(fmax(0.0, m.yy / N - mean * mean) / N);
     return mean;

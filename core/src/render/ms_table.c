@@ -128,8 +128,8 @@ static void node_paths(void *ctx, int64_t begin, int64_t end, int thread)
         /* the hero wavelengths go round the grid; the extra paths go on where the first pass ended */
         uint64_t offset = mix64(job->seed ^ (uint64_t)i) + (pass->extra ? (uint64_t)job->q.ms_paths : 0);
         uint64_t item = ITEM_MS_NODE + (pass->extra ? ITEM_MS_EXTRA : 0) + (uint64_t)i;
-        twilight_node_paths(sky, &pc, d, pass->paths, job->seed, item, (int)(offset % (uint64_t)K), &t->sum[i * K],
-                            &t->moments[i], pass->extra ? NULL : &t->shape[i], t->orders ? &t->orders[i] : NULL);
+        table_node_paths(sky, &pc, d, pass->paths, job->seed, item, (int)(offset % (uint64_t)K), &t->sum[i * K],
+                         &t->moments[i], pass->extra ? NULL : &t->shape[i], t->orders ? &t->orders[i] : NULL);
     }
 }
 

@@ -22,7 +22,7 @@ typedef struct ms_table {
     double *y, *var;        /* per node: the luminance estimate of `grid` and its variance */
     double *sum;            /* [node][K]: the sum of the node's paths' estimates at every grid wavelength */
     node_moments *moments;  /* per node: its paths' moments */
-    double *shape;          /* per node: in deep twilight its view ray's light (twilight_node_paths' shape),
+    double *shape;          /* per node: in deep twilight its view ray's light (table_node_paths' shape),
                              * else the shape of the part being fitted */
     int paths;              /* paths per node so far */
     int rising_segments;    /* the paths take the sunlight of rising segments along them (ms_table.c) */

@@ -28,7 +28,7 @@
  * luminance falls below 0.15 of their own mean somewhere (deep twilight's horizon) keep their raw
  * nodes: the row weights would leave those dim nodes a large relative error.
  *
- * In deep twilight a shape per node may be given (twilight_node_paths: the light of orders 1 and 2
+ * In deep twilight a shape per node may be given (table_node_paths: the light of orders 1 and 2
  * along the node's view ray, scattered isotropically toward the observer).  The sky's nodes are then
  * fitted divided by it, and the fit multiplied back: the ratio varies far less within a row than
  * the nodes do, so every row passes the range check and the fit averages many more nodes.  The rows

@@ -72,8 +72,8 @@ path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *t
     return pc;
 }
 
-void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
-                         uint64_t item, int offset, double *L, node_moments *m, double *shape, node_orders *orders)
+void table_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
+                      uint64_t item, int offset, double *L, node_moments *m, double *shape, node_orders *orders)
 {
     const int K = sky->atm.grid.count;
     /* First vertices stratified along the view ray (view_ray_vertices.h), by day too: less noise in

@@ -50,14 +50,14 @@ typedef struct node_orders {
     double yy[2];
 } node_orders;
 
-/* The fast path's estimate of orders >= 2 toward d at one table node: adds the sum of `paths` path
- * estimates (K values) to L, their first vertices stratified along the view ray
- * (view_ray_vertices.h) and, with twilight sampling (pc carries a guide), the guide's directions
+/* The fast path's estimate of orders >= 2 toward d at one table node, by day and at twilight: adds
+ * the sum of `paths` path estimates (K values) to L, their first vertices stratified along the view
+ * ray (view_ray_vertices.h) and, with twilight sampling (pc carries a guide), the guide's directions
  * after them.  m, if not NULL, receives their moments, for standard errors; shape, if not NULL,
  * the view ray's light_integral (view_ray_vertices.h: > 0 in deep twilight, else 0); orders, if not
  * NULL, the same light parted by order (L still gets all of it). */
-void twilight_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
-                         uint64_t item, int offset, double *L, node_moments *m, double *shape, node_orders *orders);
+void table_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
+                      uint64_t item, int offset, double *L, node_moments *m, double *shape, node_orders *orders);
 
 /* The node's ratio of means X / Y (c = 0) or Z / Y (c = 2) and its variance by the jackknife over
  * the batches (deleting one at a time); NAN for both when a batch's deletion leaves no light. */
