@@ -183,5 +183,27 @@ else
     echo "note: oiiotool missing, compare's NaN and B-only cases skipped"
 fi
 
+# --- 8. FIFOs as inputs are refused at once (they blocked forever) ---------------------------------
+mkfifo "$work/fifo"
+for args in "render --preset $work/fifo" "render --biome $work/fifo" \
+    "render --atmosphere $work/fifo --wavelength 550" "compare $work/fifo $work/fifo" "info $work/fifo"; do
+    rm -rf "$work/out" && mkdir -p "$work/out"
+    # shellcheck disable=SC2086
+    (cd "$work/out" && timeout 10 "$FM" $args >/dev/null 2>"$work/stderr")
+    rc=$?
+    [ $rc -eq 2 ] && grep -q 'not a regular file' "$work/stderr" && ok ||
+        fail "FIFO ($args): exit $rc, expected 2: $(cat "$work/stderr")"
+done
+
+# --- 10. a --preset or --biome path too long to hold is refused, never shortened to another file ---
+mkdir -p "$work/p"
+base="$work/p/"
+while [ ${#base} -lt 1000 ]; do base="$base./"; done
+name=$(printf 'g%.0s' $(seq 1 $((1023 - ${#base} - 5)))).json # the first 1023 bytes name this file,
+printf '{"name": "short", "sun_elevation": 10}\n' >"$work/p/$name"  # which the previous code read
+long="$base$name-not-this-one.json"
+expect_usage_error "--preset path over 1023 bytes" render --width 8 --quality preview --preset "$long"
+expect_usage_error "--biome path over 1023 bytes" render --width 8 --quality preview --biome "$long"
+
 echo "$checks checks passed, $failures failed"
 [ $failures -eq 0 ]

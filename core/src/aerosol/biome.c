@@ -146,6 +146,11 @@ fm_status biome_load(const char *name_or_path, const char *presets_dir, biome *o
 {
     memset(out, 0, sizeof *out);
     char path[1024];
+    /* never a shortened path: that would read another file */
+    if (strlen(name_or_path) >= sizeof path - 16)
+        return fm_fail_parameter(err, "biome", "'%.60s...' is %zu bytes, longer than the %zu a biome name or path "
+                                               "may have",
+                                 name_or_path, strlen(name_or_path), sizeof path - 17);
     if (is_path(name_or_path)) {
         snprintf(path, sizeof path, "%s", name_or_path);
     } else {

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #define MAX_FILE_BYTES (64L << 20) /* far beyond any sensible input file; refuses a wrong file early */
 
@@ -64,6 +65,10 @@ const char *json_type_name(const cJSON *node)
 static fm_status read_text(const json_reader *rd, char **out, size_t *size)
 {
     *out = NULL;
+    /* a FIFO or device would block the open or never end */
+    struct stat info;
+    if (stat(rd->file, &info) == 0 && !S_ISREG(info.st_mode))
+        return fm_fail_parameter(rd->err, rd->field, "%s: not a regular file", rd->file);
     FILE *f = platform_fopen(rd->file, "rb");
     if (!f) /* a file the user named: bad input, not a runtime failure */
         return fm_fail_parameter(rd->err, rd->field, "%s: cannot open: %s", rd->file, strerror(errno));

@@ -1,6 +1,7 @@
 /* fm_exr_attributes: an EXR's header as text, for `firmament info`: the standard attributes first,
  * then firmament.* (and any other), each group in alphabetical order. */
 #include "base/status.h"
+#include "image/image.h"
 
 #include <openexr.h>
 #include <stdio.h>
@@ -87,6 +88,9 @@ fm_status fm_exr_attributes(const char *path, fm_exr_attribute_fn fn, void *user
     exr_context_t ctxt = NULL;
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     init.error_handler_fn = quiet;
+    fm_status regular = image_check_regular(path, err);
+    if (regular)
+        return regular;
     exr_result_t rv = exr_start_read(&ctxt, path, &init);
     if (rv != EXR_ERR_SUCCESS)
         return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "cannot read '%s': %s", path, exr_get_default_error_message(rv));

@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /* 2^28: a 16384 x 16384 map */
 #define MAX_READ_PIXELS ((int64_t)1 << 28)
@@ -69,9 +70,20 @@ static int is_dwa(const char *path)
 
 /* DWA files (firmament's --compression dwaa, or other tools') are re-encoded losslessly as ZIP in
  * a private temporary file first: OpenEXR 3.1's C library cannot decode DWA. */
+fm_status image_check_regular(const char *path, fm_error *err)
+{
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode))
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "cannot read '%s': not a regular file", path);
+    return FM_OK;
+}
+
 fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
 {
     *out = NULL;
+    fm_status regular = image_check_regular(path, err);
+    if (regular)
+        return regular;
     if (!is_dwa(path))
         return read_exr(path, out, err);
     char tmp[4096];

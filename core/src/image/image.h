@@ -19,6 +19,9 @@ void image_colour_to_xyz(const fm_image *img, const double v[3], double xyz[3]);
  * renaming over path; returns its malloc'd name, or NULL with err filled (also when path is a
  * directory). */
 char *image_reserve_temp(const char *path, fm_error *err);
+/* Fails (FM_ERR_INVALID_ARGUMENT, one line) when path exists and is not a regular file: a FIFO or
+ * a device would block the reader or never end. */
+fm_status image_check_regular(const char *path, fm_error *err);
 /* After writing tmp with status s: renames it over path when s is FM_OK, else removes it; frees tmp
  * and returns s, or the rename's failure. */
 fm_status image_finish_temp(char *tmp, const char *path, fm_status s, fm_error *err);

@@ -124,6 +124,11 @@ fm_status fm_sky_preset_load(const char *name_or_path, const char *presets_direc
                              fm_error *err)
 {
     memset(out, 0, sizeof *out);
+    /* never a shortened path: that would read another file */
+    if (strlen(name_or_path) >= sizeof out->path - 16)
+        return fm_fail_parameter(err, "preset", "'%.60s...' is %zu bytes, longer than the %zu a preset name or path "
+                                                "may have",
+                                 name_or_path, strlen(name_or_path), sizeof out->path - 17);
     if (is_path(name_or_path)) {
         snprintf(out->path, sizeof out->path, "%s", name_or_path);
     } else {
