@@ -11,6 +11,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -55,10 +56,14 @@ typedef struct plan_args {
     long long seed;
 } plan_args;
 
-static int fail(const char *fmt, const char *a, const char *b)
+/* One line "batch plan: ..." on stderr; returns 0 (parse failed). */
+static int fail(const char *fmt, ...)
 {
     char line[1024];
-    snprintf(line, sizeof line, fmt, a, b);
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
     report_error("batch plan: %s", line);
     return 0;
 }
@@ -71,9 +76,9 @@ static int parse_place(const char *v, place *p)
         !parse_decimal(lat, &p->latitude_deg) || fabs(p->latitude_deg) > 90.0 || !parse_decimal(lon, &p->longitude_deg) ||
         fabs(p->longitude_deg) > 180.0 || strspn(name, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-") != strlen(name))
         return fail("--place: '%s' is not NAME,LAT,LON,UTC_OFFSET (e.g. paris,48.857,2.352,+01:00; a name of "
-                    "letters, digits and '-')%s", v, "");
+                    "letters, digits and '-')", v);
     if (!parse_utc_offset_arg("--place", utc, &p->utc_offset_min, msg, sizeof msg))
-        return fail("%s%s", msg, "");
+        return fail("%s", msg);
     snprintf(p->name, sizeof p->name, "%s", name);
     return 1;
 }
@@ -85,9 +90,9 @@ static int parse_times(const char *v, plan_args *a)
         size_t n = strcspn(s, ",");
         snprintf(buf, sizeof buf, "%.*s", (int)(n < 63 ? n : 63), s);
         if (a->n_times == (int)(sizeof a->times / sizeof a->times[0]))
-            return fail("--times: more than %s times%s", "1440", "");
+            return fail("--times: more than 1440 times");
         if (!parse_time_arg("--times", buf, &a->times[a->n_times++], msg, sizeof msg))
-            return fail("%s%s", msg, "");
+            return fail("%s", msg);
         s += n + (s[n] == ',');
     }
     return 1;
@@ -103,7 +108,7 @@ static int parse_plan_args(int argc, char **argv, plan_args *a)
         int takes = strcmp(f, "-o") == 0 || (f[0] == '-' && f[1] == '-');
         if (!takes || (i + 1 >= argc)) {
             if (takes)
-                return fail("%s needs a value%s", f, "");
+                return fail("%s needs a value", f);
             return fail("unexpected '%s' (%s)", f, PLAN_USAGE);
         }
         const char *v = argv[++i];
@@ -119,7 +124,7 @@ static int parse_plan_args(int argc, char **argv, plan_args *a)
             a->presets[a->n_presets++] = v;
         else if (!strcmp(f, "--set") && a->n_sets < MOST) {
             if (!strchr(v, '=') || v[0] == '=')
-                return fail("--set: '%s' is not KEY=VALUE (a preset's key, e.g. width=1024)%s", v, "");
+                return fail("--set: '%s' is not KEY=VALUE (a preset's key, e.g. width=1024)", v);
             a->sets[a->n_sets++] = v;
         } else if (!strcmp(f, "--place") && a->n_places < MOST) {
             if (!parse_place(v, &a->places[a->n_places++]))
@@ -138,43 +143,43 @@ static int parse_plan_args(int argc, char **argv, plan_args *a)
         } else if (!strcmp(f, "--time-start") || !strcmp(f, "--time-end")) {
             int *t = f[7] == 's' ? &a->t_start : &a->t_end;
             if (!parse_time_arg(f, v, t, msg, sizeof msg))
-                return fail("%s%s", msg, "");
+                return fail("%s", msg);
             *(f[7] == 's' ? &a->have_start : &a->have_end) = 1;
         } else if (!strcmp(f, "--step")) {
             if (!parse_decimal(v, &a->step_min) || !(a->step_min >= 1.0 && a->step_min <= 1440.0))
-                return fail("--step: '%s' is not a number of minutes in [1, 1440]%s", v, "");
+                return fail("--step: '%s' is not a number of minutes in [1, 1440]", v);
         } else if (!strcmp(f, "--sun-above")) {
             if (!parse_decimal(v, &x) || fabs(x) > 90.0)
-                return fail("--sun-above: '%s' is not an elevation in [-90, 90] degrees%s", v, "");
+                return fail("--sun-above: '%s' is not an elevation in [-90, 90] degrees", v);
             a->sun_above_deg = x;
             a->have_sun_above = 1;
         } else if (!strcmp(f, "--seed")) {
             if (!parse_whole(v, 0, 1LL << 52, &w))
-                return fail("--seed: '%s' is not a whole number in [0, 2^52]%s", v, "");
+                return fail("--seed: '%s' is not a whole number in [0, 2^52]", v);
             a->seed = w;
         } else {
             return fail("unknown option '%s' (%s)", f, PLAN_USAGE);
         }
     }
     if (!a->manifest)
-        return fail("%s%s", PLAN_USAGE, "");
+        return fail("%s", PLAN_USAGE);
     if ((a->have_start || a->have_end || a->step_min > 0.0) && !(a->have_start && a->have_end && a->step_min > 0.0))
-        return fail("--time-start, --time-end and --step go together%s%s", "", "");
+        return fail("--time-start, --time-end and --step go together");
     if (a->have_start && a->n_times)
-        return fail("--times or --time-start, not both%s%s", "", "");
+        return fail("--times or --time-start, not both");
     for (int t = a->t_start; a->have_start && t <= a->t_end; t = a->t_start + (int)lround(++a->n_times * a->step_min * 60.0))
         if (a->n_times == (int)(sizeof a->times / sizeof a->times[0]))
-            return fail("--time-start ... --step: more than %s times%s", "1440", "");
+            return fail("--time-start ... --step: more than 1440 times");
         else
             a->times[a->n_times] = t;
     if (a->y0 && !a->y1)
-        return fail("--date-start needs --date-end%s%s", "", "");
+        return fail("--date-start needs --date-end");
     if (a->y1 && !a->y0)
-        return fail("--date-end needs --date-start%s%s", "", "");
+        return fail("--date-end needs --date-start");
     if (a->epw && (a->n_places || a->y0 || a->n_times))
-        return fail("--epw gives the place, dates and times: not with --place, --date or --times%s%s", "", "");
+        return fail("--epw gives the place, dates and times: not with --place, --date or --times");
     if (a->have_sun_above && !a->epw && !(a->n_places && a->y0 && a->n_times))
-        return fail("--sun-above needs --place, a date and times (or --epw)%s%s", "", "");
+        return fail("--sun-above needs --place, a date and times (or --epw)");
     return 1;
 }
 
