@@ -88,6 +88,21 @@ static inline void spectral_product(double *a, double x, const double *b, const 
         a[k] = x * b[k] * c[k];
 }
 
+/* a[k] += x * b[k] * c[k] * d[k]: a path's contribution, x b c its throughput (one pass) */
+static inline void spectral_add_product(double *a, double x, const double *b, const double *c, const double *d, int K)
+{
+    for (int k = 0; k < K; k++)
+        a[k] += x * b[k] * c[k] * d[k];
+}
+
+/* a[k] += x * b[k] * c[k] * d[k] * e[k] * f[k] (one pass) */
+static inline void spectral_add_product5(double *a, double x, const double *b, const double *c, const double *d,
+                                         const double *e, const double *f, int K)
+{
+    for (int k = 0; k < K; k++)
+        a[k] += x * b[k] * c[k] * d[k] * e[k] * f[k];
+}
+
 /* sum of a[k], from 0 in order of k */
 static inline double spectral_sum(const double *a, int K)
 {

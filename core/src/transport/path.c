@@ -158,17 +158,11 @@ static int pop_path(tracer *tr, path_state *p)
     return 1;
 }
 
-/* The path's throughput, the first factors of a contribution: c_k = W / mean(q) q_k w_k. */
-static void throughput(const tracer *tr, const path_state *p, double *c)
-{
-    spectral_product(c, p->W / spectral_mean(p->q, tr->K), p->q, p->w, tr->K);
-}
+/* The path's throughput is W / mean(q) q_k w_k: its scale here. */
+static double throughput_scale(const tracer *tr, const path_state *p) { return p->W / spectral_mean(p->q, tr->K); }
 
-/* Adds the contribution c of `order` to L, or to L_later for orders 3 and up when it is given. */
-static void add_light(tracer *tr, int order, const double *c)
-{
-    spectral_add(tr->L_later && order > 2 ? tr->L_later : tr->L, c, tr->K);
-}
+/* Where the contributions of `order` go: L, or L_later for orders 3 and up when it is given. */
+static double *light_sink(tracer *tr, int order) { return tr->L_later && order > 2 ? tr->L_later : tr->L; }
 
 static void medium_at(const atmosphere *atm, double radius, vertex_medium *m)
 {
@@ -308,14 +302,11 @@ static void add_sunlight(tracer *tr, const path_state *p, vec3 x)
 {
     const path_context *ctx = tr->ctx;
     double rad = v3_length(x), mu_s = v3_dot(x, ctx->sun_dir) / rad;
-    spectral tbar, phase, c;
+    spectral tbar, phase;
     sun_irradiance_lookup(ctx->sun_table, tr->atm, ctx->sun, rad, mu_s, tbar);
     medium_phase(tr->atm, p->medium.n, v3_dot(p->d, ctx->sun_dir), phase, NULL);
-    throughput(tr, p, c);
-    spectral_mul(c, phase, tr->K);
-    spectral_mul(c, tr->atm->grid.solar_irradiance, tr->K);
-    spectral_mul(c, tbar, tr->K);
-    add_light(tr, p->order, c);
+    spectral_add_product5(light_sink(tr, p->order), throughput_scale(tr, p), p->q, p->w, phase,
+                          tr->atm->grid.solar_irradiance, tbar, tr->K);
 }
 
 /* The sunlight the Lambertian ground at the point of outward normal `normal` reflects:
@@ -326,12 +317,10 @@ static void add_ground_sunlight(tracer *tr, const path_state *p, vec3 normal)
     const int K = tr->K;
     spectral tbar, thor, c;
     sun_irradiance_lookup_ground(ctx->sun_table, tr->atm, ctx->sun, v3_dot(normal, ctx->sun_dir), tbar, thor);
-    throughput(tr, p, c);
+    spectral_product(c, throughput_scale(tr, p), p->q, p->w, K);
     spectral_mul(c, tr->atm->ground_albedo, K);
     spectral_divide(c, FM_PI, K);
-    spectral_mul(c, tr->atm->grid.solar_irradiance, K);
-    spectral_mul(c, thor, K);
-    add_light(tr, p->order, c);
+    spectral_add_product(light_sink(tr, p->order), 1.0, c, tr->atm->grid.solar_irradiance, thor, K);
 }
 
 /* A scattering at x in p->medium, arrived along p->d.  along: the segment's sunlight was counted
@@ -437,11 +426,9 @@ static int segment_sunlight_along(tracer *tr, const path_state *p, const ray_seg
     }
     if (!along)
         return 0;
-    spectral S = {0}, c;
+    spectral S = {0};
     segment_sunlight(ctx, seg, umbra0, umbra1, tr->r, S);
-    throughput(tr, p, c);
-    spectral_mul(c, S, tr->K);
-    add_light(tr, p->order + 1, c);
+    spectral_add_product(light_sink(tr, p->order + 1), throughput_scale(tr, p), p->q, p->w, S, tr->K);
     return ctx->max_order > 0 && p->order + 1 >= ctx->max_order ? -1 : 1;
 }
 
