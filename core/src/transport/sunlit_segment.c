@@ -188,97 +188,122 @@ static double proxy_sample(const lit_proxy *p, double u, double *density)
     return cell * j + x;
 }
 
-void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0, double u1, rng *r, double *S)
+/* The proxy over the lit length [0, lit] of seg (umbra [u0, u1] left out): its cells and their ends'
+ * values, the sum over three wavelengths of T sigma_s Tbar. */
+static void proxy_init(lit_proxy *p, const path_context *ctx, const ray_segment *seg, const segment_columns *sc,
+                       double u0, double u1, double lit)
+{
+    const atmosphere *atm = ctx->atm;
+    const int K = atm->grid.count;
+    double col[FM_MAX_SPECIES], n[FM_MAX_SPECIES];
+    p->cells = ctx->segment_sunlight == SEGMENT_SUNLIGHT_RISING ? RISING_CELLS : PROXY_CELLS;
+    p->lit = lit;
+    p->cell = lit / p->cells;
+    int ks[3], nk = K < 3 ? K : 3;
+    for (int i = 0; i < nk; i++)
+        ks[i] = K < 3 ? i : K * (i + 1) / 4;
+    /* per cell end and wavelength: sigma_s, and the optical depth from the sun to there and on to the
+     * segment's origin, whose exps are then taken all at once in vector lanes */
+    double ds[3], sigma_at[PROXY_CELLS + 1][3] = {{0}}, light[PROXY_CELLS + 1][3] = {{0}};
+    for (int j = 0; j <= p->cells; j++) {
+        double t = lit_to_t(p->cell * j, u0, u1), rad = ray_segment_radius(seg, t);
+        vec3 x = v3_madd(seg->origin, seg->dir, t);
+        if (!sun_irradiance_lookup_some_depths(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, nk,
+                                               ks, ds) ||
+            (isinf(ds[0]) && isinf(ds[nk - 1]) && isinf(ds[nk / 2])))
+            continue;
+        segment_columns_at(sc, t, col);
+        atmosphere_densities(atm, rad, n);
+        for (int i = 0; i < nk; i++) {
+            double sigma = 0.0;
+            for (int c = 0; c < atm->scattering_count; c++)
+                sigma += atm->species[c].sigma_s[ks[i]] * n[c];
+            sigma_at[j][i] = sigma;
+            light[j][i] = -(ds[i] + atmosphere_optical_depth(atm, col, ks[i]));
+        }
+    }
+    exp_array(&light[0][0], &light[0][0], 3 * (p->cells + 1));
+    for (int j = 0; j <= p->cells; j++) {
+        p->h[j] = 0.0;
+        for (int i = 0; i < nk; i++)
+            p->h[j] += sigma_at[j][i] * light[j][i];
+    }
+    proxy_cells(p);
+}
+
+/* Adds to S the sunlight scattered toward the segment's origin at SUN_SAMPLES points of the lit
+ * length, stratified, drawn from the proxy p. */
+static void add_lit_air(const path_context *ctx, const ray_segment *seg, const segment_columns *sc, double u0,
+                        double u1, const lit_proxy *p, rng *r, double *S)
 {
     const atmosphere *atm = ctx->atm;
     const int K = atm->grid.count;
     const double *E0 = atm->grid.solar_irradiance;
-    const double lit = u0 + (seg->t_end - u1), cos_sun = v3_dot(seg->dir, ctx->sun_dir);
+    const double cos_sun = v3_dot(seg->dir, ctx->sun_dir);
+    double col[FM_MAX_SPECIES], n[FM_MAX_SPECIES];
+    /* the angle to the sun is the same all along the segment: each species' phase once, when a
+     * sample first meets the species (an aerosol layer is absent from most samples) */
+    double phase[FM_MAX_SPECIES][FM_MAX_WAVELENGTHS];
+    int have_phase[FM_MAX_SPECIES] = {0};
+    for (int i = 0; i < SUN_SAMPLES; i++) {
+        double density, l = proxy_sample(p, (i + rng_uniform(r)) / SUN_SAMPLES, &density);
+        double t = lit_to_t(l, u0, u1), rad = ray_segment_radius(seg, t);
+        vec3 x = v3_madd(seg->origin, seg->dir, t);
+        double depth[FM_MAX_WAVELENGTHS]; /* the sunlight's, then the path's to here added */
+        if (!sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, depth))
+            continue;
+        double inv_pdf = 1.0 / density / SUN_SAMPLES;
+        segment_columns_at(sc, t, col);
+        atmosphere_densities(atm, rad, n);
+        double scatter[FM_MAX_WAVELENGTHS] = {0}; /* sigma_s p over the species, 1/(m sr) */
+        for (int c = 0; c < atm->scattering_count; c++) {
+            if (n[c] == 0.0)
+                continue;
+            if (!have_phase[c]) {
+                phase_evaluate_all(&atm->species[c].phase, K, cos_sun, phase[c]);
+                have_phase[c] = 1;
+            }
+            for (int k = 0; k < K; k++)
+                scatter[k] += atm->species[c].sigma_s[k] * n[c] * phase[c][k];
+        }
+        double path[FM_MAX_WAVELENGTHS];
+        atmosphere_optical_depths(atm, col, path);
+        for (int k = 0; k < K; k++)
+            depth[k] = -(depth[k] + path[k]);
+        exp_array(depth, depth, K); /* from the sun to here and on to the segment's origin */
+        for (int k = 0; k < K; k++)
+            S[k] += inv_pdf * scatter[k] * E0[k] * depth[k];
+    }
+}
+
+/* Adds to S the sunlight the ground at the segment's end reflects toward its origin. */
+static void add_lit_ground(const path_context *ctx, const ray_segment *seg, const segment_columns *sc, double *S)
+{
+    const atmosphere *atm = ctx->atm;
+    const int K = atm->grid.count;
+    const double *E0 = atm->grid.solar_irradiance;
+    vec3 x = v3_madd(seg->origin, seg->dir, seg->t_end);
+    double rad = v3_length(x), tbar[FM_MAX_WAVELENGTHS], thor[FM_MAX_WAVELENGTHS];
+    sun_irradiance_lookup_ground(ctx->sun_table, atm, ctx->sun, v3_dot(x, ctx->sun_dir) / rad, tbar, thor);
+    if (!(spectral_sum(thor, K) > 0.0))
+        return;
+    double col[FM_MAX_SPECIES], tr[FM_MAX_WAVELENGTHS];
+    segment_columns_at(sc, seg->t_end, col);
+    atmosphere_transmittances(atm, col, tr);
+    for (int k = 0; k < K; k++)
+        S[k] += tr[k] * atm->ground_albedo[k] / FM_PI * E0[k] * thor[k];
+}
+
+void segment_sunlight(const path_context *ctx, const ray_segment *seg, double u0, double u1, rng *r, double *S)
+{
+    const double lit = u0 + (seg->t_end - u1);
     segment_columns sc;
     segment_columns_init(&sc, ctx, seg);
-    double col[FM_MAX_SPECIES], n[FM_MAX_SPECIES];
-
     if (lit > 0.0) {
-        /* proxy: sum over three wavelengths of T sigma_s Tbar at the cells' ends */
         lit_proxy p;
-        p.cells = ctx->segment_sunlight == SEGMENT_SUNLIGHT_RISING ? RISING_CELLS : PROXY_CELLS;
-        p.lit = lit;
-        p.cell = lit / p.cells;
-        int ks[3], nk = K < 3 ? K : 3;
-        for (int i = 0; i < nk; i++)
-            ks[i] = K < 3 ? i : K * (i + 1) / 4;
-        /* per cell end and wavelength: sigma_s, and the optical depth from the sun to there and on
-         * to the segment's origin, whose exps are then taken all at once in vector lanes */
-        double ds[3], sigma_at[PROXY_CELLS + 1][3] = {{0}}, light[PROXY_CELLS + 1][3] = {{0}};
-        for (int j = 0; j <= p.cells; j++) {
-            double t = lit_to_t(p.cell * j, u0, u1), rad = ray_segment_radius(seg, t);
-            vec3 x = v3_madd(seg->origin, seg->dir, t);
-            if (!sun_irradiance_lookup_some_depths(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad,
-                                                   nk, ks, ds) ||
-                (isinf(ds[0]) && isinf(ds[nk - 1]) && isinf(ds[nk / 2])))
-                continue;
-            segment_columns_at(&sc, t, col);
-            atmosphere_densities(atm, rad, n);
-            for (int i = 0; i < nk; i++) {
-                double sigma = 0.0;
-                for (int c = 0; c < atm->scattering_count; c++)
-                    sigma += atm->species[c].sigma_s[ks[i]] * n[c];
-                sigma_at[j][i] = sigma;
-                light[j][i] = -(ds[i] + atmosphere_optical_depth(atm, col, ks[i]));
-            }
-        }
-        exp_array(&light[0][0], &light[0][0], 3 * (p.cells + 1));
-        for (int j = 0; j <= p.cells; j++) {
-            p.h[j] = 0.0;
-            for (int i = 0; i < nk; i++)
-                p.h[j] += sigma_at[j][i] * light[j][i];
-        }
-        proxy_cells(&p);
-        /* the angle to the sun is the same all along the segment: each species' phase once, when
-         * a sample first meets the species (an aerosol layer is absent from most samples) */
-        double phase[FM_MAX_SPECIES][FM_MAX_WAVELENGTHS];
-        int have_phase[FM_MAX_SPECIES] = {0};
-        for (int i = 0; i < SUN_SAMPLES; i++) {
-            double density, l = proxy_sample(&p, (i + rng_uniform(r)) / SUN_SAMPLES, &density);
-            double t = lit_to_t(l, u0, u1), rad = ray_segment_radius(seg, t);
-            vec3 x = v3_madd(seg->origin, seg->dir, t);
-            double depth[FM_MAX_WAVELENGTHS]; /* the sunlight's, then the path's to here added */
-            if (!sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, depth))
-                continue;
-            double inv_pdf = 1.0 / density / SUN_SAMPLES;
-            segment_columns_at(&sc, t, col);
-            atmosphere_densities(atm, rad, n);
-            double scatter[FM_MAX_WAVELENGTHS] = {0}; /* sigma_s p over the species, 1/(m sr) */
-            for (int c = 0; c < atm->scattering_count; c++) {
-                if (n[c] == 0.0)
-                    continue;
-                if (!have_phase[c]) {
-                    phase_evaluate_all(&atm->species[c].phase, K, cos_sun, phase[c]);
-                    have_phase[c] = 1;
-                }
-                for (int k = 0; k < K; k++)
-                    scatter[k] += atm->species[c].sigma_s[k] * n[c] * phase[c][k];
-            }
-            double path[FM_MAX_WAVELENGTHS];
-            atmosphere_optical_depths(atm, col, path);
-            for (int k = 0; k < K; k++)
-                depth[k] = -(depth[k] + path[k]);
-            exp_array(depth, depth, K); /* from the sun to here and on to the segment's origin */
-            for (int k = 0; k < K; k++)
-                S[k] += inv_pdf * scatter[k] * E0[k] * depth[k];
-        }
+        proxy_init(&p, ctx, seg, &sc, u0, u1, lit);
+        add_lit_air(ctx, seg, &sc, u0, u1, &p, r, S);
     }
-
-    if (seg->hits_ground) {
-        vec3 x = v3_madd(seg->origin, seg->dir, seg->t_end);
-        double rad = v3_length(x), tbar[FM_MAX_WAVELENGTHS], thor[FM_MAX_WAVELENGTHS];
-        sun_irradiance_lookup_ground(ctx->sun_table, atm, ctx->sun, v3_dot(x, ctx->sun_dir) / rad, tbar, thor);
-        if (spectral_sum(thor, K) > 0.0) {
-            segment_columns_at(&sc, seg->t_end, col);
-            double tr[FM_MAX_WAVELENGTHS];
-            atmosphere_transmittances(atm, col, tr);
-            for (int k = 0; k < K; k++)
-                S[k] += tr[k] * atm->ground_albedo[k] / FM_PI * E0[k] * thor[k];
-        }
-    }
+    if (seg->hits_ground)
+        add_lit_ground(ctx, seg, &sc, S);
 }
