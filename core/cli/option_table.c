@@ -225,13 +225,17 @@ void option_format_range(const fm_param_range *r, char *out, size_t size)
 
 /* ---- the usage --------------------------------------------------------------------------------- */
 
-/* "none | background | ... | urban", or the row's words. */
+/* "none | background | ... | urban", or the row's words.  Biomes that cannot be listed leave "none"
+ * alone and say why once on stderr (never the words of the message as choices). */
 static void format_words(const option_spec *o, char *out, size_t size)
 {
     out[0] = '\0';
     if (o->flags & BIOME_WORDS) {
         char names[700];
-        fm_biome_names(NULL, names, sizeof names);
+        fm_error err;
+        static int warned;
+        if (fm_biome_names(NULL, names, sizeof names, &err) != FM_OK && !warned++)
+            fprintf(stderr, "firmament: warning: --biome lists no biomes: %s\n", err.message);
         size_t used = (size_t)snprintf(out, size, "none");
         for (char *w = strtok(names, ", "); w && used < size; w = strtok(NULL, ", "))
             used += (size_t)snprintf(out + used, size - used, " | %s", w);

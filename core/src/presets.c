@@ -64,7 +64,7 @@ static void add_json_name(void *ctx, const char *name)
     }
 }
 
-void presets_list(const char *dir, const char *what, char *out, size_t size)
+int presets_list(const char *dir, const char *what, char *out, size_t size)
 {
     json_names found = {.count = 0};
     platform_list_dir(dir, add_json_name, &found);
@@ -83,16 +83,20 @@ void presets_list(const char *dir, const char *what, char *out, size_t size)
         used += (size_t)snprintf(out + used, size - used, "%s%s", i ? ", " : "", names[i]);
     if (count == 0)
         snprintf(out, size, "no %s files found in %.400s", what, dir);
+    return count;
 }
 
-void fm_biome_names(const char *presets_directory, char *out, size_t size)
+fm_status fm_biome_names(const char *presets_directory, char *out, size_t size, fm_error *err)
 {
     char dir[900];
-    fm_error err;
-    if (presets_locate(presets_directory, dir, sizeof dir - 8, &err) != FM_OK) {
-        snprintf(out, size, "%s", err.message);
-        return;
-    }
+    out[0] = '\0';
+    fm_status status = presets_locate(presets_directory, dir, sizeof dir - 8, err);
+    if (status != FM_OK)
+        return status;
     strcat(dir, "/biomes");
-    presets_list(dir, "biome", out, size);
+    char names[sizeof dir + 64];
+    if (presets_list(dir, "biome", names, sizeof names) == 0)
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "%s", names);
+    snprintf(out, size, "%s", names);
+    return FM_OK;
 }

@@ -13,7 +13,8 @@
 fm_status presets_locate(const char *given, char *out, size_t size, fm_error *err);
 
 /* "background, desert-dust, ..." : the names of the .json files in dir, sorted and comma-separated,
- * for messages that list what is known ("no <what> files found in <dir>" when there are none). */
-void presets_list(const char *dir, const char *what, char *out, size_t size);
+ * for messages that list what is known ("no <what> files found in <dir>" when there are none).
+ * Returns how many were found. */
+int presets_list(const char *dir, const char *what, char *out, size_t size);
 
 #endif

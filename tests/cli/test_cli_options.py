@@ -117,6 +117,22 @@ def check_readme(options):
               "(tests/cli/test_cli_options.py FIRMAMENT README.md --write-readme rewrites it)")
 
 
+def check_no_biomes(work):
+    """A presets folder without biomes: --biome offers only "none" and one line on stderr names the folder."""
+    empty = os.path.join(work, "no-biomes")
+    os.makedirs(os.path.join(empty, "biomes"), exist_ok=True)
+    r = subprocess.run([FIRMAMENT, "options", "--json"], capture_output=True, text=True,
+                       env=dict(os.environ, FIRMAMENT_PRESETS=empty))
+    check(r.returncode == 0, f"options --json without biomes: exit {r.returncode}: {r.stderr.strip()}")
+    try:
+        biome = next(o for o in json.loads(r.stdout)["options"] if o["flag"] == "--biome")
+        check(biome["choices"] == ["none"], f"--biome choices without biomes: {biome['choices']}")
+    except (ValueError, KeyError, StopIteration) as e:
+        check(False, f"options --json without biomes: {e}")
+    lines = r.stderr.strip().splitlines()
+    check(len(lines) == 1 and empty in lines[0], f"options --json without biomes, stderr: {r.stderr!r}")
+
+
 def main():
     out = subprocess.run([FIRMAMENT, "options", "--json"], capture_output=True, text=True, check=True).stdout
     try:
@@ -165,6 +181,7 @@ def main():
         on_disk = sorted(f[:-5] for f in os.listdir(os.path.join(os.path.dirname(__file__), "../../presets/biomes"))
                          if f.endswith(".json"))
         check(biome["choices"] == ["none"] + on_disk, f"--biome choices {biome['choices']} vs presets/biomes {on_disk}")
+        check_no_biomes(work)
         quality = next(o for o in options if o["flag"] == "--quality")
         check(quality["choices"] == ["preview", "final", "reference"], f"--quality choices {quality['choices']}")
     print(f"{checks - failures} checks passed, {failures} failed")

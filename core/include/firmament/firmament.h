@@ -160,8 +160,9 @@ fm_status fm_sky_preset_load(const char *name_or_path, const char *presets_dir, 
  * `firmament render` written with '_' for '-' ("sun_elevation" for --sun-elevation). */
 const char *const *fm_sky_preset_keys(void);
 /* "background, desert-dust, ...": the names of the built-in biomes (presets/biomes/), sorted;
- * presets_dir as in fm_sky_params. */
-void fm_biome_names(const char *presets_dir, char *out, size_t size);
+ * presets_dir as in fm_sky_params.  No presets folder or no biome in it: FM_ERR_INVALID_ARGUMENT
+ * with one line naming the folder, out empty. */
+fm_status fm_biome_names(const char *presets_dir, char *out, size_t size, fm_error *err);
 
 typedef struct fm_sky fm_sky;
 
