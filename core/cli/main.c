@@ -454,7 +454,13 @@ done:
 /* firmament info FILE.exr: the header, "name (type): value" per line. */
 static void print_attribute(void *user, const char *name, const char *type, const char *value)
 {
-    printf("%s (%s): %s\n", name, type, value);
+    (void)user;
+    put_escaped(stdout, name);
+    fputs(" (", stdout);
+    put_escaped(stdout, type);
+    fputs("): ", stdout);
+    put_escaped(stdout, value);
+    fputc('\n', stdout);
 }
 
 static int run_info(int argc, char **argv)

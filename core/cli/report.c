@@ -141,9 +141,8 @@ void reporter_series_done(reporter *r, int frames, int night_frames, const char 
     }
 }
 
-/* s with its control characters written as escapes (\n, \t, \r, \xNN): a name or path that holds
- * a newline would otherwise break an error's one line in two. */
-static void put_escaped(FILE *f, const char *s)
+/* a name or path that holds a newline would otherwise break an error's one line in two */
+void put_escaped(FILE *f, const char *s)
 {
     for (; *s; s++) {
         unsigned char c = (unsigned char)*s;

@@ -6,6 +6,8 @@
 #ifndef FM_CLI_REPORT_H
 #define FM_CLI_REPORT_H
 
+#include <stdio.h>
+
 #include "args.h"
 
 typedef struct reporter {
@@ -34,6 +36,10 @@ void reporter_frame_start(reporter *r, int index, int frames, const char *time, 
                           double azimuth_deg, int night);
 void reporter_frame_done(reporter *r, int index, const char *output, const char *sidecar);
 void reporter_series_done(reporter *r, int frames, int night_frames, const char *first, const char *last);
+
+/* s on f with its control characters written as escapes (\n, \t, \r, \xNN), as errors print
+ * the names they quote: text from a file never moves the terminal's cursor or splits a line. */
+void put_escaped(FILE *f, const char *s);
 
 void report_error(const char *fmt, ...)
 #if defined(__MINGW32__) /* its C99 printf (__USE_MINGW_ANSI_STDIO), not msvcrt's */

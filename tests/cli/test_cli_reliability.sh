@@ -183,6 +183,15 @@ else
     echo "note: oiiotool missing, compare's NaN and B-only cases skipped"
 fi
 
+# --- 13. info escapes the header's control characters (ESC, CR, newlines reached the terminal) -----
+if command -v oiiotool >/dev/null; then
+    oiiotool "$work/cmp/c.exr" --attrib Comment "$(printf 'a\033[31mb\nc\rd')" -o "$work/cmp/esc.exr"
+    "$FM" info "$work/cmp/esc.exr" >"$work/stdout" 2>"$work/stderr"
+    rc=$?
+    [ $rc -eq 0 ] && ! grep -q $'[\033\r]' "$work/stdout" && grep -qF 'Comment (string): a\x1b[31mb\nc\rd' "$work/stdout" &&
+        ok || fail "info with control characters: exit $rc: $(od -c "$work/stdout" | head -5)"
+fi
+
 # --- 8. FIFOs as inputs are refused at once (they blocked forever) ---------------------------------
 mkfifo "$work/fifo"
 for args in "render --preset $work/fifo" "render --biome $work/fifo" \
