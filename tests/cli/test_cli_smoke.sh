@@ -26,6 +26,17 @@ runs "version" --version
 runs "render help" render --help
 runs "equirect" render --width 16 "${quick[@]}" -o "$o/eq.exr" --preview "$o/eq.png"
 written "$o/eq.exr" "$o/eq.json" "$o/eq.png"
+runs "radiance" render --width 16 "${quick[@]}" -o "$o/eq.hdr"
+written "$o/eq.hdr"
+# batch: plan (a product and a weather file), run, rerun, summary, a Slurm script
+runs "batch plan" batch plan -o "$o/m.jsonl" --out-dir b --preset clear-noon --place p,48.9,2.35,+01:00 \
+    --date 2025-06-21 --times 09:00,12:00 --sun-above 0 --set width=16 --set quality=preview --set sample_scale=0.05
+runs "batch plan --epw" batch plan -o "$o/e.jsonl" --epw "$root/tests/data/epw/synthetic.epw" --set width=16
+runs "batch run" batch run "$o/m.jsonl" --index 0 --count 2 --threads 1
+runs "batch rerun" batch run "$o/m.jsonl" --index 1 --skip-existing
+runs "batch summary" batch summary "$o/m.jsonl"
+runs "batch slurm" batch slurm "$o/m.jsonl" --jobs-per-task 2
+written "$o/b/clear-noon_p_20250621_1200.exr" "$o/m.csv" "$o/m.png" "$o/m.sbatch"
 runs "fisheye" render --width 16 --camera fisheye --fisheye-projection equisolid "${quick[@]}" -o "$o/fish.exr"
 runs "pinhole" render --width 16 --camera pinhole --fov 40 --aspect 4:3 "${quick[@]}" -o "$o/pin.exr"
 runs "reference" render --width 8 --quality reference --samples 4 --progress none -o "$o/ref.exr"
