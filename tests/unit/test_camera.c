@@ -263,7 +263,7 @@ static double brute_average(const camera *c, int px, int py, const step_sky *s, 
             sum += w * v;
             wsum += w;
         }
-    return sum / wsum;
+    return wsum > 0.0 ? sum / wsum : NAN; /* no sample inside the image (0 / 0 as before, not a UB report) */
 }
 
 /* Pixels that straddle the horizon, or the fisheye's rim where radiance climbs steeply: against a
