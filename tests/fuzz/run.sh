@@ -3,7 +3,7 @@
 # the target), then fuzzes for SECONDS from the seeds and the scratch corpus.  A crash fails the
 # test and leaves its input (crash-*) in CORPUS/..; add it to REGRESSIONS once fixed.
 set -eu
-target=$(realpath "$1") seeds=$(realpath "$2") regressions=$(realpath "$3") corpus=$(realpath -m "$4") seconds=$5
+target=$(realpath "$1") seeds=$(realpath "$2") regressions=$(realpath -m "$3") corpus=$(realpath -m "$4") seconds=$5
 mkdir -p "$corpus"
 export ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1
 if [ -n "$(ls -A "$regressions" 2>/dev/null)" ]; then
