@@ -65,14 +65,7 @@ def build_arguments(executable, opts, s, output, sidecar, disk_map=None):
         if s["ozone_mode"] == "AUTO":  # the climatology's column depends on the date and the place
             args += ["--date", date, "--latitude", repr(float(s["latitude"])),
                      "--longitude", repr(float(s["longitude"]))]
-    args += ["--biome", s["biome"]]
-    if s["biome"] != "none":
-        if s["aerosol_amount"] == "AOD":
-            args += ["--aod550", repr(float(s["aod550"]))]
-        else:
-            args += ["--turbidity", repr(float(s["turbidity"]))]
-        if s["use_humidity"]:
-            args += ["--humidity", repr(float(s["humidity"]))]
+    args += aerosol_options(s)
     if s["ozone_mode"] == "MANUAL":
         args += ["--ozone-du", repr(float(s["ozone_du"]))]
     args += ["--albedo", repr(float(s["albedo"])), "--altitude", repr(float(s["altitude"])),
@@ -113,6 +106,24 @@ def build_series_arguments(executable, opts, s, output, sidecar):
     args[i:i + 2] = ["--time-start", format_clock(s["bake_start"]), "--time-end", format_clock(s["bake_end"]),
                      "--step", str(s["bake_step_min"])]
     return args
+
+
+def aerosol_options(s):
+    """--biome and the aerosol amount and humidity of settings s."""
+    args = ["--biome", s["biome"]]
+    if s["biome"] != "none":
+        if s["aerosol_amount"] == "AOD":
+            args += ["--aod550", repr(float(s["aod550"]))]
+        else:
+            args += ["--turbidity", repr(float(s["turbidity"]))]
+        if s["use_humidity"]:
+            args += ["--humidity", repr(float(s["humidity"]))]
+    return args
+
+
+def atmosphere_arguments(executable, s):
+    """`firmament render --print-atmosphere`: the sidecar's AOD 550 and visibility without a render."""
+    return [executable, "render", "--print-atmosphere"] + aerosol_options(s)
 
 
 def sun_arguments(executable, s):

@@ -50,6 +50,27 @@ def sun_summary(p, context):
     return _sun_cache[key]
 
 
+_aerosol_cache = {}
+
+
+def aerosol_summary(p, context):
+    """(AOD 550, visibility km) of the biome, amount and humidity, from `firmament render
+    --print-atmosphere` (no render: milliseconds; run once per change of those), or None."""
+    s = properties.to_dict(p)
+    key = tuple(command.aerosol_options(s))
+    if key not in _aerosol_cache:
+        try:
+            exe = preferences.executable_and_options(context)[0]
+            r = subprocess.run(command.atmosphere_arguments(exe, s), capture_output=True, text=True, timeout=5)
+            d = json.loads(r.stdout) if r.returncode == 0 else None
+            _aerosol_cache[key] = None if d is None else (d["aerosol_optical_depth_550nm"], d["visibility_km"])
+        except (preferences.NotFound, options.OptionsError, OSError, ValueError, KeyError, subprocess.TimeoutExpired):
+            _aerosol_cache[key] = None
+        if len(_aerosol_cache) > 64:
+            _aerosol_cache.pop(next(iter(_aerosol_cache)))
+    return _aerosol_cache[key]
+
+
 def _labelled_row(layout, label, props, p):
     """A label on its own line, then the fields with no text of their own: nothing is cut off at
     the sidebar's default width."""
@@ -93,11 +114,9 @@ def draw_settings(layout, context):
         box.label(text="Aerosol amount as:")
         box.row(align=True).prop(p, "aerosol_amount", expand=True)
         box.prop(p, "turbidity" if p.aerosol_amount == "TURBIDITY" else "aod550")
-        if p.aod550_result >= 0.0:
-            # Koschmieder: visibility = 3.912 / extinction at the ground, the aerosol spread over its
-            # ~1.2 km scale height plus the air's 0.0116 /km at 550 nm
-            vis = 3.912 / (p.aod550_result / 1.2 + 0.0116)
-            box.label(text="Last map: AOD 550 = %.3f, visibility about %.0f km" % (p.aod550_result, vis))
+        aerosol = aerosol_summary(p, context)
+        if aerosol:  # visibility: Koschmieder's 3.912 / the extinction at 550 nm at the ground (air + aerosol)
+            box.label(text="AOD 550 = %.3f, visibility %.0f km" % aerosol)
         row = box.row(align=True)
         row.prop(p, "use_humidity")
         sub = row.row()

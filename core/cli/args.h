@@ -21,6 +21,7 @@ typedef struct options {
     progress_mode progress;
     const char *colorspace; /* OpenColorIO colour space of the EXR (name or alias) */
     int list_colorspaces;   /* --list-colorspaces: print them and exit */
+    int print_atmosphere;   /* --print-atmosphere: print the composition as JSON and exit */
     const char *preview;    /* PNG path or NULL */
     int half;               /* half-float EXR */
     const char *spectral;   /* spectral EXR path or NULL */

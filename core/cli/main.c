@@ -357,6 +357,25 @@ static int run_render_job(int argc, char **argv, const char *job)
     preset_args_free(&pre);
     return code;
 }
+/* --print-atmosphere: the sky's composition (what the sidecar's "atmosphere" holds) without a render;
+ * milliseconds (no tables built), so the add-on calls it as the aerosol settings change. */
+static int print_atmosphere(const options *opt)
+{
+    fm_error err = {0};
+    fm_composition c;
+    fm_status s = fm_composition_compute(&opt->sky, &c, &err);
+    if (s) {
+        report_library_error(&err);
+        return exit_code_for(s);
+    }
+    printf("{\"biome\": \"%s\", \"rayleigh_optical_depth_550nm\": %.9g, \"ozone_optical_depth_550nm\": %.9g, "
+           "\"aerosol_optical_depth_550nm\": %.9g, \"turbidity\": %.9g, \"humidity_percent\": %.9g, "
+           "\"extinction_550nm_ground_per_km\": %.9g, \"visibility_km\": %.9g}\n",
+           c.biome, c.rayleigh_tau550, c.ozone_tau550, c.aerosol_tau550, c.turbidity, c.humidity_percent,
+           c.rayleigh_ext550_ground_per_km + c.aerosol_ext550_ground_per_km, c.visibility_km);
+    return 0;
+}
+
 static int run_render_options(int argc, char **argv)
 {
     options opt;
@@ -370,6 +389,8 @@ static int run_render_options(int argc, char **argv)
     case PARSE_RUN:
         break;
     }
+    if (opt.print_atmosphere)
+        return print_atmosphere(&opt);
     fm_colour_config *colour = NULL;
     int colour_code = open_colour(&opt, &colour);
     if (colour_code >= 0 || opt.frames > 0) {

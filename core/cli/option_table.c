@@ -94,6 +94,8 @@ const option_spec option_specs[] = {
     {"humidity", 0, "RH", OPTION_NUMBER, AT(sky.humidity_percent), "humidity_percent", NO_RANGE, NULL, 0,
      NEEDS_BUILTIN, AEROSOLS,
      "relative humidity, %R: hygroscopic growth of water-soluble, sea-salt and sulfate particles", "the biome's"},
+    {"print-atmosphere", 0, NULL, OPTION_SWITCH, AT(print_atmosphere), NULL, NO_RANGE, NULL, 1, 0, AEROSOLS,
+     "print the sidecar's \"atmosphere\" (optical depths, visibility) as JSON and exit, without rendering", NULL},
     {"aerosol-phase", 0, "MODEL", OPTION_CHOICE, AT(sky.aerosol_phase), "aerosol_phase", NO_RANGE, phase_words, 0,
      NEEDS_BUILTIN, AEROSOLS,
      "mie (the tabulated Mie phase function, sampled exactly) | hg (Henyey-Greenstein with the Mie asymmetry "

@@ -79,6 +79,9 @@ static int has_biome(const fm_sky_params *p)
     return p->biome && p->biome[0] && strcmp(p->biome, "none") != 0;
 }
 
+/* -ln(0.02): the meteorological range is where a black object's contrast falls to 2% (Koschmieder). */
+#define KOSCHMIEDER_CONTRAST 3.912
+
 /* Ozone, molecules and aerosols as the sidecar reports them, all at 550 nm. */
 static fm_status compute_composition(fm_sky *sky, const biome *b, double humidity, double turbidity,
                                      double ozone_du, double ozone_t_eff_k, fm_error *err)
@@ -86,11 +89,13 @@ static fm_status compute_composition(fm_sky *sky, const biome *b, double humidit
     fm_composition *c = &sky->composition;
     memset(c, 0, sizeof *c);
     c->rayleigh_tau550 = rayleigh_cross_section_m2(550.0) * profile_column(&sky->atm.species[0].profile);
+    c->rayleigh_ext550_ground_per_km = rayleigh_cross_section_m2(550.0) * profile_density(&sky->atm.species[0].profile, 0.0) * 1e3;
     c->ozone_tau550 = ozone_cross_section_m2(550.0, ozone_t_eff_k) * ozone_du * FM_DU_MOLECULES_PER_M2;
     c->ozone_column_du = ozone_du;
     c->aerosol_ssa550 = 1.0;
     c->humidity_percent = -1.0;
     snprintf(c->biome, sizeof c->biome, "none");
+    c->visibility_km = KOSCHMIEDER_CONTRAST / c->rayleigh_ext550_ground_per_km;
     if (!b)
         return FM_OK;
     snprintf(c->biome, sizeof c->biome, "%s", b->name);
@@ -101,6 +106,8 @@ static fm_status compute_composition(fm_sky *sky, const biome *b, double humidit
         (s = aerosol_biome_column(b, humidity, 870.0, &col870, err)))
         return s;
     c->aerosol_tau550 = turbidity * col550.tau_ext;
+    c->aerosol_ext550_ground_per_km = turbidity * col550.ext_ground_per_m * 1e3;
+    c->visibility_km = KOSCHMIEDER_CONTRAST / (c->rayleigh_ext550_ground_per_km + c->aerosol_ext550_ground_per_km);
     if (col440.tau_ext > 0.0 && col870.tau_ext > 0.0)
         c->aerosol_angstrom = -log(col870.tau_ext / col440.tau_ext) / log(870.0 / 440.0);
     if (col550.tau_ext > 0.0)
@@ -243,18 +250,24 @@ static fm_status builtin_atmosphere(fm_sky *sky, const fm_sky_params *p, const s
 }
 
 /* Everything of the sky for its resolved parameters p; on failure fm_sky_destroy frees what was built. */
-static fm_status build_sky(fm_sky *sky, const fm_sky_params *p, fm_error *err)
+/* The atmosphere alone (and its composition) on the wavelengths of the grid, wavelength_nm > 0:
+ * that one, else the visible grid. */
+static fm_status build_atmosphere(fm_sky *sky, const fm_sky_params *p, double wavelength_nm, fm_error *err)
 {
     spectral_grid grid;
-    if (p->wavelength_nm > 0.0)
-        spectral_grid_single(&grid, p->wavelength_nm);
+    if (wavelength_nm > 0.0)
+        spectral_grid_single(&grid, wavelength_nm);
     else
         spectral_grid_visible(&grid);
     double inv_d2 = 1.0 / (p->earth_sun_distance_au * p->earth_sun_distance_au);
     for (int k = 0; k < grid.count; k++)
         grid.solar_irradiance[k] *= inv_d2;
-    fm_status s = p->atmosphere_file ? custom_atmosphere(sky, p, &grid, inv_d2, err)
-                                     : builtin_atmosphere(sky, p, &grid, err);
+    return p->atmosphere_file ? custom_atmosphere(sky, p, &grid, inv_d2, err) : builtin_atmosphere(sky, p, &grid, err);
+}
+
+static fm_status build_sky(fm_sky *sky, const fm_sky_params *p, fm_error *err)
+{
+    fm_status s = build_atmosphere(sky, p, p->wavelength_nm, err);
     if (s)
         return s;
     sun_disk_init(&sky->sun, &sky->atm.grid, p->earth_sun_distance_au);
@@ -270,7 +283,8 @@ static fm_status build_sky(fm_sky *sky, const fm_sky_params *p, fm_error *err)
     return FM_OK;
 }
 
-fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err)
+/* A sky holding the resolved parameters (sun from the date, time and place), nothing built yet. */
+static fm_status new_sky(const fm_sky_params *params, fm_sky **out, fm_error *err)
 {
     *out = NULL;
     /* the date first: the sun from the date, time and place (sky_sun.c) needs a valid one; from here
@@ -292,12 +306,32 @@ fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err
     sky->sun_computed = sun_computed;
     if (has_solar)
         sky->solar = solar;
-    if ((s = build_sky(sky, &resolved, err))) {
+    *out = sky;
+    return FM_OK;
+}
+
+fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err)
+{
+    fm_sky *sky;
+    fm_status s = new_sky(params, &sky, err);
+    if (!s && (s = build_sky(sky, &sky->params, err))) {
         fm_sky_destroy(sky);
         return s;
     }
     *out = sky;
-    return FM_OK;
+    return s;
+}
+
+fm_status fm_composition_compute(const fm_sky_params *params, fm_composition *out, fm_error *err)
+{
+    fm_sky *sky;
+    fm_status s = new_sky(params, &sky, err);
+    if (s)
+        return s;
+    if (!(s = build_atmosphere(sky, &sky->params, 550.0, err)))
+        *out = sky->composition;
+    fm_sky_destroy(sky);
+    return s;
 }
 
 void fm_sky_destroy(fm_sky *sky)

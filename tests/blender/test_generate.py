@@ -196,4 +196,22 @@ bpy.ops.firmament_sky.clean_maps()
 folders = os.listdir(maps.cache_dir())
 h.check(folders == [os.path.basename(os.path.dirname(bpy.path.abspath(h.world_images()[0].filepath)))],
         "Clean Unused Maps leaves the map in use (%d folders)" % len(folders))
+
+# The panel's AOD 550 and visibility before Generate are the sidecar's after it
+import time  # noqa: E402
+from firmament_sky import panels  # noqa: E402
+bpy.ops.firmament_sky.load_preset(filepath=h.shipped_preset("shadow-study-45"))
+p = h.fast_settings(scene, width=32)
+p.aerosol_amount = "TURBIDITY"
+for turbidity in (1.0, 3.0):
+    p.turbidity = turbidity
+    t0 = time.perf_counter()
+    shown = panels.aerosol_summary(p, bpy.context)
+    print("panel's aerosol figures for turbidity %g: %s in %.1f ms" % (turbidity, shown, 1e3 * (time.perf_counter() - t0)))
+    bpy.ops.firmament_sky.generate()
+    atm = h.sidecar_of(h.sky_image())["atmosphere"]
+    h.check(shown is not None, "turbidity %g: the panel shows AOD and visibility" % turbidity)
+    if shown:
+        h.close(shown[0], atm["aerosol_optical_depth_550nm"], 1e-6, "turbidity %g: panel's AOD 550" % turbidity)
+        h.close(shown[1], atm["visibility_km"], 1e-3, "turbidity %g: panel's visibility km" % turbidity)
 h.finish()

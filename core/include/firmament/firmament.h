@@ -196,10 +196,16 @@ typedef struct fm_composition {
     char ozone_profile[32];       /* AFGL profile shape: "us-standard", "tropical", "midlatitude-summer", ... */
     double humidity_percent;      /* used for hygroscopic growth; -1 without aerosols */
     double turbidity;             /* number-density multiplier actually applied (also when aod550 set it) */
+    double rayleigh_ext550_ground_per_km; /* extinction coefficients at 550 nm at the ground (altitude 0) */
+    double aerosol_ext550_ground_per_km;
+    double visibility_km;         /* Koschmieder: 3.912 / the two above (2% contrast); 0 when unknown */
     char biome[64];               /* "none", a biome name, or "custom" for an atmosphere file */
 } fm_composition;
 
 void fm_sky_composition(const fm_sky *sky, fm_composition *out);
+/* The composition fm_sky_create would give, without its tables (milliseconds): the parameters
+ * checked alike, the atmosphere built at 550 nm only. */
+fm_status fm_composition_compute(const fm_sky_params *params, fm_composition *out, fm_error *err);
 
 /* ---------------------------------------------------------------------------------------------
  * Solar position: NREL's Solar Position Algorithm (I. Reda and A. Andreas, Solar Energy 76 (2004)

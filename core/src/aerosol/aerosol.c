@@ -192,6 +192,8 @@ fm_status aerosol_biome_column(const biome *b, double humidity_percent, double l
         if (s)
             return s;
         double column = layer_column_m(l);
+        if (l->bottom_m <= 0.0)
+            out->ext_ground_per_m += ext;
         out->tau_ext += ext * column;
         out->tau_sca += sca * column;
         gs += g * sca * column;

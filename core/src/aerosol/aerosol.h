@@ -27,6 +27,7 @@ fm_status component_optics_at(const char *code, double humidity_percent, double 
 typedef struct aerosol_column {
     double tau_ext, tau_sca; /* optical depths from the ground to the top */
     double g;                /* scattering-weighted asymmetry parameter */
+    double ext_ground_per_m; /* extinction coefficient at the ground (layers starting there) */
 } aerosol_column;
 
 /* Adds the biome's layers to the atmosphere as scattering species (before the absorbers), with

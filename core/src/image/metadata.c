@@ -241,6 +241,11 @@ void metadata_collect(metadata *m, const fm_image *img, const char *exr_path)
     add_string(m, "atmosphere", "ozone_profile", c->ozone_profile);
     add_string(m, "atmosphere", "biome", c->biome);
     add_double(m, "atmosphere", "aerosol_optical_depth_550nm", c->aerosol_tau550);
+    if (c->visibility_km > 0.0) {
+        add_double(m, "atmosphere", "extinction_550nm_ground_per_km",
+                   c->rayleigh_ext550_ground_per_km + c->aerosol_ext550_ground_per_km);
+        add_double(m, "atmosphere", "visibility_km", c->visibility_km);
+    }
     if (c->aerosol_tau550 > 0.0) {
         add_double(m, "atmosphere", "aerosol_angstrom_exponent_440_870nm", c->aerosol_angstrom);
         add_double(m, "atmosphere", "aerosol_single_scattering_albedo_550nm", c->aerosol_ssa550);
