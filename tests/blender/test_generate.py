@@ -199,7 +199,7 @@ h.check(folders == [os.path.basename(os.path.dirname(bpy.path.abspath(h.world_im
 
 # The panel's AOD 550 and visibility before Generate are the sidecar's after it
 import time  # noqa: E402
-from firmament_sky import panels  # noqa: E402
+panels = h.submodule("panels")
 bpy.ops.firmament_sky.load_preset(filepath=h.shipped_preset("shadow-study-45"))
 p = h.fast_settings(scene, width=32)
 p.aerosol_amount = "TURBIDITY"
