@@ -214,5 +214,16 @@ long="$base$name-not-this-one.json"
 expect_usage_error "--preset path over 1023 bytes" render --width 8 --quality preview --preset "$long"
 expect_usage_error "--biome path over 1023 bytes" render --width 8 --quality preview --biome "$long"
 
+# --- 14. a preset of exactly 64 MiB is read; one byte more is refused as larger than 64 MiB --------
+printf '{"name": "big", "sun_elevation": 10}' >"$work/big.json"
+truncate -s $((64 << 20)) "$work/big.json" # the rest NUL bytes: refused by the JSON parser, not the size
+rm -rf "$work/out" && mkdir -p "$work/out"
+"$FM" render --preset "$work/big.json" --width 8 --quality preview --progress none -o "$work/out/b.exr" 2>"$work/stderr"
+grep -q 'larger than 64 MiB' "$work/stderr" && fail "a file of exactly 64 MiB: $(cat "$work/stderr")" || ok
+truncate -s $(((64 << 20) + 1)) "$work/big.json"
+expect_usage_error "preset of 64 MiB + 1 byte" render --preset "$work/big.json" --width 8
+grep -q 'larger than 64 MiB' "$work/stderr" && ok || fail "64 MiB + 1: $(cat "$work/stderr")"
+rm -f "$work/big.json"
+
 echo "$checks checks passed, $failures failed"
 [ $failures -eq 0 ]

@@ -79,7 +79,7 @@ static fm_status read_text(const json_reader *rd, char **out, size_t *size)
         n += fread(buf + n, 1, cap - n, f);
         if (n < cap)
             break;
-        if ((long)cap >= MAX_FILE_BYTES) {
+        if ((long)cap >= MAX_FILE_BYTES && fgetc(f) != EOF) { /* a file of exactly the limit is read */
             st = fm_fail_parameter(rd->err, rd->field, "%s: larger than %ld MiB: not an input file", rd->file,
                                    MAX_FILE_BYTES >> 20);
             break;
