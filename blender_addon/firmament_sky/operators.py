@@ -316,6 +316,26 @@ class FIRMAMENT_OT_clean_maps(bpy.types.Operator):
         return {"FINISHED"}
 
 
+class FIRMAMENT_OT_pack_maps(bpy.types.Operator):
+    """Pack the world's sky maps into the .blend: the file renders without its //firmament/ folder
+    (larger file; Generate makes new, unpacked maps)"""
+    bl_idname = "firmament_sky.pack_maps"
+    bl_label = "Pack Maps"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return any(img.packed_file is None for img in maps.our_images())
+
+    def execute(self, context):
+        unpacked = [img for img in maps.our_images() if img.packed_file is None]
+        for img in unpacked:
+            img.pack()
+        self.report({"INFO"}, "Firmament: packed %d maps into the file (%.1f MB)" % (
+            len(unpacked), sum(img.packed_file.size for img in unpacked if img.packed_file) / 1e6))
+        return {"FINISHED"}
+
+
 @bpy.app.handlers.persistent
 def cancel_running(*_args):
     """load_pre handler: a new file must not receive the old scene's sky."""
@@ -326,4 +346,4 @@ def cancel_running(*_args):
 
 
 classes = (FIRMAMENT_OT_generate, FIRMAMENT_OT_bake_day, FIRMAMENT_OT_load_preset, FIRMAMENT_OT_add_preset, FIRMAMENT_OT_apply_exposure,
-           FIRMAMENT_OT_clean_maps)
+           FIRMAMENT_OT_clean_maps, FIRMAMENT_OT_pack_maps)

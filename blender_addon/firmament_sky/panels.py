@@ -173,7 +173,9 @@ def draw_settings(layout, context):
     box.prop(p, "keep_maps_with_file")
     box.label(text="Maps: //%s/ beside the .blend" % maps.FOLDER if bpy.data.filepath else
               "Maps: the add-on's folder until the file is saved", icon="FILE_FOLDER")
-    box.operator("firmament_sky.clean_maps", text="Clean Unused Maps...", icon="TRASH")
+    row = box.row(align=True)
+    row.operator("firmament_sky.pack_maps", icon="PACKAGE")
+    row.operator("firmament_sky.clean_maps", text="Clean Unused Maps...", icon="TRASH")
 
 
 class FIRMAMENT_PT_world(bpy.types.Panel):

@@ -13,7 +13,7 @@ if os.path.abspath(bpy.data.filepath or "") != os.path.abspath(blend):
     bpy.ops.wm.open_mainfile(filepath=blend)
 bad = []
 for img in bpy.data.images:
-    if not img.get("firmament_sky"):
+    if not img.get("firmament_sky") or img.packed_file is not None:  # packed: no file needed
         continue
     path = bpy.path.abspath(img.filepath)
     if not img.filepath.startswith("//"):
@@ -22,7 +22,7 @@ for img in bpy.data.images:
         bad.append("%s: missing %s" % (img.name, path))
 if bad:
     raise SystemExit("maps: " + "; ".join(bad))
-print("maps: %d, all relative and present" % len([i for i in bpy.data.images if i.get("firmament_sky")]))
+print("maps: %d, all packed or relative and present" % len([i for i in bpy.data.images if i.get("firmament_sky")]))
 if mode == "still":
     r = bpy.context.scene.render
     r.image_settings.file_format = "OPEN_EXR"

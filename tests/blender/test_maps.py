@@ -72,4 +72,18 @@ mean_b = sum(before[k] for k in range(0, len(before), 4)) / (w * hgt)
 diff = sum(abs(before[k] - after[k]) for k in range(0, len(before), 4)) / (w * hgt)
 h.check((w, hgt) == (w2, h2) and diff < 0.02 * mean_b,
         "the moved .blend renders the same pixels: mean |difference| %.3g of mean %.3g" % (diff, mean_b))
+
+# Pack Maps: the packed file renders the same without its map folder
+bpy.ops.wm.open_mainfile(filepath=os.path.join(moved, "b.blend"))
+h.check(bpy.ops.firmament_sky.pack_maps() == {"FINISHED"}, "Pack Maps")
+imgs = [i for i in bpy.data.images if i.get("firmament_sky")]
+h.check(imgs and all(i.packed_file is not None for i in imgs), "every map packed (%d)" % len(imgs))
+bpy.ops.wm.save_mainfile()
+shutil.rmtree(os.path.join(moved, "firmament"))
+packed_path = os.path.join(h.OUT, "packed.exr")
+h.render_in_new_process(os.path.join(moved, "b.blend"), packed_path)
+packed, w3, h3 = h.load_linear(packed_path)
+diff = sum(abs(before[k] - packed[k]) for k in range(0, len(before), 4)) / (w * hgt)
+h.check((w, hgt) == (w3, h3) and diff < 0.02 * mean_b,
+        "the packed .blend renders the same pixels without its maps: mean |difference| %.3g of mean %.3g" % (diff, mean_b))
 h.finish()
