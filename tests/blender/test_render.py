@@ -185,4 +185,19 @@ disk_l = lum([sun_light.energy * c for c in sun_light.color]) / (2 * math.pi * (
 h.check(0.5 < peak / disk_l < 1.05 and abs(at % 32 - 16) <= 2 and abs(at // 32 - 16) <= 2,
         "camera-only disk at the lamp's direction with the sun's radiance, DNI / disk solid angle "
         "(peak %.3g vs %.3g at %d,%d; a pixel is 0.32 deg, the disk 0.52)" % (peak, disk_l, at % 32, at // 32))
+# displayed at the suggested exposure through Blender's default view transform (Filmic, AgX from 4.0),
+# the disk stands out of the aureole beside it (2 pixels, 0.64 deg, from its centre): not clipped into it
+vt = scene.view_settings
+vt.view_transform = "AgX" if "AgX" in [i.identifier for i in vt.bl_rna.properties["view_transform"].enum_items] else "Filmic"
+scene.camera = sun_cam
+r.resolution_x, r.resolution_y = 32, 32
+r.image_settings.file_format, r.image_settings.color_depth = "PNG", "16"
+r.filepath = os.path.join(h.OUT, "sun_view_displayed.png")
+bpy.ops.render.render(write_still=True)
+shown = h.image_pixels(bpy.data.images.load(r.filepath, check_existing=False))
+disk_shown = lum(shown[4 * at:4 * at + 3])
+ring = [lum(shown[4 * (y * 32 + x):4 * (y * 32 + x) + 3]) for y in range(32) for x in range(32)
+        if max(abs(x - at % 32), abs(y - at // 32)) == 2]
+h.check(disk_shown > max(ring) + 0.02, "%s at %.2f EV: the disk displays above the aureole beside it (%.3f vs at most %.3f)"
+        % (vt.view_transform, vt.exposure, disk_shown, max(ring)))
 h.finish()
