@@ -156,9 +156,8 @@ static void zenith_falls_monotonically(void **state)
         fm_sky_params p = fm_sky_params_default();
         p.sun_elevation_deg = e;
         fm_sky *sky = test_sky(&p);
-        int no_memory;
-        twilight_sampling *guide = twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, NULL, &no_memory);
-        assert_false(no_memory);
+        twilight_sampling *guide;
+        assert_int_equal(twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, NULL, &guide), FM_OK);
         assert_true((guide != NULL) == (e < 0));
         path_context one = sky_path_context(sky, 1, 1), many = twilight_path_context(sky, guide, 2, 0);
         many.skip_ground_first = 1;
@@ -192,8 +191,8 @@ static void along_segment_matches_point_estimate(void **state)
     fm_sky_params p = fm_sky_params_default();
     p.sun_elevation_deg = -3.0;
     fm_sky *sky = test_sky(&p);
-    int no_memory;
-    twilight_sampling *guide = twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, NULL, &no_memory);
+    twilight_sampling *guide;
+    assert_int_equal(twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, NULL, &guide), FM_OK);
     assert_non_null(guide);
     const vec3 zenith = v3(0.0, 0.0, 1.0);
     path_context point = sky_path_context(sky, 2, 0), along = point, twilight = twilight_path_context(sky, guide, 2, 0);
@@ -260,8 +259,8 @@ static twilight_sampling *deep_twilight(double sun_deg, fm_sky **sky)
     p.sun_elevation_deg = sun_deg;
     p.sun_azimuth_deg = 0.0;
     *sky = test_sky(&p);
-    int no_memory;
-    twilight_sampling *tw = twilight_sampling_create(*sky, SKY_GUIDE_MAX_OFFSETS, 2, NULL, &no_memory);
+    twilight_sampling *tw;
+    assert_int_equal(twilight_sampling_create(*sky, SKY_GUIDE_MAX_OFFSETS, 2, NULL, &tw), FM_OK);
     assert_non_null(tw);
     assert_true(tw->deep);
     return tw;
@@ -370,7 +369,11 @@ static void order2_guide_matches_single_scattering_guide(void **state)
     assert_non_null(single_only);
     *single_only = *tw;
     path_context single = sky_path_context(sky, 1, 1);
-    assert_int_equal(sky_guide_build(&single_only->guide, &single, sky->observer, SKY_GUIDE_MAX_OFFSETS, 2, NULL, NULL), 1);
+    int usable;
+    assert_int_equal(sky_guide_build(&single_only->guide, &single, sky->observer, SKY_GUIDE_MAX_OFFSETS, 2, NULL,
+                                     NULL, &usable),
+                     FM_OK);
+    assert_true(usable);
     path_context a = node_context(sky, single_only), b = node_context(sky, tw);
     assert_true(compare_in_views(sky, -18.0, "single-scattering guide", &a, 40000, "with order 2", &b, 40000, 70) <
                 1.0);

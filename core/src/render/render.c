@@ -214,11 +214,10 @@ static uint64_t render_seed(const atmosphere *atm, uint64_t seed)
 static fm_status make_twilight(const fm_sky *sky, const quality_settings *q, const fm_render_params *params,
                                twilight_sampling **tw, fm_error *err)
 {
-    int no_memory;
-    *tw = twilight_sampling_create(sky, q->guide_offsets, params->threads, params->cancel, &no_memory);
-    if (params->cancel && atomic_load(params->cancel))
+    fm_status s = twilight_sampling_create(sky, q->guide_offsets, params->threads, params->cancel, tw);
+    if (s == FM_ERR_CANCELLED || (params->cancel && atomic_load(params->cancel)))
         return fm_fail(err, FM_ERR_CANCELLED, "render cancelled");
-    return no_memory ? fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the twilight guide") : FM_OK;
+    return s ? fm_fail(err, s, "the twilight guide: %s", fm_status_name(s)) : FM_OK;
 }
 
 /* The render's failure as one line: cancelled, or the stage's status. */

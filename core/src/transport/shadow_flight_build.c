@@ -88,8 +88,8 @@ static void build_ambient(void *ctx, int64_t begin, int64_t end, int thread)
     }
 }
 
-int shadow_flight_build(shadow_flight_table *t, const path_context *single, vec3 observer, int threads,
-                        const atomic_int *cancel)
+fm_status shadow_flight_build(shadow_flight_table *t, const path_context *single, vec3 observer, int threads,
+                              const atomic_int *cancel)
 {
     const atmosphere *atm = single->atm;
     build_job job = {.t = t, .single = single, .top = atm->top_radius_m - 1.0};
@@ -103,10 +103,10 @@ int shadow_flight_build(shadow_flight_table *t, const path_context *single, vec3
         t->level_at_km[k] = (unsigned char)i;
     }
     atomic_init(&job.no_memory, 0);
-    if (parallel_for(threads, (int64_t)SHADOW_FLIGHT_LEVELS * SHADOW_FLIGHT_SUNS, 1, build_points, &job, cancel, NULL) ||
-        atomic_load(&job.no_memory) ||
-        parallel_for(threads, SHADOW_FLIGHT_LEVELS, 1, build_ambient, &job, cancel, NULL))
-        return -1;
-    return 0;
+    fm_status s = parallel_for(threads, (int64_t)SHADOW_FLIGHT_LEVELS * SHADOW_FLIGHT_SUNS, 1, build_points, &job,
+                               cancel, NULL);
+    if (!s && atomic_load(&job.no_memory))
+        s = FM_ERR_OUT_OF_MEMORY;
+    return s ? s : parallel_for(threads, SHADOW_FLIGHT_LEVELS, 1, build_ambient, &job, cancel, NULL);
 }
 

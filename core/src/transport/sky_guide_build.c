@@ -91,8 +91,8 @@ static int normalise_level(sky_guide_level *g)
     return 1;
 }
 
-int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int offsets, int threads,
-                    const shadow_flight_table *flights, const atomic_int *cancel)
+fm_status sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int offsets, int threads,
+                          const shadow_flight_table *flights, const atomic_int *cancel, int *usable)
 {
     const atmosphere *atm = single->atm;
     double r0 = v3_length(observer);
@@ -111,12 +111,14 @@ int sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int
                 l->edge_sin[j] = sin(row_elevation(j, l->horizon));
         }
     build_job job = {g, single, sun_frame_at(observer, single->sun_dir), 0, flights};
-    if (parallel_for(threads, (int64_t)g->levels * SKY_GUIDE_ROWS, 1, build_rows, &job, cancel, NULL) ||
-        atomic_load(&job.no_memory))
-        return -1;
-    int usable = 0;
+    *usable = 0;
+    fm_status s = parallel_for(threads, (int64_t)g->levels * SKY_GUIDE_ROWS, 1, build_rows, &job, cancel, NULL);
+    if (!s && atomic_load(&job.no_memory))
+        s = FM_ERR_OUT_OF_MEMORY;
+    if (s)
+        return s;
     for (int i = 0; i < g->levels; i++)
-        usable += g->level[i].usable = normalise_level(&g->level[i]);
-    return usable > 0;
+        *usable |= g->level[i].usable = normalise_level(&g->level[i]);
+    return FM_OK;
 }
 

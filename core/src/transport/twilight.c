@@ -25,34 +25,30 @@
  * noisy (docs/decisions/2026-12-06-twilight-thresholds.md). */
 #define FIRST_VERTEX_LIGHT_SHARE 0.5
 
-twilight_sampling *twilight_sampling_create(const fm_sky *sky, int guide_offsets, int threads,
-                                            const atomic_int *cancel, int *no_memory)
+fm_status twilight_sampling_create(const fm_sky *sky, int guide_offsets, int threads, const atomic_int *cancel,
+                                   twilight_sampling **out)
 {
-    *no_memory = 0;
+    *out = NULL;
     if (!(v3_dot(sky->sun_dir, sky->observer) < 0.0))
-        return NULL;
+        return FM_OK;
     twilight_sampling *tw = malloc(sizeof *tw);
-    if (!tw) {
-        *no_memory = 1;
-        return NULL;
-    }
+    if (!tw)
+        return FM_ERR_OUT_OF_MEMORY;
     path_context single = sky_path_context(sky, 1, 1);
     double sun_elevation = asin(clamp_cosine(v3_dot(v3_normalize(sky->observer), sky->sun_dir)));
     tw->deep = sun_elevation < DEEP_TWILIGHT_DEG * FM_DEG;
     /* the flights' table first: in deep twilight the sky guide adds the light of order 2 from it */
-    if (tw->deep && shadow_flight_build(&tw->flights, &single, sky->observer, threads, cancel)) {
-        free(tw);
-        *no_memory = 1;
-        return NULL;
-    }
-    int built = sky_guide_build(&tw->guide, &single, sky->observer, tw->deep ? guide_offsets : 1, threads,
-                                tw->deep ? &tw->flights : NULL, cancel);
-    if (built <= 0) {
+    int usable = 0;
+    fm_status s = tw->deep ? shadow_flight_build(&tw->flights, &single, sky->observer, threads, cancel) : FM_OK;
+    if (!s)
+        s = sky_guide_build(&tw->guide, &single, sky->observer, tw->deep ? guide_offsets : 1, threads,
+                            tw->deep ? &tw->flights : NULL, cancel, &usable);
+    if (s || !usable) {
         free(tw); /* a black sky (deep night): nothing to guide toward */
-        *no_memory = built < 0;
-        return NULL;
+        return s;
     }
-    return tw;
+    *out = tw;
+    return FM_OK;
 }
 
 path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *tw, int min_order, int max_order)

@@ -22,12 +22,13 @@ typedef struct twilight_sampling {
     shadow_flight_table flights;
 } twilight_sampling;
 
-/* The sampling for a sky whose sun is below the horizon (malloc'ed, free() it); NULL by day, for a
- * black sky, or out of memory (*no_memory set).  guide_offsets: in deep twilight, the sky guide's
- * levels toward the sun (sky_guide.h; 1 = none, as at preview quality, where their 0.5 s of
- * tables would be a third of the render).  A set *cancel also ends it with NULL and *no_memory set. */
-twilight_sampling *twilight_sampling_create(const fm_sky *sky, int guide_offsets, int threads,
-                                            const atomic_int *cancel, int *no_memory);
+/* *out: the sampling for a sky whose sun is below the horizon (malloc'ed, free() it); NULL by day
+ * and for a black sky.  guide_offsets: in deep twilight, the sky guide's levels toward the sun
+ * (sky_guide.h; 1 = none, as at preview quality, where their 0.5 s of tables would be a third of
+ * the render).  FM_ERR_OUT_OF_MEMORY, FM_ERR_CANCELLED (*cancel set) or FM_ERR_INTERNAL, *out NULL;
+ * else FM_OK. */
+fm_status twilight_sampling_create(const fm_sky *sky, int guide_offsets, int threads, const atomic_int *cancel,
+                                   twilight_sampling **out);
 
 /* sky_path_context (sky_path.h) with, when tw is not NULL, the twilight sampling. */
 path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *tw, int min_order, int max_order);
