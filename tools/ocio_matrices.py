@@ -9,6 +9,7 @@ result is Bradford-adapted from that white to D65, so that a D65 stimulus stays 
 
 Chromaticities (CIE 1931 x, y):
   Rec.709 / sRGB  ITU-R BT.709-6, IEC 61966-2-1: R 0.64 0.33, G 0.30 0.60, B 0.15 0.06, D65
+  Rec.2020        ITU-R BT.2020-2: R 0.708 0.292, G 0.170 0.797, B 0.131 0.046, D65
   D65             x 0.3127, y 0.3290 (the 4-digit value used by BT.709 / sRGB)
   AP0             SMPTE ST 2065-1: R 0.7347 0.2653, G 0.0 1.0, B 0.0001 -0.0770
   AP1             Academy S-2014-004 (ACEScg): R 0.713 0.293, G 0.165 0.830, B 0.128 0.044
@@ -64,6 +65,7 @@ def bradford(src_white, dst_white):
 D65 = (0.3127, 0.3290)
 ACES_WHITE = (0.32168, 0.33767)
 REC709 = ((0.64, 0.33), (0.30, 0.60), (0.15, 0.06))
+REC2020 = ((0.708, 0.292), (0.170, 0.797), (0.131, 0.046))
 AP0 = ((0.7347, 0.2653), (0.0, 1.0), (0.0001, -0.0770))
 AP1 = ((0.713, 0.293), (0.165, 0.830), (0.128, 0.044))
 
@@ -75,11 +77,12 @@ def space_to_xyz_d65(primaries, white):
 
 def matrix44(m):
     rows = [list(r) + [0.0] for r in m] + [[0.0, 0.0, 0.0, 1.0]]
-    return "[" + ", ".join("%.10g" % v for r in rows for v in r) + "]"
+    # entries that are 0 in exact arithmetic come out of the inversion as ~1e-17
+    return "[" + ", ".join("%.10g" % (0.0 if abs(v) < 1e-12 else v) for r in rows for v in r) + "]"
 
 
 def main():
-    for name, prim, white in (("Linear Rec.709", REC709, D65), ("ACEScg", AP1, ACES_WHITE),
+    for name, prim, white in (("Linear Rec.709", REC709, D65), ("Linear Rec.2020", REC2020, D65), ("ACEScg", AP1, ACES_WHITE),
                               ("ACES2065-1", AP0, ACES_WHITE)):
         print("%s -> CIE XYZ D65 (to_scene_reference):\n  matrix: %s" % (name, matrix44(space_to_xyz_d65(prim, white))))
 

@@ -157,6 +157,22 @@ static void d65_gives_white_in_rec709_and_acescg(void **state)
     fm_colour_config_close(cfg);
 }
 
+/* Linear Rec.709 -> Linear Rec.2020 (both D65, no adaptation) as published in ITU-R BT.2087-0
+ * (4 digits): the config's Rec.2020 matrix against an independent source. */
+static void rec709_to_rec2020_as_published(void **state)
+{
+    static const double m[3][3] = {{0.6274, 0.3293, 0.0433}, {0.0691, 0.9195, 0.0114}, {0.0164, 0.0880, 0.8956}};
+    fm_colour_config *cfg = open_config();
+    fm_error err = {0};
+    for (int c = 0; c < 3; c++) {
+        float v[3] = {c == 0, c == 1, c == 2};
+        assert_int_equal(fm_colour_convert(cfg, "Linear Rec.709", "Linear Rec.2020", v, 1, &err), FM_OK);
+        for (int r = 0; r < 3; r++)
+            assert_true(fabs(v[r] - m[r][c]) < 1.5e-4);
+    }
+    fm_colour_config_close(cfg);
+}
+
 static void rec709_acescg_round_trip(void **state)
 {
     fm_colour_config *cfg = open_config();
@@ -295,7 +311,7 @@ static void default_config_is_firmaments(void **state)
     const char *p = fm_colour_config_path(cfg);
     const char *tail = "ocio/config.ocio";
     assert_true(strlen(p) > strlen(tail) && strcmp(p + strlen(p) - strlen(tail), tail) == 0);
-    assert_int_equal(fm_colour_config_count(cfg), 7);
+    assert_int_equal(fm_colour_config_count(cfg), 8);
     fm_colour_config_close(cfg);
 }
 
@@ -305,6 +321,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(d65_gives_white_in_rec709_and_acescg),
         cmocka_unit_test(rec709_acescg_round_trip),
+        cmocka_unit_test(rec709_to_rec2020_as_published),
         cmocka_unit_test(luminance_is_preserved),
         cmocka_unit_test(chromaticities_follow_the_space),
         cmocka_unit_test(unknown_space_lists_the_names),

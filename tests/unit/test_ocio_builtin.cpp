@@ -96,7 +96,7 @@ int main()
               std::string("role ") + config->getRoleName(r));
     }
     check(ocio_colorspace_find(mine, "linear rec.709") != nullptr, "names ignore case");
-    check(ocio_colorspace_find(mine, "Linear Rec.2020") == nullptr, "an unknown name is not found");
+    check(ocio_colorspace_find(mine, "Linear Rec.2100") == nullptr, "an unknown name is not found");
 
     const std::vector<float> in = samples();
     for (int i = 0; i < n; i++)
