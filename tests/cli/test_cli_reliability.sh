@@ -225,5 +225,25 @@ expect_usage_error "preset of 64 MiB + 1 byte" render --preset "$work/big.json" 
 grep -q 'larger than 64 MiB' "$work/stderr" && ok || fail "64 MiB + 1: $(cat "$work/stderr")"
 rm -f "$work/big.json"
 
+# --- 9. renders into one output at once: the map and its sidecar always come from one run ---------
+# 8 tiny renders at once per round, different seeds; the map's seed attribute against the sidecar's
+# (without the lock on the publishing, 4 of 20 rounds paired one run's map with another's sidecar)
+rm -rf "$work/out" && mkdir -p "$work/out"
+mismatches=0 rounds=0 start=$SECONDS
+while [ $rounds -lt 20 ] && [ $((SECONDS - start)) -lt 45 ]; do
+    rounds=$((rounds + 1))
+    for k in 1 2 3 4 5 6 7 8; do
+        "$FM" render --width 8 --quality preview --sample-scale 0.01 --progress none --seed $((rounds * 8 + k)) \
+            -o "$work/out/s.exr" 2>>"$work/stderr.race" &
+    done
+    wait
+    map=$("$FM" info "$work/out/s.exr" | sed -n 's/^firmament.parameters.seed (double): //p')
+    side=$(sed -n 's/^[[:space:]]*"seed":[[:space:]]*\([0-9]*\),*$/\1/p' "$work/out/s.json")
+    [ -n "$map" ] && [ "$map" = "$side" ] || mismatches=$((mismatches + 1))
+done
+[ $mismatches -eq 0 ] && ok || fail "concurrent renders: $mismatches of $rounds rounds paired a map with another run's sidecar"
+[ ! -s "$work/stderr.race" ] && ok || fail "concurrent renders failed: $(sort -u "$work/stderr.race" | head -3)"
+[ "$(ls -A "$work/out" | tr '\n' ' ')" = "s.exr s.json " ] && ok || fail "concurrent renders left: $(ls -A "$work/out")"
+
 echo "$checks checks passed, $failures failed"
 [ $failures -eq 0 ]

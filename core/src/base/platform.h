@@ -42,6 +42,12 @@ int platform_list_dir(const char *dir, void (*fn)(void *ctx, const char *name), 
 /* Creates a new empty file named template with its trailing "XXXXXX" replaced (as mkstemp), with
  * the permissions of a new file. */
 int platform_create_unique(char *name_template);
+/* An exclusive lock on the file at path (created if missing), waiting while another process holds
+ * it; NULL with errno set on failure.  The system releases it when the process dies (SIGKILL too). */
+typedef struct platform_lock platform_lock;
+platform_lock *platform_lock_file(const char *path);
+/* Removes the lock file and releases the lock (NULL: nothing). */
+void platform_unlock(platform_lock *lock);
 /* The folder for private temporary files ($TMPDIR, /tmp; Windows: GetTempPath). */
 const char *platform_temp_dir(void);
 

@@ -4,6 +4,7 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -74,6 +75,55 @@ int platform_list_dir(const char *dir, void (*fn)(void *ctx, const char *name), 
             fn(ctx, e->d_name);
     closedir(d);
     return 0;
+}
+
+struct platform_lock {
+    int fd;
+    char path[]; /* removed on unlock */
+};
+
+/* 1 when fd is the file now named path: the previous holder may have removed it as it let go. */
+static int still_named(int fd, const char *path)
+{
+    struct stat held, named;
+    return fstat(fd, &held) == 0 && stat(path, &named) == 0 && held.st_dev == named.st_dev &&
+           held.st_ino == named.st_ino;
+}
+
+platform_lock *platform_lock_file(const char *path)
+{
+    platform_lock *l = malloc(sizeof *l + strlen(path) + 1);
+    if (!l)
+        return NULL;
+    strcpy(l->path, path);
+    for (;;) {
+        l->fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+        if (l->fd < 0)
+            break;
+        struct flock fl = {.l_type = F_WRLCK, .l_whence = SEEK_SET};
+        int r;
+        while ((r = fcntl(l->fd, F_SETLKW, &fl)) != 0 && errno == EINTR)
+            ;
+        if (r == 0 && still_named(l->fd, path))
+            return l;
+        int e = errno;
+        close(l->fd);
+        if (r != 0) {
+            errno = e;
+            break;
+        }
+    }
+    free(l);
+    return NULL;
+}
+
+void platform_unlock(platform_lock *l)
+{
+    if (!l)
+        return;
+    unlink(l->path); /* before the release: a waiter then sees a removed file and opens the next */
+    close(l->fd);
+    free(l);
 }
 
 int platform_create_unique(char *name_template)

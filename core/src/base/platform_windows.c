@@ -205,6 +205,53 @@ int platform_list_dir(const char *dir, void (*fn)(void *ctx, const char *name), 
 }
 
 /* As mkstemp: CREATE_NEW fails on an existing name, so a name is never taken twice. */
+struct platform_lock {
+    HANDLE file;
+};
+
+platform_lock *platform_lock_file(const char *path)
+{
+    wchar_t *w = widen(path);
+    if (!w)
+        return NULL;
+    /* every holder opens it delete-on-close, so it goes with the last handle; while it is being
+     * deleted it cannot be opened, for a moment */
+    HANDLE h = INVALID_HANDLE_VALUE;
+    for (int attempt = 0; attempt < 1000; attempt++) {
+        h = CreateFileW(w, GENERIC_READ | GENERIC_WRITE, FILE_SHARE_READ | FILE_SHARE_WRITE | FILE_SHARE_DELETE,
+                        NULL, OPEN_ALWAYS, FILE_ATTRIBUTE_HIDDEN | FILE_FLAG_DELETE_ON_CLOSE, NULL);
+        if (h != INVALID_HANDLE_VALUE || GetLastError() != ERROR_ACCESS_DENIED)
+            break;
+        Sleep(10);
+    }
+    free(w);
+    if (h == INVALID_HANDLE_VALUE) {
+        fail_with_last_error();
+        return NULL;
+    }
+    OVERLAPPED whole = {0};
+    platform_lock *l = malloc(sizeof *l);
+    if (!l || !LockFileEx(h, LOCKFILE_EXCLUSIVE_LOCK, 0, 1, 0, &whole)) {
+        if (l)
+            fail_with_last_error();
+        CloseHandle(h);
+        free(l);
+        return NULL;
+    }
+    l->file = h;
+    return l;
+}
+
+void platform_unlock(platform_lock *l)
+{
+    if (!l)
+        return;
+    OVERLAPPED whole = {0};
+    UnlockFileEx(l->file, 0, 1, 0, &whole);
+    CloseHandle(l->file);
+    free(l);
+}
+
 int platform_create_unique(char *name_template)
 {
     static const char chars[] = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789";

@@ -1,7 +1,9 @@
 /* fm_output: the EXR, its sidecar and the files published with them (preview, spectral map, a
  * second output's pair) reach their final names together, complete, or not at all.  Each is written
  * to a temporary file beside its destination (same directory, so the rename is atomic) and renamed
- * only after all are complete; a rename that fails puts back the files replaced before it. */
+ * only after all are complete; a rename that fails puts back the files replaced before it.  The
+ * renames are made holding a lock on ".<map>.lock" beside the map, so that two renders into one map
+ * publish one after the other. */
 #define _POSIX_C_SOURCE 200809L /* PATH_MAX */
 #include "base/platform.h"
 #include "base/status.h"
@@ -380,6 +382,19 @@ static fm_status publish_files(staged_file *const *files, int n, fm_error *err)
     return FM_OK;
 }
 
+/* "<dir>/.<name>.lock" beside path (name cut as a temporary's), malloc'd; NULL when out of memory. */
+static char *lock_name(const char *path)
+{
+    const char *slash = platform_last_separator(path);
+    size_t dir_len = slash ? (size_t)(slash - path + 1) : 0, name_len = strlen(path + dir_len);
+    int part = name_len > TEMP_NAME_PART ? TEMP_NAME_PART : (int)name_len;
+    size_t n = strlen(path) + 8;
+    char *name = malloc(n);
+    if (name)
+        snprintf(name, n, "%.*s.%.*s.lock", (int)dir_len, path, part, path + dir_len);
+    return name;
+}
+
 fm_status fm_output_publish(fm_output *const *outputs, int n, fm_error *err)
 {
     staged_file *files[2 * MAX_FILES];
@@ -395,7 +410,16 @@ fm_status fm_output_publish(fm_output *const *outputs, int n, fm_error *err)
         files[count++] = &outputs[k]->files[FILE_EXR];
         files[count++] = &outputs[k]->files[FILE_JSON];
     }
-    return publish_files(files, count, err);
+    /* a concurrent render to the same map publishes before or after this one, never between its
+     * renames: else its map could stand beside this one's sidecar */
+    char *name = lock_name(outputs[0]->files[FILE_EXR].path);
+    platform_lock *lock = name ? platform_lock_file(name) : NULL;
+    fm_status s = lock ? publish_files(files, count, err)
+                       : fm_fail(err, FM_ERR_IO, "cannot lock '%s' to write '%s': %s; nothing was written",
+                                 name ? name : "", outputs[0]->files[FILE_EXR].path, strerror(errno));
+    platform_unlock(lock);
+    free(name);
+    return s;
 }
 
 fm_status fm_output_commit(fm_output *o, const fm_image *image, const atomic_int *cancel, fm_error *err)
