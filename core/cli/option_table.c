@@ -64,8 +64,8 @@ const option_spec option_specs[] = {
      "local clock time on --date at --latitude, --longitude: sets the sun's apparent elevation and azimuth and the "
      "Earth-Sun distance of the day, unless --sun-elevation, --sun-azimuth or --earth-sun-distance are given",
      NULL},
-    {"utc-offset", 0, "+-HH[:MM]", OPTION_OFFSET, AT(sky.utc_offset_min), "utc_offset_min", NO_RANGE, NULL, 0, 0,
-     SUN, "local time minus UTC, -12:00 to +14:00", "+00:00"},
+    {"utc-offset", 0, "+-HH[:MM]", OPTION_OFFSET, AT(sky.utc_offset_min), "utc_offset_min", NO_RANGE, NULL, 0,
+     NEEDS_TIME, SUN, "local time minus UTC, -12:00 to +14:00", "+00:00"},
     {"refraction", 0, "on|off", OPTION_CHOICE, AT(sky.refraction), "refraction", NO_RANGE, on_off_words, 0,
      NEEDS_TIME, SUN, "atmospheric refraction lifts the sun (the disk stays round)", NULL},
     {"pressure", 0, "MBAR", OPTION_NUMBER, AT(sky.pressure_mbar), "pressure_mbar", NO_RANGE, NULL, 0, NEEDS_TIME,

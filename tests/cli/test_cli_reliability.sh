@@ -245,5 +245,19 @@ done
 [ ! -s "$work/stderr.race" ] && ok || fail "concurrent renders failed: $(sort -u "$work/stderr.race" | head -3)"
 [ "$(ls -A "$work/out" | tr '\n' ' ')" = "s.exr s.json " ] && ok || fail "concurrent renders left: $(ls -A "$work/out")"
 
+# --- 14. JSON: what RFC 8259 refuses is refused with the place; --utc-offset needs --time at any value
+json_case() { # WHAT TEXT EXPECTED: a preset holding TEXT (printf format) is refused with EXPECTED
+    printf "$2" >"$work/j.json"
+    expect_usage_error "preset with $1" render --preset "$work/j.json" --width 8 --quality preview
+    grep -qF "$3" "$work/stderr" && ok || fail "preset with $1: $(cat "$work/stderr")"
+}
+json_case "a NUL in a string" '{"name": "a\0b", "sun_elevation": 10}' 'j.json:1:12: JSON syntax error at byte 11'
+json_case "a control byte in a string" '{"name": "a\033b", "sun_elevation": 10}' 'raw control byte 0x1b'
+json_case "invalid UTF-8" '{"name": "a\377b", "sun_elevation": 10}' 'invalid UTF-8 (byte 0xff)'
+json_case "a leading zero" '{"name": "a", "sun_elevation": 010}' ':1:32: JSON syntax error at byte 31: a number with a leading zero'
+json_case "a trailing comma" '{"name": "a",\n "sun_elevation": 10,\n}\n' ':2:21: JSON syntax error at byte 34: a comma before'
+rm -f "$work/j.json"
+expect_usage_error "--utc-offset +00:00 without --time" render --utc-offset +00:00 --width 8 --quality preview
+
 echo "$checks checks passed, $failures failed"
 [ $failures -eq 0 ]

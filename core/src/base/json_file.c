@@ -129,12 +129,92 @@ static fm_status syntax_error(const json_reader *rd, const char *text, size_t si
                              text + offset);
 }
 
+/* The length of the UTF-8 sequence at s (RFC 3629: no overlong forms, surrogates or code points above
+ * U+10FFFF), or 0 where it is invalid */
+static size_t utf8_length(const unsigned char *s, size_t left)
+{
+    if (s[0] < 0x80)
+        return 1;
+    size_t n = s[0] >= 0xc2 && s[0] <= 0xdf ? 2 : s[0] >= 0xe0 && s[0] <= 0xef ? 3 : s[0] >= 0xf0 && s[0] <= 0xf4 ? 4 : 0;
+    if (n == 0 || n > left)
+        return 0;
+    for (size_t i = 1; i < n; i++)
+        if ((s[i] & 0xc0) != 0x80)
+            return 0;
+    if ((s[0] == 0xe0 && s[1] < 0xa0) || (s[0] == 0xed && s[1] >= 0xa0) || (s[0] == 0xf0 && s[1] < 0x90) ||
+        (s[0] == 0xf4 && s[1] >= 0x90))
+        return 0;
+    return n;
+}
+
+static fm_status lexical_error(const json_reader *rd, const char *text, size_t offset, const char *what)
+{
+    int line = 1, column = 1;
+    for (size_t i = 0; i < offset; i++) {
+        if (text[i] == '\n')
+            line++, column = 1;
+        else
+            column++;
+    }
+    return fm_fail_parameter(rd->err, rd->field, "%s:%d:%d: JSON syntax error at byte %zu: %s", rd->file, line, column,
+                             offset, what);
+}
+
+/* What cJSON accepts but RFC 8259 does not: raw control bytes (a NUL ended the value early), invalid
+ * UTF-8, numbers with leading zeros, and a comma before a closing bracket (which cJSON reported at
+ * the wrong place). Valid JSON passes unchanged; cJSON then finds the rest. */
+static fm_status check_strict(const json_reader *rd, const char *text, size_t size)
+{
+    const unsigned char *t = (const unsigned char *)text;
+    char what[96];
+    int in_string = 0;
+    for (size_t i = 0; i < size;) {
+        size_t n = utf8_length(t + i, size - i);
+        if (n == 0) {
+            snprintf(what, sizeof what, "invalid UTF-8 (byte 0x%02x)", t[i]);
+            return lexical_error(rd, text, i, what);
+        }
+        if (t[i] < 0x20 && (in_string || (t[i] != '\t' && t[i] != '\n' && t[i] != '\r'))) {
+            snprintf(what, sizeof what, "raw control byte 0x%02x%s", t[i], in_string ? " in a string (escape it)" : "");
+            return lexical_error(rd, text, i, what);
+        }
+        if (in_string) {
+            if (t[i] == '"')
+                in_string = 0;
+            else if (t[i] == '\\' && i + 1 < size && t[i + 1] >= 0x20 && t[i + 1] < 0x80)
+                i++; /* the escaped character */
+        } else if (t[i] == '"') {
+            in_string = 1;
+        } else if (t[i] == '-' || isdigit(t[i])) {
+            size_t d = i + (t[i] == '-');
+            if (d + 1 < size && t[d] == '0' && isdigit(t[d + 1]))
+                return lexical_error(rd, text, d, "a number with a leading zero");
+            while (i + 1 < size && (isalnum(t[i + 1]) || t[i + 1] == '.' || t[i + 1] == '+' || t[i + 1] == '-'))
+                i++;
+        } else if (t[i] == ',') {
+            size_t next = i + 1;
+            while (next < size && isspace(t[next]))
+                next++;
+            if (next < size && (t[next] == '}' || t[next] == ']')) {
+                snprintf(what, sizeof what, "a comma before '%c'", t[next]);
+                return lexical_error(rd, text, i, what);
+            }
+        }
+        i += n;
+    }
+    return FM_OK;
+}
+
 cJSON *json_reader_load(const json_reader *rd, fm_status *status)
 {
     char *text = NULL;
     size_t size = 0;
     if ((*status = read_text(rd, &text, &size)))
         return NULL;
+    if ((*status = check_strict(rd, text, size))) {
+        free(text);
+        return NULL;
+    }
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithLengthOpts(text, size + 1, &end, 1) /* with the NUL */;
     if (!root)
