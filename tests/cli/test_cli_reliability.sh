@@ -225,6 +225,23 @@ expect_usage_error "preset of 64 MiB + 1 byte" render --preset "$work/big.json" 
 grep -q 'larger than 64 MiB' "$work/stderr" && ok || fail "64 MiB + 1: $(cat "$work/stderr")"
 rm -f "$work/big.json"
 
+# --- 15. a later run removes its output's temporaries over a day old; a symlinked output is written
+# through (the link kept, its target replaced)
+rm -rf "$work/out" "$work/real" && mkdir -p "$work/out" "$work/real"
+touch -d '2 days ago' "$work/out/.s.exr.AbC123" "$work/out/.other.exr.AbC123"
+touch "$work/out/.s.exr.XyZ789" # young: perhaps a running render's
+"$FM" render --width 8 --quality preview --progress none -o "$work/out/s.exr" 2>"$work/stderr"
+[ "$(ls -A "$work/out" | tr '\n' ' ')" = ".other.exr.AbC123 .s.exr.XyZ789 s.exr s.json " ] && ok ||
+    fail "stale temporaries: left $(ls -A "$work/out" | tr '\n' ' ')"
+printf 'old' >"$work/real/t.exr"
+ln -s ../real/t.exr "$work/out/l.exr"
+"$FM" render --width 8 --quality preview --progress none -o "$work/out/l.exr" 2>"$work/stderr"
+[ -L "$work/out/l.exr" ] && [ "$(readlink "$work/out/l.exr")" = ../real/t.exr ] && ok ||
+    fail "symlinked output: the link was replaced"
+"$FM" info "$work/real/t.exr" | grep -q '^firmament.parameters.seed' && ok ||
+    fail "symlinked output: its target was not written"
+[ -z "$(ls -A "$work/real" | grep -v '^t\.exr$')" ] && ok || fail "symlinked output: left $(ls -A "$work/real")"
+
 # --- 9. renders into one output at once: the map and its sidecar always come from one run ---------
 # 8 tiny renders at once per round, different seeds; the map's seed attribute against the sidecar's
 # (without the lock on the publishing, 4 of 20 rounds paired one run's map with another's sidecar)

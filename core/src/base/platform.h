@@ -28,6 +28,12 @@ int platform_link(const char *existing, const char *new_name);
 #endif
 #define PLATFORM_NAME_MAX 255
 
+/* When path is a symbolic link to an existing file, that file's path (malloc'd, links resolved);
+ * else NULL (Windows: always NULL, links are replaced as files). */
+char *platform_link_target(const char *path);
+/* Seconds since the file was last modified, or -1 when it cannot be looked at. */
+double platform_file_age_s(const char *path);
+
 typedef enum { PLATFORM_MISSING, PLATFORM_FILE, PLATFORM_DIRECTORY, PLATFORM_OTHER } platform_kind;
 platform_kind platform_path_kind(const char *path);
 /* 1 when a and b are one existing file, 0 when not, -1 when either cannot be looked at. */

@@ -46,6 +46,20 @@ platform_kind platform_path_kind(const char *path)
     return S_ISREG(st.st_mode) ? PLATFORM_FILE : S_ISDIR(st.st_mode) ? PLATFORM_DIRECTORY : PLATFORM_OTHER;
 }
 
+char *platform_link_target(const char *path)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0 || !S_ISLNK(st.st_mode))
+        return NULL;
+    return realpath(path, NULL);
+}
+
+double platform_file_age_s(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 ? difftime(time(NULL), st.st_mtime) : -1.0;
+}
+
 int platform_same_file(const char *a, const char *b)
 {
     struct stat sa, sb;

@@ -152,6 +152,27 @@ static int file_id(const char *path, BY_HANDLE_FILE_INFORMATION *info)
     return ok ? 0 : -1;
 }
 
+char *platform_link_target(const char *path)
+{
+    (void)path; /* links need privileges on Windows and are rare: an output link is replaced */
+    return NULL;
+}
+
+double platform_file_age_s(const char *path)
+{
+    wchar_t *w = widen(path);
+    WIN32_FILE_ATTRIBUTE_DATA data;
+    int ok = w && GetFileAttributesExW(w, GetFileExInfoStandard, &data);
+    free(w);
+    if (!ok)
+        return -1.0;
+    FILETIME now;
+    GetSystemTimeAsFileTime(&now);
+    ULARGE_INTEGER a = {.LowPart = data.ftLastWriteTime.dwLowDateTime, .HighPart = data.ftLastWriteTime.dwHighDateTime};
+    ULARGE_INTEGER b = {.LowPart = now.dwLowDateTime, .HighPart = now.dwHighDateTime};
+    return ((double)b.QuadPart - (double)a.QuadPart) * 1e-7; /* 100 ns units */
+}
+
 int platform_same_file(const char *a, const char *b)
 {
     BY_HANDLE_FILE_INFORMATION ia, ib;

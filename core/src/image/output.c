@@ -15,6 +15,7 @@
 
 #include <cjson/cJSON.h>
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -104,6 +105,14 @@ static double largest_value(const fm_image *img)
  * within the 255 bytes of a file name, so an output named up to that length is written too. */
 #define TEMP_NAME_PART 240
 
+/* Where a file written to path goes: a symbolic link's target (written through, the link kept, as
+ * shells and most tools do), else path; malloc'd, NULL when out of memory. */
+static char *destination(const char *path)
+{
+    char *target = platform_link_target(path);
+    return target ? target : copy_string(path);
+}
+
 /* Creates "<dir>/.<name>.XXXXXX" (name cut to TEMP_NAME_PART bytes) and returns its path (malloc'd),
  * or NULL with err filled. */
 char *image_reserve_temp(const char *path, fm_error *err)
@@ -122,41 +131,46 @@ char *image_reserve_temp(const char *path, fm_error *err)
         fm_fail(err, FM_ERR_IO, "cannot write '%s': it is not a regular file", path);
         return NULL;
     }
-    const char *slash = platform_last_separator(path);
-    size_t dir_len = slash ? (size_t)(slash - path + 1) : 0;
-    /* the final name too, not only the temporary's shortened one: else the rename fails after the
-     * render, and for a pair, after its first file replaced the old one */
-    if (strlen(path) >= PLATFORM_PATH_MAX) {
-        fm_fail(err, FM_ERR_IO, "cannot write '%s': the path is %zu bytes, longer than the %d a path may have",
-                path, strlen(path), PLATFORM_PATH_MAX - 1);
-        return NULL;
-    }
-    if (strlen(path + dir_len) > PLATFORM_NAME_MAX) {
-        fm_fail(err, FM_ERR_IO, "cannot write '%s': the file name is %zu bytes, longer than the %d a name may have",
-                path, strlen(path + dir_len), PLATFORM_NAME_MAX);
-        return NULL;
-    }
-    size_t n = strlen(path) + 16;
-    char *tmp = malloc(n);
-    if (!tmp) {
+    char *dest = destination(path);
+    if (!dest) {
         fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
         return NULL;
     }
-    size_t name_len = strlen(path + dir_len);
-    int part = name_len > TEMP_NAME_PART ? TEMP_NAME_PART : (int)name_len;
-    snprintf(tmp, n, "%.*s.%.*s.XXXXXX", (int)dir_len, path, part, path + dir_len);
-    if (platform_create_unique(tmp) != 0) {
-        fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
-        free(tmp);
-        return NULL;
+    const char *slash = platform_last_separator(dest);
+    size_t dir_len = slash ? (size_t)(slash - dest + 1) : 0;
+    /* the final name too, not only the temporary's shortened one: else the rename fails after the
+     * render, and for a pair, after its first file replaced the old one */
+    char *tmp = NULL;
+    size_t name_len = strlen(dest + dir_len), n = strlen(dest) + 16;
+    if (strlen(dest) >= PLATFORM_PATH_MAX)
+        fm_fail(err, FM_ERR_IO, "cannot write '%s': the path is %zu bytes, longer than the %d a path may have",
+                dest, strlen(dest), PLATFORM_PATH_MAX - 1);
+    else if (name_len > PLATFORM_NAME_MAX)
+        fm_fail(err, FM_ERR_IO, "cannot write '%s': the file name is %zu bytes, longer than the %d a name may have",
+                dest, name_len, PLATFORM_NAME_MAX);
+    else if (!(tmp = malloc(n)))
+        fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
+    if (tmp) {
+        int part = name_len > TEMP_NAME_PART ? TEMP_NAME_PART : (int)name_len;
+        snprintf(tmp, n, "%.*s.%.*s.XXXXXX", (int)dir_len, dest, part, dest + dir_len);
+        if (platform_create_unique(tmp) != 0) {
+            fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
+            free(tmp);
+            tmp = NULL;
+        }
     }
+    free(dest);
     return tmp;
 }
 
 fm_status image_finish_temp(char *tmp, const char *path, fm_status s, fm_error *err)
 {
-    if (!s && platform_rename_replace(tmp, path) != 0)
+    char *dest = s ? NULL : destination(path);
+    if (!s && !dest)
+        s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
+    if (!s && platform_rename_replace(tmp, dest) != 0)
         s = fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
+    free(dest);
     if (s)
         platform_remove(tmp);
     free(tmp);
@@ -173,6 +187,43 @@ fm_status fm_output_check_path(const char *path, fm_error *err)
     platform_remove(tmp);
     free(tmp);
     return FM_OK;
+}
+
+/* A temporary left by a killed run (SIGKILL, a crash) is removed by a later run to the same output
+ * once it is a day old: a live run's temporaries are younger (renders take minutes to hours). */
+#define STALE_TEMP_S 86400.0
+
+typedef struct stale_scan {
+    const char *dir;    /* "<dir>/" or "" */
+    int dir_len;
+    const char *prefix; /* ".<name>." */
+    size_t prefix_len;
+} stale_scan;
+
+static void remove_if_stale(void *ctx, const char *name)
+{
+    const stale_scan *scan = ctx;
+    size_t n = strlen(name);
+    if (n != scan->prefix_len + 6 || strncmp(name, scan->prefix, scan->prefix_len) != 0)
+        return;
+    for (size_t i = scan->prefix_len; i < n; i++)
+        if (!isalnum((unsigned char)name[i]))
+            return;
+    char full[PLATFORM_PATH_MAX + 16];
+    snprintf(full, sizeof full, "%.*s%s", scan->dir_len, scan->dir, name);
+    if (platform_path_kind(full) == PLATFORM_FILE && platform_file_age_s(full) > STALE_TEMP_S)
+        platform_remove(full);
+}
+
+/* Removes the stale temporaries of the output whose new temporary is tmp ("<dir>/.<name>.XXXXXX"). */
+static void remove_stale_temps(const char *tmp)
+{
+    const char *slash = platform_last_separator(tmp);
+    int dir_len = slash ? (int)(slash - tmp + 1) : 0;
+    stale_scan scan = {tmp, dir_len, tmp + dir_len, strlen(tmp + dir_len) - 6};
+    char dir[PLATFORM_PATH_MAX + 16];
+    snprintf(dir, sizeof dir, "%.*s", dir_len ? dir_len : 1, dir_len ? tmp : ".");
+    platform_list_dir(dir, remove_if_stale, &scan);
 }
 
 /* Adds path to o's files with a temporary reserved beside it; returns its index, or -1 with err. */
@@ -192,6 +243,7 @@ static int reserve_file(fm_output *o, const char *path, fm_error *err)
         f->path = NULL;
         return -1;
     }
+    remove_stale_temps(f->tmp);
     return o->count++;
 }
 
@@ -347,11 +399,17 @@ static char *keep_old(const char *path)
  * removed) and fails naming the file. */
 static fm_status publish_files(staged_file *const *files, int n, fm_error *err)
 {
-    char *backup[2 * MAX_FILES] = {0};
+    char *backup[2 * MAX_FILES] = {0}, *dest[2 * MAX_FILES] = {0};
     int done = 0, e = 0;
+    for (int i = 0; i < n; i++)
+        if (!(dest[i] = destination(files[i]->path))) {
+            while (i > 0)
+                free(dest[--i]);
+            return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory; nothing was written");
+        }
     for (; done < n; done++) {
-        backup[done] = keep_old(files[done]->path);
-        if (platform_rename_replace(files[done]->tmp, files[done]->path) != 0) {
+        backup[done] = keep_old(dest[done]);
+        if (platform_rename_replace(files[done]->tmp, dest[done]) != 0) {
             e = errno;
             break;
         }
@@ -362,14 +420,16 @@ static fm_status publish_files(staged_file *const *files, int n, fm_error *err)
         free(backup[done]);
         for (int i = done - 1; i >= 0; i--) {
             if (backup[i])
-                platform_rename_replace(backup[i], files[i]->path);
+                platform_rename_replace(backup[i], dest[i]);
             else
-                platform_remove(files[i]->path);
+                platform_remove(dest[i]);
             free(backup[i]);
             /* the new file is gone: nothing left for fm_output_close to remove */
             free(files[i]->tmp);
             files[i]->tmp = NULL;
         }
+        for (int i = 0; i < n; i++)
+            free(dest[i]);
         return fm_fail(err, FM_ERR_IO, "cannot write '%s': %s; nothing was written", files[done]->path, strerror(e));
     }
     for (int i = 0; i < n; i++) {
@@ -378,6 +438,7 @@ static fm_status publish_files(staged_file *const *files, int n, fm_error *err)
         free(backup[i]);
         free(files[i]->tmp);
         files[i]->tmp = NULL;
+        free(dest[i]);
     }
     return FM_OK;
 }
