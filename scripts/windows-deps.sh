@@ -12,6 +12,7 @@ PREFIX=$DEPS/prefix
 TOOLCHAIN=$ROOT/cmake/mingw-w64-x86_64.cmake
 HOST=x86_64-w64-mingw32
 jobs=$(nproc)
+SUITE=$(. /etc/os-release && echo "${VERSION_CODENAME:-bookworm}")
 mkdir -p "$SRC" "$PREFIX" "$DEPS/stamp"
 
 # The deb-src entry for the mirror apt already uses (deb822 .sources or one-line .list files).
@@ -34,7 +35,10 @@ fetch() {
     local dir
     dir=$(find "$SRC" -maxdepth 1 -type d -name "$1-[0-9]*" | head -n 1)
     if [ -z "$dir" ]; then
-        (cd "$SRC" && apt-get source -qq "$1" >/dev/null 2>&1) || { echo "apt-get source $1 failed" >&2; exit 1; }
+        # from the release's own suite: the security suite's newer versions may list sources its
+        # mirror does not hold
+        (cd "$SRC" && apt-get source -qq "$1/$SUITE" >/dev/null 2>&1) ||
+            { echo "apt-get source $1/$SUITE failed" >&2; exit 1; }
         dir=$(find "$SRC" -maxdepth 1 -type d -name "$1-[0-9]*" | head -n 1)
     fi
     echo "$dir"

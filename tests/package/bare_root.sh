@@ -23,8 +23,9 @@ cache=$(realpath "$cache")
 root=$cache/debian-bookworm-minbase
 if [ ! -e "$root/.complete" ]; then
     # Debian's packages from the mirror apt uses here when it is a Debian one, else Debian's own
-    mirror=$(grep -hoE 'https?://[^ ]*/debian/?' /etc/apt/sources.list /etc/apt/sources.list.d/*.sources \
-        /etc/apt/sources.list.d/*.list 2>/dev/null | grep -v -- '-security' | head -n1 || true)
+    mirror=$(grep -hE '^[[:space:]]*(URIs:|deb )' /etc/apt/sources.list /etc/apt/sources.list.d/*.sources \
+        /etc/apt/sources.list.d/*.list 2>/dev/null | grep -oE 'https?://[^ ]*/debian/?' | grep -v -- '-security' |
+        head -n1 || true) # entries only: a comment may name a snapshot URL that is no mirror
     mirror=${mirror:-http://deb.debian.org/debian}
     rm -rf "$root.partial"
     start=$(date +%s)
