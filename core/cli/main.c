@@ -61,36 +61,66 @@ static struct {
     const char *job; /* batch run: the job's JSON object, for the sidecar */
 } origin;
 
-/* The preset file that set flag, or NULL when the user gave it (or there is no preset). */
-static const char *preset_source(const char *flag)
+static int on_command_line(const char *flag)
 {
-    if (!origin.pre || !origin.pre->preset)
-        return NULL;
     size_t n = strlen(flag);
     for (int i = 1; i < origin.argc; i++)
         if (strncmp(origin.argv[i], flag, n) == 0 && (origin.argv[i][n] == '\0' || origin.argv[i][n] == '='))
-            return NULL;
+            return 1;
+    return 0;
+}
+
+/* The preset file that set flag, or NULL when the user gave it (or there is no preset). */
+static const char *preset_source(const char *flag)
+{
+    if (!origin.pre || !origin.pre->preset || on_command_line(flag))
+        return NULL;
     for (int i = 0; i < origin.pre->preset->count; i++)
         if (strcmp(origin.pre->flags[i], flag) == 0)
             return origin.pre->preset->path;
     return NULL;
 }
 
+/* Whether the user set flag, on the command line or in the preset. */
+static int flag_set(const char *flag)
+{
+    return on_command_line(flag) || preset_source(flag);
+}
+
 /* One line naming the problem; for a parameter, the command-line flag that set it (and the preset
  * file, when the value came from there). */
-static void report_library_error(const fm_error *err)
+static void report_library_error_then(const fm_error *err, const char *suffix)
 {
-    const char *flag = err->parameter[0] ? options_flag_for(err->parameter) : NULL;
+    /* a pinhole's height follows from the width and the aspect: blame the width where the aspect is
+     * the default one */
+    const char *field = strcmp(err->parameter, "camera.aspect") == 0 && !flag_set("--aspect") ? "width" : err->parameter;
+    const char *flag = err->parameter[0] ? options_flag_for(field) : NULL;
     size_t plen = strlen(err->parameter);
     if (flag && strncmp(err->message, err->parameter, plen) == 0 && err->message[plen] == ':') {
         const char *from = preset_source(flag);
         if (from)
-            report_error("--preset: %s: %s%s", from, flag, err->message + plen);
+            report_error("--preset: %s: %s%s%s", from, flag, err->message + plen, suffix);
         else
-            report_error("%s%s", flag, err->message + plen);
+            report_error("%s%s%s", flag, err->message + plen, suffix);
     } else {
-        report_error("%s", err->message);
+        report_error("%s%s", err->message, suffix);
     }
+}
+
+static void report_library_error(const fm_error *err)
+{
+    report_library_error_then(err, "");
+}
+
+/* What stopped a run: a closed standard output (e.g. `--progress json | head -1`) says so here,
+ * and main then says nothing more about it */
+static const char *stop_reason(void)
+{
+#ifdef SIGPIPE
+    if (atomic_load(&cancel_signal) == SIGPIPE)
+        return "standard output closed";
+#endif
+    return "interrupted";
 }
 
 static int exit_code_for(fm_status s)
@@ -113,8 +143,14 @@ static int open_colour(const options *opt, fm_colour_config **cfg)
             printf("%s\n", fm_colour_config_name(*cfg, i));
         return 0;
     }
-    if (!s)
-        s = fm_colour_config_check(*cfg, opt->colorspace, &err);
+    if (!s && (s = fm_colour_config_check(*cfg, opt->colorspace, &err))) {
+        const char *from = preset_source("--colorspace");
+        if (from)
+            report_error("--preset: %s: --colorspace: %s", from, err.message);
+        else
+            report_error("--colorspace: %s", err.message);
+        return exit_code_for(s);
+    }
     if (s) {
         report_library_error(&err);
         return exit_code_for(s);
@@ -289,10 +325,12 @@ static int run_series(options *opt, const fm_colour_config *colour)
                        (s = fm_output_stage(out, img, &cancel_signal, &err)) ||
                        (s = fm_output_publish(&out, 1, &err))) {
                 reporter_finish_line(&rep);
+                char kept[96];
+                snprintf(kept, sizeof kept, "; frame %d was not written (%d before it were kept)", i, written);
                 if (s == FM_ERR_CANCELLED)
-                    report_error("interrupted; frame %d was not written (%d before it were)", i, written);
+                    report_error("%s%s", stop_reason(), kept);
                 else
-                    report_library_error(&err);
+                    report_library_error_then(&err, kept);
                 code = exit_code_for(s);
             } else {
                 reporter_frame_done(&rep, i, exr, json);
@@ -453,7 +491,7 @@ static int run_render_options(int argc, char **argv)
         (s = fm_output_publish((fm_output *const[]){out, disk_out}, disk_out ? 2 : 1, &err))) {
         reporter_finish_line(&rep);
         if (s == FM_ERR_CANCELLED)
-            report_error("interrupted; nothing was written");
+            report_error("%s; nothing was written", stop_reason());
         else
             report_library_error(&err);
         code = exit_code_for(s);
@@ -564,6 +602,10 @@ int main(int argc, char **argv)
     platform_utf8_args(&argc, &argv);
     int code = run_command(argc, argv);
     if (fflush(stdout) != 0 || ferror(stdout)) {
+#ifdef SIGPIPE
+        if (code && atomic_load(&cancel_signal) == SIGPIPE) /* said already */
+            return code;
+#endif
         report_error("cannot write to standard output: %s", strerror(errno ? errno : EIO));
         return code ? code : EXIT_RUNTIME;
     }

@@ -280,7 +280,7 @@ expect_usage_error "aspect negative" render --camera pinhole --aspect -1.5
 expect_usage_error "aspect not a ratio" render --camera pinhole --aspect wide
 grep -q -- "--aspect: 'wide' is not a ratio W:H or a positive number" "$work/stderr" && ok || fail "aspect message: $(cat "$work/stderr")"
 expect_usage_error "aspect too wide for the width" render --camera pinhole --width 64 --aspect 20:1
-grep -q -- '--aspect: 20 gives a height of 4 pixels for width 64, outside \[8, 16384\]' "$work/stderr" && ok || fail "aspect height message: $(cat "$work/stderr")"
+grep -q -- '--aspect: width 64 / aspect 20 gives a height of 4 pixels, outside \[8, 16384\]' "$work/stderr" && ok || fail "aspect height message: $(cat "$work/stderr")"
 expect_usage_error "fov with equirect" render --fov 60
 grep -q -- '--fov: applies only to --camera pinhole' "$work/stderr" && ok || fail "fov with equirect: $(cat "$work/stderr")"
 expect_usage_error "look direction with fisheye" render --camera fisheye --look-azimuth 90

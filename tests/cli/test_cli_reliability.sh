@@ -276,5 +276,27 @@ json_case "a trailing comma" '{"name": "a",\n "sun_elevation": 10,\n}\n' ':2:21:
 rm -f "$work/j.json"
 expect_usage_error "--utc-offset +00:00 without --time" render --utc-offset +00:00 --width 8 --quality preview
 
+# --- 13. errors name the option, the preset key and the final output; a series says what it kept --
+expect_usage_error "--colorspace sRGB (a display space)" render --colorspace sRGB --width 8 --quality preview
+grep -q '^firmament: --colorspace: colour space "sRGB" is not scene-linear' "$work/stderr" && ok ||
+    fail "--colorspace sRGB: $(cat "$work/stderr")"
+printf '{"name": "narrow", "width": 8, "camera": "pinhole"}' >"$work/narrow.json"
+expect_usage_error "a preset's width too small for the default aspect" render --preset "$work/narrow.json"
+grep -qF -- "--preset: $work/narrow.json: --width: width 8 / aspect 1.77778 gives a height of 4 pixels" "$work/stderr" &&
+    ok || fail "preset width: $(cat "$work/stderr")"
+rm -f "$work/narrow.json"
+rm -rf "$work/out" && mkdir -p "$work/out"
+write_limited render --width 512 --quality preview --sample-scale 0.2 -o big.exr
+grep -q "^firmament: cannot write 'big.exr': .*File too large" "$work/stderr" && ok ||
+    fail "a failed write names the temporary: $(cat "$work/stderr")"
+write_limited render --date 2023-06-21 --time-start 12:00 --time-end 13:00 --step 30 --latitude 48 --longitude 2 \
+    --width 512 --quality preview --sample-scale 0.2 -o s.exr
+grep -q "cannot write 's_0000.exr': .*; frame 0 was not written (0 before it were kept)$" "$work/stderr" && ok ||
+    fail "a series on a full disk: $(cat "$work/stderr")"
+[ -z "$(ls -A "$work/out")" ] && ok || fail "a series on a full disk left: $(ls -A "$work/out")"
+(cd "$work/out" && "$FM" render --width 256 --quality preview --progress json -o s.exr 2>"$work/stderr" | head -c 1 >/dev/null)
+[ "$(wc -l <"$work/stderr")" -eq 1 ] && grep -q '^firmament: standard output closed; nothing was written$' "$work/stderr" &&
+    ok || fail "a closed standard output: $(cat "$work/stderr")"
+
 echo "$checks checks passed, $failures failed"
 [ $failures -eq 0 ]

@@ -66,8 +66,8 @@ fm_status camera_init(camera *c, const fm_camera *p, int width, fm_error *err)
         c->height = pinhole_height(p, width);
         if (c->height == 0)
             return fm_fail_parameter(err, "camera.aspect",
-                                     "%g gives a height of %.4g pixels for width %d, outside [%g, %g]", p->aspect,
-                                     2.0 * round(0.5 * width / p->aspect), width, fm_param_range_of("width")->min,
+                                     "width %d / aspect %g gives a height of %.4g pixels, outside [%g, %g]", width,
+                                     p->aspect, 2.0 * round(0.5 * width / p->aspect), fm_param_range_of("width")->min,
                                      fm_param_range_of("width")->max);
         pinhole_init(&c->pin, width, c->height, p->fov_deg * FM_DEG, p->look_azimuth_deg * FM_DEG,
                      p->look_elevation_deg * FM_DEG);

@@ -163,6 +163,17 @@ char *image_reserve_temp(const char *path, fm_error *err)
     return tmp;
 }
 
+/* The writers name the file they write, the hidden temporary: an error names the output instead. */
+static void name_output(fm_error *err, const char *tmp, const char *path)
+{
+    char *at = err ? strstr(err->message, tmp) : NULL;
+    if (!at)
+        return;
+    char rest[sizeof err->message];
+    snprintf(rest, sizeof rest, "%s", at + strlen(tmp));
+    snprintf(at, sizeof err->message - (size_t)(at - err->message), "%s%s", path, rest);
+}
+
 fm_status image_finish_temp(char *tmp, const char *path, fm_status s, fm_error *err)
 {
     char *dest = s ? NULL : destination(path);
@@ -331,8 +342,10 @@ fm_status fm_output_stage(fm_output *o, const fm_image *image, const atomic_int 
         : o->compression == FM_EXR_DWAA
             ? write_dwaa(exr_tmp, image, &meta, o->half, threads, cancel, err)
             : image_write_exr(exr_tmp, image, &meta, o->half, o->compression, threads, cancel, err);
-    if (!s)
-        s = sidecar_write(o->files[FILE_JSON].tmp, &meta, o->job, err);
+    if (s)
+        name_output(err, exr_tmp, exr_path);
+    if (!s && (s = sidecar_write(o->files[FILE_JSON].tmp, &meta, o->job, err)))
+        name_output(err, o->files[FILE_JSON].tmp, o->files[FILE_JSON].path);
     if (!s && cancel && atomic_load(cancel))
         s = fm_fail(err, FM_ERR_CANCELLED, "cancelled before the files were complete");
     if (!s)
