@@ -105,6 +105,18 @@ static fm_status read_text(const json_reader *rd, char **out, size_t *size)
     return FM_OK;
 }
 
+/* The 1-based line and column of byte `offset` of text. */
+static void line_column(const char *text, size_t offset, int *line, int *column)
+{
+    *line = *column = 1;
+    for (size_t i = 0; i < offset; i++) {
+        if (text[i] == '\n')
+            ++*line, *column = 1;
+        else
+            ++*column;
+    }
+}
+
 static fm_status syntax_error(const json_reader *rd, const char *text, size_t size, const char *at)
 {
     size_t offset = at && at >= text && at <= text + size ? (size_t)(at - text) : size;
@@ -112,13 +124,8 @@ static fm_status syntax_error(const json_reader *rd, const char *text, size_t si
      * whitespace, report the last character before it */
     while (offset < size && offset > 0 && isspace((unsigned char)text[offset]))
         offset--;
-    int line = 1, column = 1;
-    for (size_t i = 0; i < offset; i++) {
-        if (text[i] == '\n')
-            line++, column = 1;
-        else
-            column++;
-    }
+    int line, column;
+    line_column(text, offset, &line, &column);
     if (offset >= size)
         return fm_fail_parameter(rd->err, rd->field, "%s:%d:%d: JSON syntax error: unexpected end of file", rd->file,
                                  line, column);
@@ -149,13 +156,8 @@ static size_t utf8_length(const unsigned char *s, size_t left)
 
 static fm_status lexical_error(const json_reader *rd, const char *text, size_t offset, const char *what)
 {
-    int line = 1, column = 1;
-    for (size_t i = 0; i < offset; i++) {
-        if (text[i] == '\n')
-            line++, column = 1;
-        else
-            column++;
-    }
+    int line, column;
+    line_column(text, offset, &line, &column);
     return fm_fail_parameter(rd->err, rd->field, "%s:%d:%d: JSON syntax error at byte %zu: %s", rd->file, line, column,
                              offset, what);
 }
