@@ -6,6 +6,7 @@
 #include "report.h"
 
 #include "base/platform.h"
+#include "base/text.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -26,20 +27,11 @@ static int listed(const char *const *list, const char *s)
     return 0;
 }
 
-static char *copy_text(const char *s)
-{
-    size_t n = strlen(s) + 1;
-    char *c = malloc(n);
-    if (c)
-        memcpy(c, s, n);
-    return c;
-}
-
 int job_argv_add(job_argv *a, const char *s)
 {
     if (a->argc + 1 >= (int)(sizeof a->argv / sizeof a->argv[0]))
         return -1;
-    if (!(a->argv[a->argc] = copy_text(s)))
+    if (!(a->argv[a->argc] = text_copy(s)))
         return -1;
     a->argv[++a->argc] = NULL;
     return 0;

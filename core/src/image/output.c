@@ -7,6 +7,7 @@
 #define _POSIX_C_SOURCE 200809L /* PATH_MAX */
 #include "base/platform.h"
 #include "base/status.h"
+#include "base/text.h"
 #include "image/image.h"
 #include "image/exr_recode.h"
 #include "image/image_exr.h"
@@ -57,15 +58,6 @@ fm_status fm_output_set_format(fm_output *o, int half, fm_exr_compression compre
     return FM_OK;
 }
 
-static char *copy_string(const char *s)
-{
-    size_t n = strlen(s) + 1;
-    char *c = malloc(n);
-    if (c)
-        memcpy(c, s, n);
-    return c;
-}
-
 fm_status fm_output_set_job(fm_output *o, const char *json_object, fm_error *err)
 {
     cJSON *job = json_object ? cJSON_Parse(json_object) : NULL;
@@ -74,7 +66,7 @@ fm_status fm_output_set_job(fm_output *o, const char *json_object, fm_error *err
     if (!ok)
         return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the sidecar's job is not a JSON object");
     free(o->job);
-    if (!(o->job = copy_string(json_object)))
+    if (!(o->job = text_copy(json_object)))
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
     return FM_OK;
 }
@@ -110,7 +102,7 @@ static double largest_value(const fm_image *img)
 static char *destination(const char *path)
 {
     char *target = platform_link_target(path);
-    return target ? target : copy_string(path);
+    return target ? target : text_copy(path);
 }
 
 /* Creates "<dir>/.<name>.XXXXXX" (name cut to TEMP_NAME_PART bytes) and returns its path (malloc'd),
@@ -245,7 +237,7 @@ static int reserve_file(fm_output *o, const char *path, fm_error *err)
         return -1;
     }
     staged_file *f = &o->files[o->count];
-    if (!(f->path = copy_string(path))) {
+    if (!(f->path = text_copy(path))) {
         fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
         return -1;
     }
