@@ -415,6 +415,35 @@ fm_status fm_render_pixels(const fm_sky *sky, const fm_render_params *params, in
                            float *out, float *se, fm_error *err);
 void fm_image_destroy(fm_image *image); /* accepts NULL */
 
+/* ---------------------------------------------------------------------------------------------
+ * The live sky (docs/rendering.md, "Live sky"): what makes any sun position cheap, built once per
+ * atmosphere, then a map per sun in milliseconds.  The atmosphere is every field of fm_sky_params
+ * but the sun's position and the time of day (the date still counts: the ozone profile and the
+ * Earth-Sun distance of the day). */
+
+typedef struct fm_sky_live fm_sky_live;
+
+/* Builds the live sky for the atmosphere of params (its sun position and time of day ignored);
+ * cancel (may be NULL) stops the build early with FM_ERR_CANCELLED. */
+fm_status fm_sky_live_create(const fm_sky_params *params, const atomic_int *cancel, fm_sky_live **out,
+                             fm_error *err);
+/* A map for one sun position (ranges as in fm_sky_params), laid out as fm_render gives it and with
+ * its render record, so that fm_output writes it with its sidecar.  render: width, camera, sun disk,
+ * threads, progress and cancel as for fm_render.  Threads may render one live sky at once. */
+fm_status fm_sky_live_render(const fm_sky_live *live, double sun_elevation_deg, double sun_azimuth_deg,
+                             const fm_render_params *render, fm_image **out, fm_error *err);
+/* The atmosphere's key: 32 hex digits (and a NUL) hashing every field that changes the live sky's
+ * tables, not the sun, and the library's table version; for cache file names. */
+void fm_sky_live_key(const fm_sky_params *params, char out[33]);
+/* Writes the live sky to path (a temporary file beside it, renamed when complete: an existing file
+ * is replaced whole or kept). */
+fm_status fm_sky_live_save(const fm_sky_live *live, const char *path, fm_error *err);
+/* Reads a live sky that fm_sky_live_save wrote for the atmosphere of params.  A file of another
+ * atmosphere or version, truncated or corrupt (its checksum) is refused with FM_ERR_INVALID_ARGUMENT
+ * and one line saying why; a missing or unreadable one with FM_ERR_IO. */
+fm_status fm_sky_live_load(const fm_sky_params *params, const char *path, fm_sky_live **out, fm_error *err);
+void fm_sky_live_destroy(fm_sky_live *live); /* accepts NULL */
+
 /* Takes the sun disk out of a map that holds it: its plane (fm_image.sun_disk) is subtracted from
  * the pixels and freed; the map then reports no disk.  Nothing to do for a map without one. */
 void fm_image_remove_sun_disk(fm_image *image);
