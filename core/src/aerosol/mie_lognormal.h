@@ -58,4 +58,25 @@ int mie_lognormal(const lognormal_size *size, double lambda_um, double complex m
 /* dN/dln r at r_um for one particle in the full distribution (ln-normal density). */
 double lognormal_density(const lognormal_size *size, double r_um);
 
+/* Cloud droplets: the modified gamma distribution (Deirmendjian 1969; OPAC's water clouds, Hess,
+ * Koepke & Schult 1998)
+ *     dN/dr = A r^alpha exp(-B r^gamma), r_min <= r <= r_max (r in um),
+ * normalised to one particle inside [r_min, r_max].  gamma = 1 is the gamma distribution of Hansen &
+ * Travis (1974, eq. 2.56) with effective radius r_eff = (alpha + 3) / B and effective variance
+ * v_eff = 1 / (alpha + 3).  The same quadrature as the log-normal's, up to where r^4 dN/dln r (the
+ * forward peak's weight) has fallen below 1e-9 of its peak. */
+typedef struct modified_gamma_size {
+    double alpha, b, gamma;    /* B in um^-gamma */
+    double r_min_um, r_max_um;
+} modified_gamma_size;
+
+int mie_modified_gamma(const modified_gamma_size *size, double lambda_um, double complex m,
+                       const mie_lognormal_quadrature *quad, int n_mu, const double *mu, double *phase,
+                       mie_lognormal_result *out);
+
+/* Effective radius <r^3> / <r^2> (um) and mean particle volume 4/3 pi <r^3> (um^3) of the truncated
+ * distribution; 0 for an invalid one. */
+double modified_gamma_effective_radius_um(const modified_gamma_size *size);
+double modified_gamma_mean_volume_um3(const modified_gamma_size *size);
+
 #endif

@@ -13,6 +13,7 @@
 #define FM_AFGL_LEVEL_COUNT 50
 #define FM_OPAC_COMPONENT_COUNT 38
 #define FM_OPAC_REFR_COUNT 15
+#define FM_WATER_INDEX_COUNT 15
 
 extern const double fm_cie1931_xyz_1nm[FM_CIE_COUNT][3];
 extern const double fm_solar_astm_g173[FM_SOLAR_COUNT][2];
@@ -32,5 +33,8 @@ typedef struct fm_opac_component {
 } fm_opac_component;
 
 extern const fm_opac_component fm_opac_components[FM_OPAC_COMPONENT_COUNT];
+
+/* Liquid water: wavelength (um), n, k of m = n - ik (data/water_index.c). */
+extern const double fm_water_index[FM_WATER_INDEX_COUNT][3];
 
 #endif
