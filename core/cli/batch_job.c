@@ -62,8 +62,7 @@ char *manifest_path(const manifest *m, const cJSON *job, const char *key)
     return p;
 }
 
-/* --key value for one of the job's settings */
-static int add_setting(job_argv *a, const cJSON *item, char *msg, size_t msg_size)
+int job_add_setting(job_argv *a, const cJSON *item, const char *who, char *msg, size_t msg_size)
 {
     char flag[64], value[64];
     snprintf(flag, sizeof flag, "--%s", item->string);
@@ -72,7 +71,7 @@ static int add_setting(job_argv *a, const cJSON *item, char *msg, size_t msg_siz
             *c = '-';
     const option_spec *o = option_find(flag);
     if (!o || (o->flags & NOT_PARSED && strcmp(o->flag, "preset") != 0) || listed(refused_options, o->flag)) {
-        snprintf(msg, msg_size, "key '%s' is not a render option a job may set", item->string);
+        snprintf(msg, msg_size, "key '%s' is not a render option %s may set", item->string, who);
         return 2;
     }
     const char *text = value;
@@ -121,7 +120,7 @@ int job_to_argv(const manifest *m, const cJSON *job, job_argv *a, char *msg, siz
     for (const cJSON *item = job->child; item; item = item->next) {
         if (!strcmp(item->string, "output") || !strcmp(item->string, "sidecar") || listed(job_info_keys, item->string))
             continue;
-        int code = add_setting(a, item, msg, msg_size);
+        int code = job_add_setting(a, item, "a job", msg, msg_size);
         if (code)
             return code;
     }

@@ -38,6 +38,10 @@ typedef struct job_argv {
 } job_argv;
 int job_to_argv(const manifest *m, const cJSON *job, job_argv *a, char *msg, size_t msg_size);
 int job_argv_add(job_argv *a, const char *s);
+/* --key value (or --key for a switch) for one setting item, a preset's key ("sun_elevation"): 0, or
+ * 2 with one line in msg for a key that is no render option who ("a job") may set, or a value of
+ * the wrong JSON type.  The value itself is checked when the argv is parsed. */
+int job_add_setting(job_argv *a, const cJSON *item, const char *who, char *msg, size_t msg_size);
 void job_argv_free(job_argv *a);
 
 /* Checks a job as `render` would parse it (keys, values, options that go together); 0 or 2 with msg. */

@@ -4,6 +4,7 @@
 #include "batch.h"
 #include "numbers.h"
 #include "option_table.h"
+#include "output_args.h"
 #include "preset_args.h"
 #include "report.h"
 #include "sun_command.h"
@@ -35,22 +36,6 @@ static void on_signal(int sig)
 static void install_signal_handlers(void)
 {
     platform_on_interrupt(on_signal);
-}
-
-/* The sidecar's default path: the output with its .exr extension (if any) replaced by .json. */
-static char *default_sidecar(const char *output)
-{
-    size_t n = strlen(output);
-    const char *slash = platform_last_separator(output);
-    const char *dot = strrchr(output, '.');
-    if (dot && (!slash || dot > slash) && dot != output && dot - 1 != slash)
-        n = (size_t)(dot - output);
-    char *s = malloc(n + 6);
-    if (s) {
-        memcpy(s, output, n);
-        memcpy(s + n, ".json", 6);
-    }
-    return s;
 }
 
 /* render --preset: the expanded options and the user's own, to tell who set a refused value */
@@ -227,13 +212,6 @@ static fm_status stage_extras(const options *opt, fm_output *out, const fm_image
     return FM_OK;
 }
 
-/* The map's file format: an EXR with its pixel type and compression, or a Radiance picture. */
-static fm_status set_format(const options *opt, fm_output *out, fm_error *err)
-{
-    return opt->format == FORMAT_HDR ? fm_output_set_radiance(out, err)
-                                     : fm_output_set_format(out, opt->half, opt->compression, err);
-}
-
 /* ---- time series: render --time-start HH:MM --time-end HH:MM --step MIN ------------------------ */
 
 /* path with _NNNN before its extension: sky.exr -> sky_0003.exr, out -> out_0003 */
@@ -317,7 +295,7 @@ static int run_series(options *opt, const fm_colour_config *colour)
             if ((s = fm_output_open(exr, json, &out, &err))) {
                 report_library_error(&err);
                 code = s == FM_ERR_IO ? EXIT_USAGE : exit_code_for(s);
-            } else if ((s = set_format(opt, out, &err)) ||
+            } else if ((s = output_set_format(opt, out, &err)) ||
                        (s = fm_render(sky, &opt->render, &img, &err)) ||
                        (img->content == FM_IMAGE_XYZ &&
                         (s = fm_image_to_colorspace(img, colour, opt->colorspace, &err))) ||
@@ -480,8 +458,8 @@ static int run_render_options(int argc, char **argv)
         code = s == FM_ERR_IO ? EXIT_USAGE : exit_code_for(s);
         goto done;
     }
-    if ((s = set_format(&opt, out, &err)) || (origin.job && (s = fm_output_set_job(out, origin.job, &err))) ||
-        (disk_out && (s = set_format(&opt, disk_out, &err))) ||
+    if ((s = output_set_format(&opt, out, &err)) || (origin.job && (s = fm_output_set_job(out, origin.job, &err))) ||
+        (disk_out && (s = output_set_format(&opt, disk_out, &err))) ||
         (s = fm_render(sky, &opt.render, &img, &err)) ||
         (opt.spectral && (spectral = img, img = NULL, s = fm_image_spectral_to_xyz(spectral, &img, &err))) ||
         (img->content == FM_IMAGE_XYZ && (s = fm_image_to_colorspace(img, colour, opt.colorspace, &err))) ||

@@ -148,3 +148,11 @@ int fm_sky_solar_position(const fm_sky *sky, fm_solar_position *out, unsigned *c
     *out = sky->solar;
     return 1;
 }
+
+fm_status fm_sky_params_resolve_sun(const fm_sky_params *params, fm_sky_params *out, fm_error *err)
+{
+    fm_solar_position solar;
+    unsigned computed;
+    int has_solar;
+    return sky_resolve_sun(params, out, &solar, &computed, &has_solar, err);
+}

@@ -278,6 +278,11 @@ fm_status fm_sky_set_sun(fm_sky *sky, double elevation_deg, double azimuth_deg, 
  * Earth-Sun distance is the day's and stays. */
 fm_status fm_sky_set_time(fm_sky *sky, int hour, int minute, double second, fm_error *err);
 
+/* params with each of sun_elevation_deg, sun_azimuth_deg and earth_sun_distance_au that holds
+ * FM_SUN_FROM_TIME computed from the date, time and place, as fm_sky_create computes them; the
+ * rest copied.  For callers that place the sun themselves (fm_sky_live_render). */
+fm_status fm_sky_params_resolve_sun(const fm_sky_params *params, fm_sky_params *out, fm_error *err);
+
 /* Which sky parameters came from the solar position. */
 #define FM_SUN_COMPUTED_ELEVATION 1u
 #define FM_SUN_COMPUTED_AZIMUTH 2u
