@@ -2,17 +2,21 @@
  * the fast quadrature and the tables against the closed form. */
 #include "check.h"
 
+#include "atmosphere/atmosphere_file.h"
 #include "atmosphere/optical_depth.h"
 #include "atmosphere/sun_irradiance.h"
 #include "base/rng.h"
 #include "base/threads.h"
 #include "base/units.h"
 #include "transport/free_flight.h"
+#include "transport/single_scatter.h"
 #include "transport/sky_path.h"
 #include "transport/view_ray_vertices.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static fm_sky *sky;
 
@@ -389,6 +393,39 @@ static void view_ray_columns_are_exact(void **state)
     fm_sky_destroy(urban);
 }
 
+/* An opaque medium at the atmosphere file's bounds (a coefficient of 1 m^-1 times a tabulated
+ * profile of 1000, up to 10000 km): the vertical ray's last piece, 5000 to 10000 km, is 5e9 deep,
+ * beyond an int.  The single-scattering quadrature splits every piece into the most subdivisions
+ * it allows (SS_MAX_SPLIT, 32: each piece is over 32 deep), not into a count converted from that
+ * depth. */
+static void opaque_pieces_split_the_most(void **state)
+{
+    char *path = test_write_temp("atmosphere",
+                                 "{\"planet_radius_km\": 6360, \"top_altitude_km\": 10000, \"solar_irradiance\": 1, "
+                                 "\"constituents\": [{\"profile\": {\"type\": \"tabulated\", \"altitudes_km\": [0, "
+                                 "10000], \"values\": [1000, 1000]}, \"scattering\": 1, \"phase\": {\"type\": "
+                                 "\"rayleigh\"}}]}");
+    spectral_grid grid;
+    spectral_grid_single(&grid, 550.0);
+    atmosphere atm;
+    fm_error err = {0};
+    assert_int_equal(atmosphere_init_from_file(&atm, path, &grid, 1.0, 0.2, &err), FM_OK);
+    const path_context pc = {.atm = &atm};
+    const vec3 origin = v3(0.0, 0.0, atm.bottom_radius_m), up = v3(0.0, 0.0, 1.0);
+    double bounds[140];
+    int nb = ray_pieces(&atm, atm.bottom_radius_m, 1.0, atm.top_radius_m - atm.bottom_radius_m, bounds, 140);
+    single_scatter_ray ray;
+    assert_int_equal(single_scatter_ray_init(&ray, &pc, origin, up, 6), FM_OK);
+    print_message("opaque vertical ray: %d pieces between breakpoints, %d quadrature points\n", nb - 1, ray.n);
+    assert_int_equal(ray.n, 6 * 32 * (nb - 1));
+    for (int i = 0; i < ray.n; i++) /* the points' view depths are finite */
+        assert_true(isfinite(ray.point[(size_t)i * (3 + atm.species_count + 1) + 3 + atm.species_count]));
+    single_scatter_ray_free(&ray);
+    atmosphere_free(&atm);
+    unlink(path);
+    free(path);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -404,6 +441,7 @@ int main(void)
         cmocka_unit_test(table_rows_hold_the_edges),
         cmocka_unit_test(sun_table_across_a_layer_top),
         cmocka_unit_test(view_ray_columns_are_exact),
+        cmocka_unit_test(opaque_pieces_split_the_most),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -257,8 +257,10 @@ static double table_mu(const atmosphere *atm, double H, double r, double xmu)
     double rb = atm->bottom_radius_m, rt = atm->top_radius_m;
     double rho = safe_sqrt(r * r - rb * rb);
     double d_min = rt - r, d_max = rho + H;
-    double d = d_min + xmu * (d_max - d_min);
-    return d == 0.0 ? 1.0 : clamp_cosine((H * H - rho * rho - d * d) / (2.0 * r * d));
+    double d = d_min + xmu * (d_max - d_min), twice_rd = 2.0 * r * d;
+    /* d = 0 at the top looking up (mu = 1); the test on 2 r d, not on d alone, keeps a division by
+     * zero out whatever the radius (r >= 100 km by the atmosphere files' bound) */
+    return twice_rd > 0.0 ? clamp_cosine((H * H - rho * rho - d * d) / twice_rd) : 1.0;
 }
 
 typedef struct table_job {
