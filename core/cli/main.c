@@ -7,6 +7,7 @@
 #include "output_args.h"
 #include "preset_args.h"
 #include "report.h"
+#include "serve.h"
 #include "sun_command.h"
 #include "time_args.h"
 #include "revision.h" /* FIRMAMENT_REVISION, written at build time (cmake/revision.cmake) */
@@ -629,6 +630,8 @@ static int run_command(int argc, char **argv)
         return run_info(argc - 1, argv + 1);
     if (strcmp(cmd, "sun") == 0)
         return run_sun(argc - 1, argv + 1);
+    if (strcmp(cmd, "serve") == 0)
+        return run_serve(argc - 1, argv + 1);
     report_error("unknown command '%s' (try: firmament render, or firmament --help)", cmd);
     return EXIT_USAGE;
 }

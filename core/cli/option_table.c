@@ -347,6 +347,8 @@ void option_print_usage(FILE *f)
           "       firmament compare IMAGE.exr REFERENCE.exr [--exclude-sun DEG] [--json]\n"
           "       firmament info FILE.exr   (the EXR's header: standard and firmament.* attributes)\n"
           "       firmament options --json  (these options as JSON: flags, preset keys, ranges, defaults)\n"
+          "       firmament serve [--cache DIR | --no-cache] [--memory N] [--threads N]\n"
+          "                       (a map per JSON request line on standard input, for live clients)\n"
           "       firmament --help | --version\n"
           "\n"
           "Renders the sky seen from one place as an equirectangular OpenEXR map (Blender's\n"

@@ -69,6 +69,17 @@ runs "compare" compare "$o/eq.exr" "$o/eq.exr" --exclude-sun 2 --json
 runs "info" info "$o/aces.exr"
 runs "list colour spaces" render --list-colorspaces
 
+# serve: a bad line and a map, then the end of the input; a second server takes the atmosphere from
+# the disk cache (tests/cli/test_serve.py checks the protocol)
+printf '%s\n' 'not json' "{\"id\": 1, \"output\": \"$o/served.exr\", \"width\": 16, \"quality\": \"preview\"}" \
+    >"$work/requests"
+runs "serve" serve --cache "$work/cache" <"$work/requests"
+written "$o/served.exr" "$o/served.json"
+grep -q '"status":"error"' "$work/stdout" && grep -q '"cache":"built"' "$work/stdout" && ok ||
+    fail "serve: $(cat "$work/stdout")"
+runs "serve, disk cache" serve --cache "$work/cache" <"$work/requests"
+grep -q '"cache":"disk"' "$work/stdout" && ok || fail "serve, disk cache: $(cat "$work/stdout")"
+
 mkdir -p "$work/bad" && printf '{"sun_elevation": 30,' >"$work/bad/broken.json"
 expect_usage_error "malformed preset" render --preset "$work/bad/broken.json" --width 16
 expect_usage_error "malformed atmosphere" render --atmosphere "$work/bad/broken.json" --wavelength 550

@@ -1,0 +1,164 @@
+#include "serve_cache.h"
+
+#include "report.h"
+
+#include "base/platform.h"
+#include "base/text.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct slot {
+    char key[33];
+    fm_sky_live *live; /* NULL: empty */
+    unsigned long used; /* the cache's clock when last asked for */
+} slot;
+
+struct live_cache {
+    char *dir; /* NULL: no disk cache */
+    int keep;
+    slot *slots;
+    unsigned long clock;
+};
+
+const char *live_source_name(live_source s)
+{
+    return s == LIVE_FROM_MEMORY ? "memory" : s == LIVE_FROM_DISK ? "disk" : "built";
+}
+
+int live_cache_default_dir(char *out, size_t size)
+{
+#ifdef _WIN32
+    const char *base = getenv("LOCALAPPDATA"), *below = "";
+#else
+    const char *base = getenv("XDG_CACHE_HOME"), *below = "";
+    if (!base || !base[0]) { /* the XDG base directory default */
+        base = getenv("HOME");
+        below = "/.cache";
+    }
+#endif
+    if (!base || !base[0])
+        return -1;
+    snprintf(out, size, "%s%s/firmament", base, below);
+    return 0;
+}
+
+/* Creates dir and the folders above it that are missing: 0, or -1 with errno set. */
+static int make_dirs(char *dir)
+{
+    for (char *c = dir + 1; *c; c++) {
+        if (*c != '/' && *c != '\\')
+            continue;
+        char sep = *c;
+        *c = '\0';
+        int failed = platform_path_kind(dir) != PLATFORM_DIRECTORY && platform_make_dir(dir) != 0;
+        *c = sep;
+        if (failed)
+            return -1;
+    }
+    return platform_make_dir(dir);
+}
+
+live_cache *live_cache_open(const char *dir, int keep)
+{
+    live_cache *c = calloc(1, sizeof *c);
+    if (!c || !(c->slots = calloc((size_t)(keep > 1 ? keep : 1), sizeof *c->slots))) {
+        free(c);
+        return NULL;
+    }
+    c->keep = keep > 1 ? keep : 1;
+    if (dir && !(c->dir = text_copy(dir))) {
+        live_cache_close(c);
+        return NULL;
+    }
+    if (c->dir && make_dirs(c->dir) != 0) { /* the server still runs, cold at every start */
+        report_error("serve: cannot create the cache folder '%s' (%s); atmospheres are kept in memory only", c->dir,
+                     strerror(errno));
+        free(c->dir);
+        c->dir = NULL;
+    }
+    return c;
+}
+
+void live_cache_close(live_cache *c)
+{
+    if (!c)
+        return;
+    for (int i = 0; c->slots && i < c->keep; i++)
+        fm_sky_live_destroy(c->slots[i].live);
+    free(c->slots);
+    free(c->dir);
+    free(c);
+}
+
+/* dir/KEY.fmlive (malloc'd), or NULL without a disk cache or memory. */
+static char *cache_file(const live_cache *c, const char *key)
+{
+    if (!c->dir)
+        return NULL;
+    size_t n = strlen(c->dir) + strlen(key) + 16;
+    char *p = malloc(n);
+    if (p)
+        snprintf(p, n, "%s/%s.fmlive", c->dir, key);
+    return p;
+}
+
+/* The slot for a new atmosphere: an empty one, else the least recently used, emptied. */
+static slot *free_slot(live_cache *c)
+{
+    slot *oldest = &c->slots[0];
+    for (int i = 0; i < c->keep; i++) {
+        if (!c->slots[i].live)
+            return &c->slots[i];
+        if (c->slots[i].used < oldest->used)
+            oldest = &c->slots[i];
+    }
+    fm_sky_live_destroy(oldest->live);
+    oldest->live = NULL;
+    return oldest;
+}
+
+fm_status live_cache_get(live_cache *c, const fm_sky_params *params, const atomic_int *cancel, const fm_sky_live **out,
+                         live_source *source, fm_error *err)
+{
+    char key[33];
+    fm_sky_live_key(params, key);
+    c->clock++;
+    for (int i = 0; i < c->keep; i++)
+        if (c->slots[i].live && strcmp(c->slots[i].key, key) == 0) {
+            c->slots[i].used = c->clock;
+            *out = c->slots[i].live;
+            *source = LIVE_FROM_MEMORY;
+            return FM_OK;
+        }
+    slot *s = free_slot(c);
+    char *path = cache_file(c, key);
+    fm_sky_live *live = NULL;
+    *source = LIVE_FROM_DISK;
+    if (path && platform_path_kind(path) == PLATFORM_FILE) {
+        fm_error refused = {0};
+        if (fm_sky_live_load(params, path, &live, &refused)) {
+            report_error("serve: cache file '%s' refused (%s); rebuilding it", path, refused.message);
+            live = NULL;
+        }
+    }
+    if (!live) {
+        *source = LIVE_BUILT;
+        fm_status st = fm_sky_live_create(params, cancel, &live, err);
+        if (st) {
+            free(path);
+            return st;
+        }
+        fm_error unsaved = {0};
+        if (path && fm_sky_live_save(live, path, &unsaved)) /* the server goes on, cold next time */
+            report_error("serve: cannot save the atmosphere to the cache: %s", unsaved.message);
+    }
+    free(path);
+    memcpy(s->key, key, sizeof s->key);
+    s->live = live;
+    s->used = c->clock;
+    *out = live;
+    return FM_OK;
+}

@@ -1,0 +1,33 @@
+/* The built atmospheres of `firmament serve` (fm_sky_live): the last few used in memory, and every
+ * one on disk in a cache folder under its key (fm_sky_live_key), so that a new server starts warm.
+ * A cache file the library refuses (corrupt, truncated, another version's) is rebuilt and replaced,
+ * never used.  fm_sky_live_save writes a file whole or not at all. */
+#ifndef FM_CLI_SERVE_CACHE_H
+#define FM_CLI_SERVE_CACHE_H
+
+#include "firmament/firmament.h"
+
+#include <stddef.h>
+
+typedef enum live_source { LIVE_FROM_MEMORY, LIVE_FROM_DISK, LIVE_BUILT } live_source;
+
+typedef struct live_cache live_cache;
+
+/* dir: the cache folder (created with its parents when missing), or NULL for none; keep: the
+ * atmospheres kept in memory, at least 1.  NULL when out of memory. */
+live_cache *live_cache_open(const char *dir, int keep);
+void live_cache_close(live_cache *c); /* accepts NULL */
+
+/* The built atmosphere of params (its sun already resolved: fm_sky_params_resolve_sun), from
+ * memory, the disk or a build (then saved); owned by the cache, valid until the next call. */
+fm_status live_cache_get(live_cache *c, const fm_sky_params *params, const atomic_int *cancel, const fm_sky_live **out,
+                         live_source *source, fm_error *err);
+
+/* "memory", "disk", "built" */
+const char *live_source_name(live_source s);
+
+/* The default cache folder: $XDG_CACHE_HOME/firmament, else ~/.cache/firmament (Windows:
+ * %LOCALAPPDATA%\firmament); 0, or -1 when none of those variables is set. */
+int live_cache_default_dir(char *out, size_t size);
+
+#endif

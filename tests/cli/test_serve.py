@@ -1,0 +1,324 @@
+#!/usr/bin/env python3
+"""`firmament serve` driven as a client drives it (docs/cli.md, "firmament serve").
+
+Usage: test_serve.py path/to/firmament [session|signal|cache ...]   (default: all three)
+
+session  ten requests (one malformed, one superseded: two sent while a build renders, the first
+         of them answered "superseded" and the newest done), then the end of the input: every
+         request answered once, in order of completion; each done map is a whole EXR (read back by
+         `firmament compare`) with its sidecar, and its sun is the request's: in the EXR header, in
+         the sidecar, and in the pixels (the map is close to `firmament render` at that sun and far
+         from one at another sun); bad requests are answered with the field and `render`'s own
+         message; the last request, sent just before the end of the input, is still answered.
+signal   SIGTERM while a map renders: exit status 128 + 15, no map, no temporary file, an existing
+         map kept as it was; and SIGTERM while idle.
+cache    a second server on the same cache folder takes the atmosphere from the disk (both times
+         printed, not asserted); a truncated or byte-flipped cache file is refused, rebuilt and
+         replaced (a third server takes it from the disk again).
+Small maps at preview quality keep it to seconds per build."""
+import json
+import math
+import os
+import queue
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+FM = os.path.abspath(sys.argv[1])
+SOURCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+PARTS = sys.argv[2:] or ["session", "signal", "cache"]
+SMALL = {"quality": "preview", "width": 32}
+failures = []
+
+
+def check(ok, what):
+    if not ok:
+        failures.append(what)
+        print("FAIL:", what)
+    return ok
+
+
+class Server:
+    """A running `firmament serve`; replies are read by a thread into a queue."""
+
+    def __init__(self, cwd, *args):
+        self.proc = subprocess.Popen([FM, "serve", *args], cwd=cwd, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                     stderr=subprocess.PIPE, text=True)
+        self.replies = queue.Queue()
+        self.stderr = []
+        self.readers = [threading.Thread(target=self._read, args=(self.proc.stdout, self.replies.put), daemon=True),
+                        threading.Thread(target=self._read, args=(self.proc.stderr, self.stderr.append), daemon=True)]
+        for t in self.readers:
+            t.start()
+
+    @staticmethod
+    def _read(stream, put):
+        for line in stream:
+            put(line)
+
+    def send(self, request):
+        self.proc.stdin.write((request if isinstance(request, str) else json.dumps(request)) + "\n")
+        self.proc.stdin.flush()
+
+    def reply(self, timeout=120):
+        line = self.replies.get(timeout=timeout)
+        return json.loads(line)  # every reply is one JSON object on one line
+
+    def rest(self):
+        """The replies not read yet, once the server has ended (its output read to the end)."""
+        for t in self.readers:
+            t.join(timeout=30)
+        rest = []
+        while not self.replies.empty():
+            rest.append(json.loads(self.replies.get()))
+        return rest
+
+    def finish(self, timeout=120):
+        self.proc.stdin.close()
+        code = self.proc.wait(timeout=timeout)
+        return code, self.rest()
+
+
+def direction(elevation, azimuth):
+    e, a = math.radians(elevation), math.radians(azimuth)
+    return [math.cos(e) * math.sin(a), math.cos(e) * math.cos(a), math.sin(e)]
+
+
+def header(path):
+    """`firmament info`: the EXR header as {name: value text}."""
+    out = subprocess.run([FM, "info", path], capture_output=True, text=True)
+    check(out.returncode == 0, f"firmament info {path}: {out.stderr.strip()}")
+    return dict(line.split(" (", 1)[0:1] + [line.split("): ", 1)[1]] for line in out.stdout.splitlines()
+                if "): " in line)
+
+
+def compare(a, b):
+    out = subprocess.run([FM, "compare", a, b, "--json", "--exclude-sun", "3"], capture_output=True, text=True)
+    check(out.returncode == 0, f"compare {a} {b}: {out.stderr.strip()}")
+    return json.loads(out.stdout) if out.returncode == 0 else {"rms": math.inf, "pixels": 0}
+
+
+def leftovers(folder, expected):
+    """Files in folder other than the expected ones (temporaries, partial maps)."""
+    return sorted(set(os.listdir(folder)) - set(expected))
+
+
+def check_done(reply, folder, elevation, azimuth, width=32, colorspace="Linear Rec.709"):
+    """A done reply: the map and sidecar exist, the map reads back whole, its sun is the request's."""
+    if not check(reply.get("status") == "done", f"{reply.get('id')}: done, not {reply}"):
+        return
+    exr, sidecar = os.path.join(folder, reply["output"]), os.path.join(folder, reply["sidecar"])
+    check(os.path.isfile(exr) and os.path.isfile(sidecar), f"{reply['id']}: {exr} and {sidecar} exist")
+    with open(sidecar) as f:
+        side = json.load(f)
+    check(side["sun"] == reply["sun"] and side["image"] == reply["image"],
+          f"{reply['id']}: the reply holds the sidecar's fields")
+    check(side["image"]["width"] == width and side["image"]["colorspace"] == colorspace,
+          f"{reply['id']}: sidecar image {side['image']['width']} wide in {side['image']['colorspace']}")
+    want = direction(elevation, azimuth)
+    got = side["sun"]["direction"]
+    check(max(abs(g - w) for g, w in zip(got, want)) < 1e-6,
+          f"{reply['id']}: sidecar sun direction {got}, requested {want} (elevation {elevation}, azimuth {azimuth})")
+    h = header(exr)
+    check(abs(float(h.get("firmament.sun.elevation_deg", "nan")) - elevation) < 1e-6,
+          f"{reply['id']}: EXR header sun elevation {h.get('firmament.sun.elevation_deg')} = {elevation}")
+    whole = compare(exr, exr)
+    check(whole["pixels"] > 0.9 * width * width / 2, f"{reply['id']}: {exr} reads back whole ({whole['pixels']} px)")
+    check(isinstance(reply.get("seconds"), (int, float)) and reply["seconds"] >= 0, f"{reply['id']}: seconds")
+
+
+def cli_render(folder, name, elevation, azimuth):
+    path = os.path.join(folder, name)
+    out = subprocess.run([FM, "render", "--quality", "preview", "--width", "32", "--sun-elevation", str(elevation),
+                          "--sun-azimuth", str(azimuth), "-o", path, "--progress", "none"], capture_output=True,
+                         text=True)
+    check(out.returncode == 0, f"render {name}: {out.stderr.strip()}")
+    return path
+
+
+def sun_of(date, clock, utc_offset, latitude, longitude):
+    """`firmament sun --json` (six decimals of a degree: 1e-8 in a direction's components)."""
+    out = subprocess.run([FM, "sun", "--date", date, "--time", clock, "--utc-offset", utc_offset, "--latitude",
+                          str(latitude), "--longitude", str(longitude), "--json"], capture_output=True, text=True)
+    return json.loads(out.stdout)
+
+
+def cli_message(*args):
+    """The one line `firmament render` prints for a bad option, without its "firmament: "."""
+    out = subprocess.run([FM, "render", *args, "--progress", "none", "-o", os.devnull + ".exr"],
+                         capture_output=True, text=True)
+    check(out.returncode == 2, f"render {args}: exit 2")
+    return out.stderr.strip().removeprefix("firmament: ")
+
+
+# ---- a session of ten requests --------------------------------------------------------------------
+
+def session(tmp):
+    with open(os.path.join(SOURCE, "presets", "skies", "golden-hour.json")) as f:
+        golden = json.load(f)
+    srv = Server(tmp, "--cache", os.path.join(tmp, "cache"), "--threads", "2")
+    # 1: a new atmosphere: built, then rendered; 2 and 3 arrive while it builds
+    srv.send({"id": 1, "output": "r1.exr", "sun_elevation": 10, "sun_azimuth": 180, **SMALL})
+    time.sleep(0.3)  # the server has taken request 1 (it builds for a second or more)
+    srv.send({"id": 2, "output": "r2.exr", "sun_elevation": 20, "sun_azimuth": 90, **SMALL})
+    srv.send({"id": "three", "output": "r3.exr", "sun_elevation": 35, "sun_azimuth": 250, **SMALL})
+    replies = [srv.reply() for _ in range(3)]
+    ids = [r.get("id") for r in replies]
+    check(ids == [2, 1, "three"], f"replies to 1, 2, 3 in the order 2 (superseded), 1, three: {ids}")
+    by_id = {r.get("id"): r for r in replies}
+    check(by_id.get(2, {}).get("status") == "superseded", f"request 2 superseded: {by_id.get(2, {}).get('status')}")
+    check(not os.path.exists(os.path.join(tmp, "r2.exr")), "no map for the superseded request")
+    check_done(by_id.get(1, {}), tmp, 10, 180)
+    check_done(by_id.get("three", {}), tmp, 35, 250)
+    check(by_id.get(1, {}).get("cache") == "built", f"request 1 built its atmosphere: {by_id.get(1, {}).get('cache')}")
+    check(by_id.get("three", {}).get("cache") == "memory", "request three took the atmosphere from memory")
+    # the map's sun in its pixels: close to `render` at that sun, far from `render` at another
+    same = compare(os.path.join(tmp, "r3.exr"), cli_render(tmp, "cli_same.exr", 35, 250))
+    other = compare(os.path.join(tmp, "r3.exr"), cli_render(tmp, "cli_other.exr", 35, 70))
+    print(f"r3 against render at its sun: rms {same['rms']:.4f}; at another azimuth: rms {other['rms']:.4f}")
+    check(same["rms"] < 0.05 and other["rms"] > 0.2, f"r3's pixels follow its sun: {same['rms']}, {other['rms']}")
+
+    # 4: not JSON; 5: a value out of range; 6: an unknown key; 7: a wrong type -- each answered,
+    # the server goes on
+    srv.send("{this is not json")
+    r = srv.reply()
+    check(r.get("status") == "error" and r.get("id") is None and "line 4" in r.get("message", ""),
+          f"malformed line answered: {r}")
+    srv.send({"id": 5, "output": "r5.exr", "sun_elevation": 95, **SMALL})
+    r = srv.reply()
+    check(r.get("status") == "error" and r.get("field") == "sun_elevation" and r.get("id") == 5
+          and r.get("message") == cli_message("--sun-elevation", "95"), f"out-of-range value answered as render: {r}")
+    srv.send({"id": 6, "output": "r6.exr", "turbidty": 2, **SMALL})
+    r = srv.reply()
+    check(r.get("status") == "error" and r.get("field") == "turbidty", f"unknown key named: {r}")
+    srv.send({"id": 7, "output": "r7.exr", "biome": "nowhere", **SMALL})
+    r = srv.reply()
+    check(r.get("status") == "error" and r.get("field") == "biome"
+          and r.get("message") == cli_message("--biome", "nowhere"), f"unknown biome answered as render: {r}")
+
+    # 8: a preset, its sun from the time; 9: the sun from a date, time and place, ACEScg, a sidecar
+    # of its own name
+    srv.send({"id": 8, "output": "r8.exr", "preset": "golden-hour", **SMALL})
+    sun8 = sun_of(golden["date"], golden["time"], golden["utc_offset"], golden["latitude"], golden["longitude"])
+    check_done(srv.reply(), tmp, sun8["elevation_deg"], sun8["azimuth_deg"])
+    place = {"date": "2023-06-21", "time": "20:45", "utc_offset": "+02:00", "latitude": 48.85, "longitude": 2.35}
+    srv.send({"id": 9, "output": "r9.exr", "sidecar": "r9-sky.json", "colorspace": "ACEScg", **place, **SMALL})
+    r9 = srv.reply()
+    check(r9.get("sidecar") == "r9-sky.json", f"the request's sidecar name: {r9.get('sidecar')}")
+    sun9 = sun_of(*place.values())
+    check_done(r9, tmp, sun9["elevation_deg"], sun9["azimuth_deg"], colorspace="ACEScg")
+
+    # 10: sent just before the end of the input: still answered, then the server exits 0
+    srv.send({"id": 10, "output": "r10.exr", "sun_elevation": -5, "sun_azimuth": 270, **SMALL})
+    code, rest = srv.finish()
+    check(code == 0, f"exit status 0 at the end of the input, not {code}: {''.join(srv.stderr)}")
+    check(len(rest) == 1 and rest[0].get("id") == 10, f"request 10 answered after the end of input: {rest}")
+    if rest:
+        check_done(rest[0], tmp, -5, 270)
+        # requests 8 and 9 (two other atmospheres) pushed 1's out of the two kept in memory
+        check(rest[0].get("cache") == "disk", f"request 10's atmosphere from the disk: {rest[0].get('cache')}")
+    expected = ["cache", "r1.exr", "r1.json", "r3.exr", "r3.json", "r8.exr", "r8.json", "r9.exr", "r9-sky.json",
+                "r10.exr", "r10.json", "cli_same.exr", "cli_same.json", "cli_other.exr", "cli_other.json"]
+    check(not leftovers(tmp, expected), f"nothing else written: {leftovers(tmp, expected)}")
+
+
+# ---- signals ----------------------------------------------------------------------------------------
+
+def signals(tmp):
+    out = os.path.join(tmp, "out")
+    os.mkdir(out)
+    with open(os.path.join(out, "kept.exr"), "w") as f:
+        f.write("an existing map")
+    srv = Server(out, "--no-cache")
+    # a larger map at final quality: seconds of rendering, into temporary files beside the map
+    srv.send({"id": "long", "output": "kept.exr", "width": 512, "turbidity": 3})
+    deadline = time.monotonic() + 60
+    while not any(n.startswith(".kept.exr.") for n in os.listdir(out)) and time.monotonic() < deadline:
+        time.sleep(0.02)
+    check(time.monotonic() < deadline, "the render's temporary files appeared")
+    srv.send({"id": "new", "output": "new.exr", "width": 512, "turbidity": 3})  # waits: cancelled too
+    time.sleep(0.3)
+    srv.proc.send_signal(signal.SIGTERM)
+    code = srv.proc.wait(timeout=60)
+    check(code == 128 + signal.SIGTERM, f"SIGTERM mid-render: exit {code}, not {128 + signal.SIGTERM}")
+    replies = srv.rest()
+    check(all(r.get("status") == "cancelled" for r in replies) and len(replies) == 2,
+          f"both requests answered cancelled: {replies}")
+    check(leftovers(out, ["kept.exr"]) == [], f"no map and no temporary: {os.listdir(out)}")
+    with open(os.path.join(out, "kept.exr")) as f:
+        check(f.read() == "an existing map", "the existing map is kept")
+
+    idle = Server(out, "--no-cache")
+    time.sleep(0.3)
+    idle.proc.send_signal(signal.SIGTERM)
+    code = idle.proc.wait(timeout=10)
+    check(code == 128 + signal.SIGTERM, f"SIGTERM while idle: exit {code}")
+
+
+# ---- the disk cache ---------------------------------------------------------------------------------
+
+def one_map(tmp, cache, name, elevation):
+    """A server that renders one map and ends: (reply, seconds from start to reply, stderr)."""
+    start = time.monotonic()
+    srv = Server(tmp, "--cache", cache)
+    srv.send({"id": name, "output": name + ".exr", "sun_elevation": elevation, "turbidity": 2, **SMALL})
+    code, rest = srv.finish()
+    seconds = time.monotonic() - start
+    check(code == 0 and len(rest) == 1, f"{name}: exit {code}, replies {rest}")
+    reply = rest[0] if rest else {}
+    check_done(reply, tmp, elevation, 180)
+    return reply, seconds, "".join(srv.stderr)
+
+
+def cache(tmp):
+    folder = os.path.join(tmp, "nested", "cache")  # created with its parents
+    first, t_built, _ = one_map(tmp, folder, "c1", 20)
+    files = os.listdir(folder) if os.path.isdir(folder) else []
+    check(len(files) == 1 and len(files[0].split(".")[0]) == 32, f"one cache file named by its key: {files}")
+    second, t_disk, _ = one_map(tmp, folder, "c2", 40)
+    print(f"first server (build): {t_built:.2f} s, its request {first.get('seconds')} s; "
+          f"second server (disk cache): {t_disk:.2f} s, its request {second.get('seconds')} s")
+    check(first.get("cache") == "built" and second.get("cache") == "disk",
+          f"built, then from the disk: {first.get('cache')}, {second.get('cache')}")
+    if len(files) != 1:
+        return
+    path = os.path.join(folder, files[0])
+    size = os.path.getsize(path)
+
+    def damaged(how, damage):
+        damage()
+        reply, _, err = one_map(tmp, folder, "d_" + how, 30)
+        check(reply.get("cache") == "built", f"{how} cache file rebuilt, not used: {reply.get('cache')}")
+        check("refused" in err, f"{how} cache file: stderr says it was refused: {err.strip()}")
+        check(os.path.getsize(path) == size, f"{how} cache file replaced whole ({os.path.getsize(path)} bytes)")
+        again, _, _ = one_map(tmp, folder, "e_" + how, 30)
+        check(again.get("cache") == "disk", f"after the {how} file was replaced: from the disk ({again.get('cache')})")
+
+    def truncate():
+        with open(path, "r+b") as f:
+            f.truncate(size // 2)
+
+    def flip():
+        with open(path, "r+b") as f:
+            data = bytearray(f.read())
+            for i in (len(data) // 3, len(data) // 2, len(data) - 9):
+                data[i] ^= 0x5A
+            f.seek(0)
+            f.write(data)
+
+    damaged("truncated", truncate)
+    damaged("byte-flipped", flip)
+    check(sorted(os.listdir(folder)) == files, f"no temporary left in the cache: {os.listdir(folder)}")
+
+
+for part, fn in (("session", session), ("signal", signals), ("cache", cache)):
+    if part in PARTS:
+        with tempfile.TemporaryDirectory() as tmp:
+            start = time.monotonic()
+            fn(tmp)
+            print(f"{part}: {time.monotonic() - start:.1f} s")
+print(f"{len(failures)} failures" if failures else "all serve checks passed")
+sys.exit(1 if failures else 0)
