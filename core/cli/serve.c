@@ -215,13 +215,26 @@ static cJSON *check_paths(const request *r)
     return NULL;
 }
 
-/* "done" with the files, the time taken, where the atmosphere came from and the sidecar's fields. */
-static cJSON *done_reply(const request *r, double seconds, live_source from)
+/* When a request began and ended its stages: taken, atmosphere found, map rendered, files in place. */
+enum { T_START, T_ATMOSPHERE, T_RENDER, T_WRITE, T_COUNT };
+
+static void add_seconds(cJSON *obj, const char *name, double s)
+{
+    cJSON_AddNumberToObject(obj, name, round(s * 1e4) / 1e4);
+}
+
+/* "done" with the files, the time taken (and per stage), where the atmosphere came from and the
+ * sidecar's fields. */
+static cJSON *done_reply(const request *r, const double t[T_COUNT], live_source from)
 {
     cJSON *reply = new_reply(r->id, "done");
     cJSON_AddStringToObject(reply, "output", r->opt.output);
     cJSON_AddStringToObject(reply, "sidecar", r->sidecar);
-    cJSON_AddNumberToObject(reply, "seconds", round(seconds * 1e4) / 1e4);
+    add_seconds(reply, "seconds", t[T_WRITE] - t[T_START]);
+    cJSON *stages = cJSON_AddObjectToObject(reply, "stage_seconds");
+    add_seconds(stages, "atmosphere", t[T_ATMOSPHERE] - t[T_START]);
+    add_seconds(stages, "render", t[T_RENDER] - t[T_ATMOSPHERE]);
+    add_seconds(stages, "write", t[T_WRITE] - t[T_RENDER]);
     cJSON_AddStringToObject(reply, "cache", live_source_name(from));
     fm_error err = {0};
     fm_status s;
@@ -236,7 +249,7 @@ static cJSON *done_reply(const request *r, double seconds, live_source from)
 
 static cJSON *serve_request(request *r, live_cache *cache, const fm_colour_config *colour, int threads)
 {
-    double start = platform_monotonic_seconds();
+    double t[T_COUNT] = {platform_monotonic_seconds()};
     options *opt = &r->opt;
     opt->sky.threads = threads;
     opt->render.threads = threads;
@@ -258,21 +271,24 @@ static cJSON *serve_request(request *r, live_cache *cache, const fm_colour_confi
     fm_status s = fm_sky_params_resolve_sun(&opt->sky, &sky, &err);
     if (!s)
         s = live_cache_get(cache, &sky, &cancel_signal, &live, &from, &err);
+    t[T_ATMOSPHERE] = platform_monotonic_seconds();
     if (!s && !(s = fm_output_open(opt->output, r->sidecar, &out, &err)))
         s = output_set_format(opt, out, &err);
     if (!s)
         s = fm_sky_live_render(live, sky.sun_elevation_deg, sky.sun_azimuth_deg, &opt->render, &img, &err);
     if (!s && img->content == FM_IMAGE_XYZ)
         s = fm_image_to_colorspace(img, colour, opt->colorspace, &err);
+    t[T_RENDER] = platform_monotonic_seconds();
     if (!s && !(s = fm_output_stage(out, img, &cancel_signal, &err)))
         s = fm_output_publish(&out, 1, &err);
+    t[T_WRITE] = platform_monotonic_seconds();
     fm_output_close(out); /* removes the temporary files a failure left */
     fm_image_destroy(img);
     if (s == FM_ERR_CANCELLED || (s && atomic_load(&cancel_signal)))
         return error_reply(r->id, "cancelled", NULL, "interrupted; nothing was written");
     if (s)
         return library_error_reply(r->id, &err);
-    return done_reply(r, platform_monotonic_seconds() - start, from);
+    return done_reply(r, t, from);
 }
 
 /* ---- the command -------------------------------------------------------------------------------- */

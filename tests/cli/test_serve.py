@@ -127,7 +127,10 @@ def check_done(reply, folder, elevation, azimuth, width=32, colorspace="Linear R
           f"{reply['id']}: EXR header sun elevation {h.get('firmament.sun.elevation_deg')} = {elevation}")
     whole = compare(exr, exr)
     check(whole["pixels"] > 0.9 * width * width / 2, f"{reply['id']}: {exr} reads back whole ({whole['pixels']} px)")
-    check(isinstance(reply.get("seconds"), (int, float)) and reply["seconds"] >= 0, f"{reply['id']}: seconds")
+    stages = reply.get("stage_seconds", {})
+    check(set(stages) == {"atmosphere", "render", "write"} and all(v >= 0 for v in stages.values())
+          and abs(sum(stages.values()) - reply.get("seconds", -1)) < 1e-3,
+          f"{reply['id']}: seconds {reply.get('seconds')} = the sum of stage_seconds {stages}")
 
 
 def cli_render(folder, name, elevation, azimuth):
