@@ -268,12 +268,13 @@ static cJSON *serve_request(request *r, live_cache *cache, const fm_colour_confi
     live_source from = LIVE_BUILT;
     fm_output *out = NULL;
     fm_image *img = NULL;
+    /* the files' temporaries first: a request whose files cannot be made fails before a build */
     fm_status s = fm_sky_params_resolve_sun(&opt->sky, &sky, &err);
+    if (!s && !(s = fm_output_open(opt->output, r->sidecar, &out, &err)))
+        s = output_set_format(opt, out, &err);
     if (!s)
         s = live_cache_get(cache, &sky, &cancel_signal, &live, &from, &err);
     t[T_ATMOSPHERE] = platform_monotonic_seconds();
-    if (!s && !(s = fm_output_open(opt->output, r->sidecar, &out, &err)))
-        s = output_set_format(opt, out, &err);
     if (!s)
         s = fm_sky_live_render(live, sky.sun_elevation_deg, sky.sun_azimuth_deg, &opt->render, &img, &err);
     if (!s && img->content == FM_IMAGE_XYZ)

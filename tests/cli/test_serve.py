@@ -10,8 +10,9 @@ session  ten requests (one malformed, one superseded: two sent while a build ren
          the sidecar, and in the pixels (the map is close to `firmament render` at that sun and far
          from one at another sun); bad requests are answered with the field and `render`'s own
          message; the last request, sent just before the end of the input, is still answered.
-signal   SIGTERM while a map renders: exit status 128 + 15, no map, no temporary file, an existing
-         map kept as it was; and SIGTERM while idle.
+signal   SIGTERM mid-request (its temporary files made, its atmosphere building): exit status
+         128 + 15, both requests answered "cancelled", no map, no temporary file, an existing map kept
+         as it was; and SIGTERM while idle.
 cache    a second server on the same cache folder takes the atmosphere from the disk (both times
          printed, not asserted); a truncated or byte-flipped cache file is refused, rebuilt and
          replaced (a third server takes it from the disk again).
@@ -182,7 +183,7 @@ def session(tmp):
     same = compare(os.path.join(tmp, "r3.exr"), cli_render(tmp, "cli_same.exr", 35, 250))
     other = compare(os.path.join(tmp, "r3.exr"), cli_render(tmp, "cli_other.exr", 35, 70))
     print(f"r3 against render at its sun: rms {same['rms']:.4f}; at another azimuth: rms {other['rms']:.4f}")
-    check(same["rms"] < 0.05 and other["rms"] > 0.2, f"r3's pixels follow its sun: {same['rms']}, {other['rms']}")
+    check(same["rms"] < 0.1 and other["rms"] > 0.3, f"r3's pixels follow its sun: {same['rms']}, {other['rms']}")
 
     # 4: not JSON; 5: a value out of range; 6: an unknown key; 7: a wrong type -- each answered,
     # the server goes on
@@ -236,12 +237,13 @@ def signals(tmp):
     with open(os.path.join(out, "kept.exr"), "w") as f:
         f.write("an existing map")
     srv = Server(out, "--no-cache")
-    # a larger map at final quality: seconds of rendering, into temporary files beside the map
+    # the request's temporary files are made first, then its atmosphere is built (a second or more):
+    # the signal comes during that build
     srv.send({"id": "long", "output": "kept.exr", "width": 512, "turbidity": 3})
     deadline = time.monotonic() + 60
     while not any(n.startswith(".kept.exr.") for n in os.listdir(out)) and time.monotonic() < deadline:
-        time.sleep(0.02)
-    check(time.monotonic() < deadline, "the render's temporary files appeared")
+        time.sleep(0.01)
+    check(time.monotonic() < deadline, "the request's temporary files appeared")
     srv.send({"id": "new", "output": "new.exr", "width": 512, "turbidity": 3})  # waits: cancelled too
     time.sleep(0.3)
     srv.proc.send_signal(signal.SIGTERM)
