@@ -3,6 +3,7 @@
  * replaces it (the replaced one is answered "superseded": a viewport wants the latest sky, not
  * every one).  The main thread takes the waiting request, renders it and answers.  Replies are
  * whole lines, written under the lock and flushed one by one; notes go to standard error. */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime (Windows: winpthreads' pthread_time.h) */
 #include "serve.h"
 
 #include "args.h"
@@ -180,7 +181,7 @@ static request *next_request(server *sv)
     while (!sv->waiting && !sv->input_ended && !atomic_load(&cancel_signal)) {
         /* a signal handler cannot signal the condition: look at the flag every 50 ms */
         struct timespec until;
-        timespec_get(&until, TIME_UTC);
+        clock_gettime(CLOCK_REALTIME, &until);
         until.tv_nsec += 50000000L;
         if (until.tv_nsec >= 1000000000L) {
             until.tv_sec++;
