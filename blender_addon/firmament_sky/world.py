@@ -166,6 +166,7 @@ def build_world_nodes(world, sky_image, disk_image, rotation_z, settings=None, s
         _ground_nodes(nodes, links, mapping, sky_bg, settings, sun)
     if settings.get("sun_mode") == "LAMP" and settings.get("camera_disk") and sun and \
             sun["elevation_deg"] + sun["angular_diameter_deg"] / 2 >= 0.0:
+        _camera_rolloff_nodes(nodes, links, sky_bg, settings, sun)  # before the disk: the disk stays whole
         _camera_disk_nodes(nodes, links, mapping, sky_bg, settings, sun)
     if disk_image is None:
         links.new(sky_bg.outputs["Background"], out.inputs["Surface"])
@@ -227,6 +228,58 @@ def _ground_nodes(nodes, links, mapping, bg, settings, sun):
     _mix_into(nodes, links, bg, "Ground", below.outputs["Value"], [c * k for c in rgb], (250, 450))
 
 
+# The camera's highlight roll-off, in scene-linear values after the suggested exposure: Filmic and AgX
+# (the default view transforms) reach white at 0.18 x 2^6.5 = 16.3, so an aureole above that clips
+# to the disk's white.  Above the knee, a luminance x stops over it shows as S (1 - e^(-x/S)) stops
+# (slope 1 at the knee, never more than S stops over it): at most 2.5 x 2^1.2 = 5.7, which Filmic
+# shows at 0.93 and AgX at 0.87 of white, below the disk (about 3e4: white in any transform).
+ROLLOFF_KNEE = 2.5
+ROLLOFF_STOPS = 1.2
+
+
+def _math(nodes, links, name, location, operation, a, b=None, c=None):
+    """A Math node; its inputs are sockets (linked) or numbers."""
+    m = _node(nodes, "ShaderNodeMath", name, location, operation=operation)
+    for i, v in enumerate((a, b, c)):
+        if v is None:
+            continue
+        if isinstance(v, (int, float)):
+            m.inputs[i].default_value = v
+        else:
+            links.new(v, m.inputs[i])
+    return m.outputs["Value"]
+
+
+def _camera_rolloff_nodes(nodes, links, bg, settings, sun):
+    """For camera rays only, the world's highlights above the knee rolled off (hue kept: the colour
+    scaled by the luminance's ratio), so that at the suggested exposure the aureole stays below white
+    and the camera's sun disk stands out of it.  Every other ray (lighting, reflections) sees the map
+    as it is.  Nothing is added without an exposure to key it to (night)."""
+    ev = metered_exposure(sun, settings.get("metering", "HORIZONTAL"))
+    if ev is None:
+        return
+    knee = ROLLOFF_KNEE * 2.0 ** -ev / max(settings.get("sky_strength", 1.0), 1e-6)  # in the map's values
+    source = bg.inputs["Color"].links[0].from_socket
+    lum = _node(nodes, "ShaderNodeRGBToBW", "Luminance", (-100, 1200))
+    links.new(source, lum.inputs["Color"])
+    above = _math(nodes, links, "Over Knee", (50, 1200), "MAXIMUM", lum.outputs["Val"], knee)
+    x = _math(nodes, links, "Stops Over Knee", (200, 1200), "LOGARITHM", _math(
+        nodes, links, "Ratio to Knee", (100, 1350), "DIVIDE", above, knee), 2.0)
+    fall = _math(nodes, links, "Shoulder", (350, 1200), "EXPONENT",
+                 _math(nodes, links, "Shoulder Rate", (250, 1350), "MULTIPLY", x, -1.0 / ROLLOFF_STOPS))
+    shown = _math(nodes, links, "Stops Shown", (500, 1200), "MULTIPLY_ADD", fall, -ROLLOFF_STOPS, ROLLOFF_STOPS)
+    scale = _math(nodes, links, "Roll-off", (650, 1200), "POWER", 2.0,
+                  _math(nodes, links, "Stops Removed", (550, 1350), "SUBTRACT", shown, x))
+    path = _node(nodes, "ShaderNodeLightPath", "Camera Path", (100, 1000))  # the disk's nodes use it too
+    mix = _node(nodes, "ShaderNodeMix", "Camera Roll-off", (800, 1200), data_type="RGBA", blend_type="MULTIPLY")
+    fac = [i for i in mix.inputs if i.name == "Factor" and i.type == "VALUE"][0]
+    a, b = [i for i in mix.inputs if i.type == "RGBA"][:2]
+    links.new(path.outputs["Is Camera Ray"], fac)
+    links.new(source, a)
+    links.new(scale, b)
+    links.new([o for o in mix.outputs if o.type == "RGBA"][0], bg.inputs["Color"])
+
+
 def _camera_disk_nodes(nodes, links, mapping, bg, settings, sun):
     """The sun disk for camera rays only (the lamp lights; nothing is counted twice): a uniform
     disk of the sun's angular size and its radiance, the direct normal irradiance / the disk's solid
@@ -239,7 +292,7 @@ def _camera_disk_nodes(nodes, links, mapping, bg, settings, sun):
     inside = _node(nodes, "ShaderNodeMath", "In Sun Disk", (100, 800), operation="GREATER_THAN")
     inside.inputs[1].default_value = math.cos(radius)
     links.new(dot.outputs["Value"], inside.inputs[0])
-    path = _node(nodes, "ShaderNodeLightPath", "Camera Path", (100, 1000))
+    path = nodes.get(NODE_PREFIX + "Camera Path") or _node(nodes, "ShaderNodeLightPath", "Camera Path", (100, 1000))
     camera = _node(nodes, "ShaderNodeMath", "Camera Sees Sun", (250, 900), operation="MULTIPLY")
     links.new(inside.outputs["Value"], camera.inputs[0])
     links.new(path.outputs["Is Camera Ray"], camera.inputs[1])

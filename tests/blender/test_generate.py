@@ -162,7 +162,8 @@ bpy.ops.firmament_sky.generate()
 h.check([o.name for o in h.sun_lamps()] == ["My Sun"], "a renamed lamp is reused: %s" % [o.name for o in h.sun_lamps()])
 h.check(len([l for l in bpy.data.lights if l.name.startswith("Firmament")]) == 1, "one Firmament light datablock")
 nodes = scene.world.node_tree.nodes
-h.check(len([n for n in nodes if n.name.startswith("Firmament")]) == 9, "nine Firmament nodes, five the camera's disk (%d)" %
+h.check(len([n for n in nodes if n.name.startswith("Firmament")]) == 19,
+        "19 Firmament nodes: five the camera's disk, ten its highlight roll-off (%d)" %
         len([n for n in nodes if n.name.startswith("Firmament")]))
 # a sun below the horizon: the lamp is hidden, not a 0 W lamp shining up through the ground
 p.sun_source, p.sun_elevation = "ANGLES", -4.0
