@@ -79,9 +79,21 @@ def build_arguments(executable, opts, s, output, sidecar, disk_map=None):
     return args
 
 
-def series_frames(start_h, end_h, step_min):
-    """How many maps `--time-start start --time-end end --step step` writes (the end included)."""
-    return int((round(end_h * 60) - round(start_h * 60)) // step_min) + 1
+def series_plan(s):
+    """(start, end, step) in minutes and the number of maps of a baked day.  With bake_timing STEP,
+    one every s["bake_step_min"] minutes from s["bake_start"] to at most s["bake_end"] (clock hours,
+    the end included when it falls on a step); with FRAME_RANGE, s["bake_frames"] maps from start to
+    exactly end: map i at start + i (end - start) / (frames - 1), frame frame_start + i."""
+    start, end = round(s["bake_start"] * 60), round(s["bake_end"] * 60)
+    if s.get("bake_timing", "STEP") == "FRAME_RANGE":
+        frames = s["bake_frames"]
+        if frames < 2:
+            raise SettingsError("bake a day over the frame range: it has %d frame; it needs at least 2" % frames)
+        return start, end, (end - start) / (frames - 1), frames
+    step = s["bake_step_min"]
+    if not 1 <= step <= 720:
+        raise SettingsError("bake a day: step %r min is outside [1, 720]" % step)
+    return start, end, step, (end - start) // step + 1
 
 
 def format_clock(hours):
@@ -90,21 +102,21 @@ def format_clock(hours):
 
 
 def build_series_arguments(executable, opts, s, output, sidecar):
-    """The argument list that renders a day: one map per s["bake_step_min"] minutes from
-    s["bake_start"] to s["bake_end"] (clock hours) on the settings' date and place, OUTPUT_0000.exr,
-    ... each with its sidecar; always without the disk (the lamp is keyframed per frame)."""
+    """The argument list that renders a day (series_plan) on the settings' date and place,
+    OUTPUT_0000.exr, ... each with its sidecar; always without the disk (the lamp is keyframed per
+    frame)."""
     if s["sun_source"] != "TIME":
         raise SettingsError("bake a day: set the sun from date, time and place (not angles)")
     if not (0.0 <= s["bake_start"] < s["bake_end"] <= 24.0 - 1.0 / 60.0):
         raise SettingsError("bake a day: start %s must be before end %s within the day"
                             % (format_clock(s["bake_start"]), format_clock(s["bake_end"])))
-    if not 1 <= s["bake_step_min"] <= 720:
-        raise SettingsError("bake a day: step %r min is outside [1, 720]" % s["bake_step_min"])
+    _start, _end, step, _frames = series_plan(s)
     one = dict(s, sun_mode="LAMP")
     args = build_arguments(executable, opts, one, output, sidecar)
     i = args.index("--time")
+    # a fractional step is passed exactly (repr): the executable counts the maps from it, the end included
     args[i:i + 2] = ["--time-start", format_clock(s["bake_start"]), "--time-end", format_clock(s["bake_end"]),
-                     "--step", str(s["bake_step_min"])]
+                     "--step", str(step) if isinstance(step, int) else repr(step)]
     return args
 
 

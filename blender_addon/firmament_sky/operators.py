@@ -44,7 +44,7 @@ class Job:
 
     def frames(self):
         """A finished series' [(exr, sidecar)] in order."""
-        n = command.series_frames(self.settings["bake_start"], self.settings["bake_end"], self.settings["bake_step_min"])
+        n = command.series_plan(self.settings)[3]
         return [(os.path.join(self.folder, "sky_%04d.exr" % i), os.path.join(self.folder, "sky_%04d.json" % i))
                 for i in range(n)]
 
@@ -55,6 +55,7 @@ class Job:
 def prepare(context, op, series=False):
     """Validated settings and a Job, or None after reporting why not."""
     settings = properties.to_dict(context.scene.firmament_sky)
+    settings["bake_frames"] = context.scene.frame_end - context.scene.frame_start + 1
     try:
         exe, opts = preferences.executable_and_options(context)
         command.validate(settings, opts)

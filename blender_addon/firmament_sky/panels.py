@@ -163,10 +163,15 @@ def draw_settings(layout, context):
 
     box = layout.box()
     box.label(text="Bake a Day (one map per frame)", icon="TIME")
+    box.row().prop(p, "bake_timing", expand=True)
     col = box.column(align=True)
     col.prop(p, "bake_start")
     col.prop(p, "bake_end")
-    col.prop(p, "bake_step_min")
+    if p.bake_timing == "STEP":
+        col.prop(p, "bake_step_min")
+    else:
+        scene = context.scene
+        col.label(text="Frames %d-%d: one map per frame" % (scene.frame_start, scene.frame_end))
     box.operator("firmament_sky.bake_day", icon="RENDER_ANIMATION")
 
     box = layout.box()

@@ -131,10 +131,16 @@ class FirmamentSkySettings(bpy.types.PropertyGroup):
         name="Keep Maps With the File", default=True,
         description="On save, copy the maps beside the .blend (//firmament/) and reference them by relative "
                     "paths, so that the project can be moved or sent as one folder")
+    bake_timing: EnumProperty(name="Frames", items=[
+        ("STEP", "Every Step", "One frame every Step minutes from From to To; the scene's frame range becomes the day's"),
+        ("FRAME_RANGE", "Scene's Frame Range", "The scene's frames, start to end, mapped linearly to the clock "
+                                               "times From to To: one map per frame, the frame range kept"),
+    ], default="STEP", description="Bake a day: which frames get which clock time")
     bake_start: FloatProperty(name="From (h)", min=0.0, max=23.99, default=6.0, precision=2,
                               description="Bake a day: the first frame's local clock time, hours")
     bake_end: FloatProperty(name="To (h)", min=0.0, max=23.99, default=20.0, precision=2,
-                            description="Bake a day: the last frame's local clock time at most, hours")
+                            description="Bake a day: the last frame's local clock time, hours (at most, with "
+                                        "Every Step; exactly, with the scene's frame range)")
     bake_step_min: IntProperty(name="Step (min)", default=30,
                                description="Bake a day: minutes between frames (one map per frame)")
     threads: IntProperty(name="Threads", default=0, description="Worker threads of the executable; 0 = all cores")
@@ -148,8 +154,8 @@ class FirmamentSkySettings(bpy.types.PropertyGroup):
 SETTING_KEYS = ("sun_source", "year", "month", "day", "hour", "minute", "second", "utc_offset", "latitude",
                 "longitude", "sun_elevation", "sun_azimuth", "biome", "aerosol_amount", "turbidity", "aod550",
                 "use_humidity", "humidity", "ozone_mode", "ozone_du", "albedo", "altitude", "resolution",
-                "quality", "sun_mode", "north_offset", "apply_exposure", "metering", "threads", "bake_start",
-                "bake_end", "bake_step_min", "sky_strength", "sun_strength", "ground", "ground_colour", "camera_disk")
+                "quality", "sun_mode", "north_offset", "apply_exposure", "metering", "threads", "bake_timing",
+                "bake_start", "bake_end", "bake_step_min", "sky_strength", "sun_strength", "ground", "ground_colour", "camera_disk")
 # what a sky preset holds (the rest are render choices)
 PRESET_KEYS = ("sun_source", "year", "month", "day", "hour", "minute", "second", "utc_offset", "latitude",
                "longitude", "sun_elevation", "sun_azimuth", "biome", "aerosol_amount", "turbidity", "aod550",
