@@ -227,20 +227,30 @@ void option_format_range(const fm_param_range *r, char *out, size_t size)
 
 /* ---- the usage --------------------------------------------------------------------------------- */
 
-/* "none | background | ... | urban", or the row's words.  Biomes that cannot be listed leave "none"
- * alone and say why once on stderr (never the words of the message as choices). */
+/* "none | background | ... | urban", looked up once.  Biomes that cannot be listed leave "none" alone
+ * and say why on stderr, at the first call: the usage and the JSON make it before writing their first
+ * line, so that the warning never lands inside them (never the words of the message as choices). */
+static const char *biome_words(void)
+{
+    static char words[800];
+    if (words[0])
+        return words;
+    char names[700];
+    fm_error err;
+    if (fm_biome_names(NULL, names, sizeof names, &err) != FM_OK)
+        fprintf(stderr, "firmament: warning: --biome lists no biomes: %s\n", err.message);
+    size_t used = (size_t)snprintf(words, sizeof words, "none");
+    for (char *w = strtok(names, ", "); w && used < sizeof words; w = strtok(NULL, ", "))
+        used += (size_t)snprintf(words + used, sizeof words - used, " | %s", w);
+    return words;
+}
+
+/* The biomes' words or the row's. */
 static void format_words(const option_spec *o, char *out, size_t size)
 {
     out[0] = '\0';
     if (o->flags & BIOME_WORDS) {
-        char names[700];
-        fm_error err;
-        static int warned;
-        if (fm_biome_names(NULL, names, sizeof names, &err) != FM_OK && !warned++)
-            fprintf(stderr, "firmament: warning: --biome lists no biomes: %s\n", err.message);
-        size_t used = (size_t)snprintf(out, size, "none");
-        for (char *w = strtok(names, ", "); w && used < size; w = strtok(NULL, ", "))
-            used += (size_t)snprintf(out + used, size - used, " | %s", w);
+        snprintf(out, size, "%s", biome_words());
         return;
     }
     size_t used = 0;
@@ -340,6 +350,7 @@ static void print_wrapped(FILE *f, const char *text, int column, int indent)
 
 void option_print_usage(FILE *f)
 {
+    biome_words(); /* its warning, if any, before the usage */
     fputs("usage: firmament render [options] [-o OUT.exr]\n"
           "       firmament sun --date YYYY-MM-DD --time HH:MM[:SS] --latitude DEG --longitude DEG\n"
           "                     [--utc-offset +HH[:MM]] [--altitude M] [--refraction on|off] [--pressure MBAR]\n"
@@ -540,6 +551,7 @@ static void json_option(FILE *f, const option_spec *o)
 
 void option_print_json(FILE *f)
 {
+    biome_words(); /* its warning, if any, before the JSON */
     fprintf(f, "{\n  \"version\": \"%s\",\n  \"options\": [\n", FIRMAMENT_VERSION);
     for (int i = 0; i < option_count; i++) {
         json_option(f, &option_specs[i]);

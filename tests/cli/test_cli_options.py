@@ -131,6 +131,15 @@ def check_no_biomes(work):
         check(False, f"options --json without biomes: {e}")
     lines = r.stderr.strip().splitlines()
     check(len(lines) == 1 and empty in lines[0], f"options --json without biomes, stderr: {r.stderr!r}")
+    # the usage and the JSON with their warning on one stream: the warning once, before them, never inside
+    for cmd in (["--help"], ["options", "--json"]):
+        r = subprocess.run([FIRMAMENT] + cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                           env=dict(os.environ, FIRMAMENT_PRESETS=empty))
+        lines = r.stdout.splitlines()
+        warned = [i for i, line in enumerate(lines) if "warning" in line]
+        check(r.returncode == 0 and warned == [0] and "no biomes" in lines[0],
+              f"{' '.join(cmd)} without biomes, stdout and stderr together: the warning first and once "
+              f"(lines {warned} of {len(lines)}, exit {r.returncode})")
 
 
 def main():
