@@ -13,9 +13,10 @@ session  ten requests (one malformed, one superseded: two sent while a build ren
 signal   SIGTERM mid-request (its temporary files made, its atmosphere building): exit status
          128 + 15, both requests answered "cancelled", no map, no temporary file, an existing map kept
          as it was; and SIGTERM while idle.
-cache    a second server on the same cache folder takes the atmosphere from the disk (both times
-         printed, not asserted); a truncated or byte-flipped cache file is refused, rebuilt and
-         replaced (a third server takes it from the disk again).
+cache    a server makes its cache folder ($XDG_CACHE_HOME/firmament by default); a second server on
+         that folder takes the atmosphere from the disk (both times printed, not asserted); a
+         truncated or byte-flipped cache file is refused, rebuilt and replaced (a third server takes
+         it from the disk again).
 Small maps at preview quality keep it to seconds per build."""
 import json
 import math
@@ -45,9 +46,9 @@ def check(ok, what):
 class Server:
     """A running `firmament serve`; replies are read by a thread into a queue."""
 
-    def __init__(self, cwd, *args):
+    def __init__(self, cwd, *args, env=None):
         self.proc = subprocess.Popen([FM, "serve", *args], cwd=cwd, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                     stderr=subprocess.PIPE, text=True)
+                                     stderr=subprocess.PIPE, text=True, env=env)
         self.replies = queue.Queue()
         self.stderr = []
         self.readers = [threading.Thread(target=self._read, args=(self.proc.stdout, self.replies.put), daemon=True),
@@ -265,10 +266,11 @@ def signals(tmp):
 
 # ---- the disk cache ---------------------------------------------------------------------------------
 
-def one_map(tmp, cache, name, elevation):
-    """A server that renders one map and ends: (reply, seconds from start to reply, stderr)."""
+def one_map(tmp, cache, name, elevation, xdg=None):
+    """A server that renders one map and ends: (reply, seconds from start to reply, stderr).  With
+    xdg, the server's cache is the default one under $XDG_CACHE_HOME = xdg."""
     start = time.monotonic()
-    srv = Server(tmp, "--cache", cache)
+    srv = Server(tmp, env={**os.environ, "XDG_CACHE_HOME": xdg}) if xdg else Server(tmp, "--cache", cache)
     srv.send({"id": name, "output": name + ".exr", "sun_elevation": elevation, "turbidity": 2, **SMALL})
     code, rest = srv.finish()
     seconds = time.monotonic() - start
@@ -279,8 +281,8 @@ def one_map(tmp, cache, name, elevation):
 
 
 def cache(tmp):
-    folder = os.path.join(tmp, "nested", "cache")  # created with its parents
-    first, t_built, _ = one_map(tmp, folder, "c1", 20)
+    folder = os.path.join(tmp, "xdg", "firmament")  # the default under $XDG_CACHE_HOME, made with its parent
+    first, t_built, _ = one_map(tmp, None, "c1", 20, xdg=os.path.join(tmp, "xdg"))
     files = os.listdir(folder) if os.path.isdir(folder) else []
     check(len(files) == 1 and len(files[0].split(".")[0]) == 32, f"one cache file named by its key: {files}")
     second, t_disk, _ = one_map(tmp, folder, "c2", 40)
