@@ -111,8 +111,9 @@ def _step():
         area.type = "PROPERTIES"
         area.spaces.active.context = "WORLD"
         p = scene.firmament_sky
-        for sun_source, amount, ozone, ground in (("TIME", "TURBIDITY", "AUTO", "MAP"), ("ANGLES", "AOD", "MANUAL", "COLOUR")):
-            p.sun_source, p.aerosol_amount, p.ozone_mode, p.ground = sun_source, amount, ozone, ground
+        for sun_source, amount, ozone, ground, timing in (("TIME", "TURBIDITY", "AUTO", "MAP", "STEP"),
+                                                          ("ANGLES", "AOD", "MANUAL", "COLOUR", "FRAME_RANGE")):
+            p.sun_source, p.aerosol_amount, p.ozone_mode, p.ground, p.bake_timing = sun_source, amount, ozone, ground, timing
             with bpy.context.temp_override(window=win, screen=win.screen, area=area):
                 bpy.ops.wm.redraw_timer(type="DRAW_WIN_SWAP", iterations=1)
         h.check(draws["n"] >= 2 and not draws["errors"], "the World panel draws: %d draws, errors %s" % (draws["n"], draws["errors"]))
