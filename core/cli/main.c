@@ -385,11 +385,15 @@ static int print_atmosphere(const options *opt)
         report_library_error(&err);
         return exit_code_for(s);
     }
+    double cloud_tau = 0.0;
+    for (int i = 0; i < c.cloud_count; i++)
+        cloud_tau += c.cloud[i].tau550;
     printf("{\"biome\": \"%s\", \"rayleigh_optical_depth_550nm\": %.9g, \"ozone_optical_depth_550nm\": %.9g, "
            "\"aerosol_optical_depth_550nm\": %.9g, \"turbidity\": %.9g, \"humidity_percent\": %.9g, "
-           "\"extinction_550nm_ground_per_km\": %.9g, \"visibility_km\": %.9g}\n",
+           "\"extinction_550nm_ground_per_km\": %.9g, \"visibility_km\": %.9g, \"cloud_layers\": %d, "
+           "\"cloud_optical_depth_550nm\": %.9g}\n",
            c.biome, c.rayleigh_tau550, c.ozone_tau550, c.aerosol_tau550, c.turbidity, c.humidity_percent,
-           c.rayleigh_ext550_ground_per_km + c.aerosol_ext550_ground_per_km, c.visibility_km);
+           c.rayleigh_ext550_ground_per_km + c.aerosol_ext550_ground_per_km, c.visibility_km, c.cloud_count, cloud_tau);
     return 0;
 }
 

@@ -24,6 +24,7 @@ static const option_word progress_words[] = {
 static const char SKY[] = "Sky";
 static const char SUN[] = "Sun from the date and time (NREL SPA, +-0.0003 deg)";
 static const char AEROSOLS[] = "Aerosols";
+static const char CLOUDS[] = "Clouds (horizontally uniform layers, docs/clouds.md)";
 static const char IMAGE[] = "Image";
 static const char CAMERA[] = "Camera";
 static const char COLOUR[] = "Colour (OpenColorIO; config $OCIO, else firmament's presets/ocio/config.ocio)";
@@ -101,6 +102,24 @@ const option_spec option_specs[] = {
      "mie (the tabulated Mie phase function, sampled exactly) | hg (Henyey-Greenstein with the Mie asymmetry "
      "parameter)",
      NULL},
+
+    {"cloud", 0, "LIST", OPTION_TEXT, AT(sky.clouds), "clouds", NO_RANGE, NULL, 0, CLOUD_WORDS, CLOUDS,
+     "cloud layers, comma-separated (at most 4, e.g. cirrostratus,altostratus): %W (presets/clouds/), or cloud "
+     "JSON files; with the built-in or an --atmosphere file's sky",
+     "none"},
+    {"cloud-tau", 0, "X", OPTION_NUMBER, AT(sky.cloud_tau550), "cloud_tau550", NO_RANGE, NULL, 0, 0, CLOUDS,
+     "optical depth at 550 nm of the first --cloud layer, %R", "its file's"},
+    {"cloud-lwp", 0, "G", OPTION_NUMBER, AT(sky.cloud_lwp_gm2), "cloud_lwp_gm2", NO_RANGE, NULL, 0, 0, CLOUDS,
+     "instead of --cloud-tau: liquid water path of the first (water) --cloud layer, %R", "its file's"},
+    {"cloud-base", 0, "KM", OPTION_NUMBER, AT(sky.cloud_base_km), "cloud_base_km", NO_RANGE, NULL, 0, 0, CLOUDS,
+     "base of the first --cloud layer above the ground, %R", "its file's"},
+    {"cloud-thickness", 0, "KM", OPTION_NUMBER, AT(sky.cloud_thickness_km), "cloud_thickness_km", NO_RANGE, NULL, 0, 0,
+     CLOUDS, "thickness of the first --cloud layer, %R", "its file's"},
+    {"fog-visibility", 0, "M", OPTION_NUMBER, AT(sky.fog_visibility_m), "fog_visibility_m", NO_RANGE, NULL, 0, 0,
+     CLOUDS,
+     "a fog layer on the ground (presets/clouds/fog.json, or the listed fog) of this visibility, %R: extinction "
+     "3.912 / M at 550 nm (Koschmieder)",
+     "no fog"},
 
     {"output", 'o', "FILE", OPTION_TEXT, AT(output), NULL, NO_RANGE, NULL, 0, FILE_ARG, IMAGE,
      "output EXR; the sidecar is FILE with its extension replaced by .json", NULL},
@@ -227,30 +246,38 @@ void option_format_range(const fm_param_range *r, char *out, size_t size)
 
 /* ---- the usage --------------------------------------------------------------------------------- */
 
-/* "none | background | ... | urban", looked up once.  Biomes that cannot be listed leave "none" alone
- * and say why on stderr, at the first call: the usage and the JSON make it before writing their first
- * line, so that the warning never lands inside them (never the words of the message as choices). */
-static const char *biome_words(void)
+/* "none | background | ... | urban" (biomes) or "altostratus | ... | stratus" (clouds), each looked
+ * up once.  Names that cannot be listed leave "none" (or nothing) alone and say why on stderr, at the
+ * first call: the usage and the JSON make them before writing their first line, so that the warning
+ * never lands inside them (never the words of the message as choices). */
+static const char *preset_words(int biomes)
 {
-    static char words[800];
-    if (words[0])
-        return words;
+    static char words[2][800];
+    static int ready[2];
+    char *out = words[biomes];
+    if (ready[biomes])
+        return out;
+    ready[biomes] = 1;
     char names[700];
     fm_error err;
-    if (fm_biome_names(NULL, names, sizeof names, &err) != FM_OK)
-        fprintf(stderr, "firmament: warning: --biome lists no biomes: %s\n", err.message);
-    size_t used = (size_t)snprintf(words, sizeof words, "none");
-    for (char *w = strtok(names, ", "); w && used < sizeof words; w = strtok(NULL, ", "))
-        used += (size_t)snprintf(words + used, sizeof words - used, " | %s", w);
-    return words;
+    fm_status s = biomes ? fm_biome_names(NULL, names, sizeof names, &err) : fm_cloud_names(NULL, names, sizeof names, &err);
+    if (s != FM_OK) {
+        names[0] = '\0';
+        fprintf(stderr, "firmament: warning: %s: %s\n", biomes ? "--biome lists no biomes" : "--cloud lists no clouds",
+                err.message);
+    }
+    size_t used = (size_t)snprintf(out, sizeof words[0], "%s", biomes ? "none" : "");
+    for (char *w = strtok(names, ", "); w && used < sizeof words[0]; w = strtok(NULL, ", "))
+        used += (size_t)snprintf(out + used, sizeof words[0] - used, "%s%s", used ? " | " : "", w);
+    return out;
 }
 
-/* The biomes' words or the row's. */
+/* The biomes' or clouds' words, or the row's. */
 static void format_words(const option_spec *o, char *out, size_t size)
 {
     out[0] = '\0';
-    if (o->flags & BIOME_WORDS) {
-        snprintf(out, size, "%s", biome_words());
+    if (o->flags & (BIOME_WORDS | CLOUD_WORDS)) {
+        snprintf(out, size, "%s", preset_words((o->flags & BIOME_WORDS) != 0));
         return;
     }
     size_t used = 0;
@@ -350,7 +377,8 @@ static void print_wrapped(FILE *f, const char *text, int column, int indent)
 
 void option_print_usage(FILE *f)
 {
-    biome_words(); /* its warning, if any, before the usage */
+    preset_words(1); /* their warnings, if any, before the usage */
+    preset_words(0);
     fputs("usage: firmament render [options] [-o OUT.exr]\n"
           "       firmament sun --date YYYY-MM-DD --time HH:MM[:SS] --latitude DEG --longitude DEG\n"
           "                     [--utc-offset +HH[:MM]] [--altitude M] [--refraction on|off] [--pressure MBAR]\n"
@@ -522,7 +550,7 @@ static void json_option(FILE *f, const option_spec *o)
                 r->min_open ? "true" : "false");
         json_string(f, r->unit);
     }
-    if (o->words || (o->flags & BIOME_WORDS)) {
+    if (o->words || (o->flags & (BIOME_WORDS | CLOUD_WORDS))) {
         fputs(", \"choices\": ", f);
         json_words(f, o);
     }
@@ -551,7 +579,8 @@ static void json_option(FILE *f, const option_spec *o)
 
 void option_print_json(FILE *f)
 {
-    biome_words(); /* its warning, if any, before the JSON */
+    preset_words(1); /* their warnings, if any, before the JSON */
+    preset_words(0);
     fprintf(f, "{\n  \"version\": \"%s\",\n  \"options\": [\n", FIRMAMENT_VERSION);
     for (int i = 0; i < option_count; i++) {
         json_option(f, &option_specs[i]);

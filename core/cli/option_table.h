@@ -34,6 +34,7 @@ enum {
     FILE_ARG = 1 << 5,        /* a path written by the render: '--width' there is a forgotten path */
     NOT_PARSED = 1 << 6,      /* handled before parsing (--preset) or by main (--help) */
     BIOME_WORDS = 1 << 7,     /* its words are the biomes' names (presets/biomes/) */
+    CLOUD_WORDS = 1 << 8,     /* its words are the cloud layers' names (presets/clouds/) */
 };
 
 typedef struct option_word {

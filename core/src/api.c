@@ -3,6 +3,7 @@
 
 #include "atmosphere/atmosphere_file.h"
 #include "aerosol/aerosol.h"
+#include "aerosol/cloud_file.h"
 #include "atmosphere/ozone.h"
 #include "atmosphere/ozone_climatology.h"
 #include "atmosphere/ozone_profile.h"
@@ -48,6 +49,7 @@ fm_sky_params fm_sky_params_default(void)
         .aod550 = 0.0,
         .humidity_percent = FM_HUMIDITY_BIOME_DEFAULT,
         .aerosol_phase = FM_AEROSOL_PHASE_MIE,
+        .cloud_base_km = FM_CLOUD_BASE_FROM_FILE,
         .atmosphere_file = NULL,
         .presets_dir = NULL,
         .hour = FM_NO_TIME,
@@ -224,6 +226,8 @@ static fm_status validate(const fm_sky_params *p, fm_error *err)
         return s;
     if (p->aerosol_phase != FM_AEROSOL_PHASE_MIE && p->aerosol_phase != FM_AEROSOL_PHASE_HG)
         return fm_fail_parameter(err, "aerosol_phase", "%d is not a known phase model", (int)p->aerosol_phase);
+    if ((s = cloud_params_validate(p, err)))
+        return s;
     return param_check(err, "threads", p->threads);
 }
 
@@ -249,6 +253,32 @@ static fm_status builtin_atmosphere(fm_sky *sky, const fm_sky_params *p, const s
     return FM_OK;
 }
 
+/* The cloud layers (aerosol/cloud_file.h) over the atmosphere, and into the composition. */
+static fm_status add_clouds(fm_sky *sky, const fm_sky_params *p, fm_error *err)
+{
+    cloud_layer layers[FM_MAX_CLOUD_LAYERS];
+    int count;
+    fm_status s = cloud_layers_from_params(p, layers, &count, err);
+    fm_composition *c = &sky->composition;
+    for (int i = 0; i < count && !s; i++) {
+        const cloud_layer *l = &layers[i];
+        s = cloud_add_layer(&sky->atm, l->type, l->base_m, l->thickness_m, l->tau550, p->threads, err);
+        if (s == FM_ERR_INVALID_ARGUMENT && err && !err->parameter[0]) { /* a layer outside the atmosphere */
+            char what[sizeof err->message];
+            snprintf(what, sizeof what, "%s", err->message);
+            s = fm_fail_parameter(err, "clouds", "%s", what);
+        }
+        snprintf(c->cloud[i].type, sizeof c->cloud[i].type, "%s", l->type->name);
+        c->cloud[i].tau550 = l->tau550;
+        c->cloud[i].base_m = l->base_m;
+        c->cloud[i].thickness_m = l->thickness_m;
+        c->cloud_count = i + 1;
+    }
+    if (!s && count > 0)
+        atmosphere_update_majorants(&sky->atm);
+    return s;
+}
+
 /* Everything of the sky for its resolved parameters p; on failure fm_sky_destroy frees what was built. */
 /* The atmosphere alone (and its composition) on the wavelengths of the grid, wavelength_nm > 0:
  * that one, else the visible grid. */
@@ -262,7 +292,9 @@ static fm_status build_atmosphere(fm_sky *sky, const fm_sky_params *p, double wa
     double inv_d2 = 1.0 / (p->earth_sun_distance_au * p->earth_sun_distance_au);
     for (int k = 0; k < grid.count; k++)
         grid.solar_irradiance[k] *= inv_d2;
-    return p->atmosphere_file ? custom_atmosphere(sky, p, &grid, inv_d2, err) : builtin_atmosphere(sky, p, &grid, err);
+    fm_status s = p->atmosphere_file ? custom_atmosphere(sky, p, &grid, inv_d2, err)
+                                     : builtin_atmosphere(sky, p, &grid, err);
+    return s ? s : add_clouds(sky, p, err);
 }
 
 static fm_status build_sky(fm_sky *sky, const fm_sky_params *p, fm_error *err)
@@ -362,6 +394,14 @@ void fm_sky_sun_light(const fm_sky *sky, fm_sun_light *out)
     out->direction[1] = sky->sun_dir.y;
     out->direction[2] = sky->sun_dir.z;
     out->angular_radius_deg = sky->sun.angular_radius / FM_DEG;
+    /* the clouds' share along the line to the disk's centre, at 550 nm, from the slabs' chords */
+    const fm_composition *c = &sky->composition;
+    double cloud_depth = 0.0;
+    for (int i = 0; i < c->cloud_count; i++) {
+        double r_base = atm->bottom_radius_m + c->cloud[i].base_m, r_top = r_base + c->cloud[i].thickness_m;
+        cloud_depth += c->cloud[i].tau550 / c->cloud[i].thickness_m * cloud_shell_chord_m(r, sky->sun_dir.z, r_base, r_top);
+    }
+    out->cloud_transmittance = sky->sun_dir.z > 0.0 ? exp(-cloud_depth) : 0.0;
     for (int j = 0; j < 3; j++)
         out->normal_irradiance[j] = out->horizontal_irradiance[j] = 0.0;
     for (int k = 0; k < K; k++) {

@@ -86,17 +86,67 @@ int presets_list(const char *dir, const char *what, char *out, size_t size)
     return count;
 }
 
-fm_status fm_biome_names(const char *presets_directory, char *out, size_t size, fm_error *err)
+/* The names of the .json files in the presets folder's sub/ (comma-separated into out). */
+static fm_status names_in(const char *presets_directory, const char *sub, const char *what, char *out, size_t size,
+                          fm_error *err)
 {
     char dir[900];
     out[0] = '\0';
-    fm_status status = presets_locate(presets_directory, dir, sizeof dir - 8, err);
+    fm_status status = presets_locate(presets_directory, dir, sizeof dir - 16, err);
     if (status != FM_OK)
         return status;
-    strcat(dir, "/biomes");
+    strcat(dir, "/");
+    strcat(dir, sub);
     char names[sizeof dir + 64];
-    if (presets_list(dir, "biome", names, sizeof names) == 0)
+    if (presets_list(dir, what, names, sizeof names) == 0)
         return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "%s", names);
     snprintf(out, size, "%s", names);
+    return FM_OK;
+}
+
+fm_status fm_biome_names(const char *presets_directory, char *out, size_t size, fm_error *err)
+{
+    return names_in(presets_directory, "biomes", "biome", out, size, err);
+}
+
+fm_status fm_cloud_names(const char *presets_directory, char *out, size_t size, fm_error *err)
+{
+    return names_in(presets_directory, "clouds", "cloud", out, size, err);
+}
+
+static int is_path(const char *s)
+{
+    size_t n = strlen(s);
+    return strchr(s, '/') != NULL || (n > 5 && strcmp(s + n - 5, ".json") == 0);
+}
+
+fm_status presets_find(const char *name_or_path, const char *presets_dir, const char *sub, const char *field,
+                       const char *what, const char *known_first, char *path, size_t size, fm_error *err)
+{
+    /* never a shortened path: that would read another file */
+    if (strlen(name_or_path) >= size - 16)
+        return fm_fail_parameter(err, field, "'%.60s...' is %zu bytes, longer than the %zu a %s name or path may have",
+                                 name_or_path, strlen(name_or_path), size - 17, what);
+    if (is_path(name_or_path)) {
+        snprintf(path, size, "%s", name_or_path);
+        return FM_OK;
+    }
+    char dir[900];
+    fm_status found = presets_locate(presets_dir, dir, sizeof dir - 16, err);
+    if (found)
+        return found;
+    strcat(dir, "/");
+    strcat(dir, sub);
+    int valid = name_or_path[0] != '\0';
+    for (const char *c = name_or_path; *c; c++)
+        valid = valid && ((*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9') || *c == '-' || *c == '_');
+    snprintf(path, size, "%s/%s.json", dir, name_or_path);
+    FILE *f = valid ? platform_fopen(path, "r") : NULL;
+    if (!f) {
+        char names[600];
+        presets_list(dir, what, names, sizeof names);
+        return fm_fail_parameter(err, field, "unknown %s '%s' (known: %s%s)", what, name_or_path, known_first, names);
+    }
+    fclose(f);
     return FM_OK;
 }

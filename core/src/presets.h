@@ -17,4 +17,11 @@ fm_status presets_locate(const char *given, char *out, size_t size, fm_error *er
  * Returns how many were found. */
 int presets_list(const char *dir, const char *what, char *out, size_t size);
 
+/* The file a name or path stands for: a path (holding '/' or ending in .json) as given, else
+ * DIR/SUB/NAME.json in the presets folder (presets_locate(presets_dir)), which must exist.  field
+ * names the parameter in errors ("biome", "clouds"), what the kind of file ("biome", "cloud").
+ * Unknown names fail with one line listing the known ones (after known_first, e.g. "none, "). */
+fm_status presets_find(const char *name_or_path, const char *presets_dir, const char *sub, const char *field,
+                       const char *what, const char *known_first, char *path, size_t size, fm_error *err);
+
 #endif

@@ -86,6 +86,10 @@ typedef enum fm_aerosol_phase {
 #define FM_OZONE_FROM_CLIMATOLOGY (-1.0)
 /* humidity_percent: the biome's own default humidity. */
 #define FM_HUMIDITY_BIOME_DEFAULT (-1.0)
+/* cloud_base_km: the cloud file's own base. */
+#define FM_CLOUD_BASE_FROM_FILE (-1.0)
+/* At most this many cloud layers (clouds, fog_visibility_m). */
+#define FM_MAX_CLOUD_LAYERS 4
 
 typedef struct fm_sky_params {
     double sun_elevation_deg;     /* of the sun disk's centre above the horizontal, [-90, 90] */
@@ -127,6 +131,19 @@ typedef struct fm_sky_params {
                                    * FM_HUMIDITY_BIOME_DEFAULT: the biome's own */
     fm_aerosol_phase aerosol_phase;
 
+    /* Clouds (docs/clouds.md): horizontally uniform layers over the built-in or a custom atmosphere.
+     * The numbers below set the first listed layer (its file gives the rest); 0 / the sentinel: the
+     * file's own. */
+    const char *clouds;           /* NULL or "": none; else comma-separated cloud layers, each a name
+                                   * in presets/clouds/ (stratus, ..., cirrus) or a cloud JSON file */
+    double cloud_tau550;          /* optical depth at 550 nm, (0, 100] */
+    double cloud_lwp_gm2;         /* instead of cloud_tau550: liquid water path, (0, 1000] g m^-2 */
+    double cloud_base_km;         /* above the ground, [0, 20]; FM_CLOUD_BASE_FROM_FILE: the file's */
+    double cloud_thickness_km;    /* [0.1, 10] */
+    double fog_visibility_m;      /* 0: no fog; else a fog layer on the ground (presets/clouds/fog.json,
+                                   * or the listed fog) of this visibility, [10, 10000] m (Koschmieder:
+                                   * extinction 3.912 / V at 550 nm) */
+
     /* A custom atmosphere (docs/atmosphere-file.md): replaces the built-in molecules, ozone and
      * aerosols.  NULL = the built-in Earth atmosphere. */
     const char *atmosphere_file;
@@ -163,6 +180,8 @@ const char *const *fm_sky_preset_keys(void);
  * presets_dir as in fm_sky_params.  No presets folder or no biome in it: FM_ERR_INVALID_ARGUMENT
  * with one line naming the folder, out empty. */
 fm_status fm_biome_names(const char *presets_dir, char *out, size_t size, fm_error *err);
+/* "altostratus, cirrostratus, ...": the cloud layers of presets/clouds/, alike. */
+fm_status fm_cloud_names(const char *presets_dir, char *out, size_t size, fm_error *err);
 
 typedef struct fm_sky fm_sky;
 
@@ -179,6 +198,9 @@ typedef struct fm_sun_light {
     double angular_radius_deg;    /* of the disk at the given Earth-Sun distance */
     double normal_irradiance[3];  /* on a surface facing the sun */
     double horizontal_irradiance[3]; /* on a horizontal surface */
+    double cloud_transmittance;   /* exp(-optical depth at 550 nm) of the cloud layers along the line to
+                                   * the disk's centre; 1 without clouds, 0 with the sun below the horizon
+                                   * (the irradiances above already include it, at every wavelength) */
 } fm_sun_light;
 
 void fm_sky_sun_light(const fm_sky *sky, fm_sun_light *out);
@@ -200,6 +222,12 @@ typedef struct fm_composition {
     double aerosol_ext550_ground_per_km;
     double visibility_km;         /* Koschmieder: 3.912 / the two above (2% contrast); 0 when unknown */
     char biome[64];               /* "none", a biome name, or "custom" for an atmosphere file */
+    int cloud_count;              /* cloud layers, bottom to top as listed */
+    struct {
+        char type[32];            /* stratus, ..., cirrus */
+        double tau550;            /* vertical optical depth at 550 nm */
+        double base_m, thickness_m;
+    } cloud[FM_MAX_CLOUD_LAYERS];
 } fm_composition;
 
 void fm_sky_composition(const fm_sky *sky, fm_composition *out);

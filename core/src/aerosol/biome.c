@@ -15,12 +15,6 @@ const char *const biome_component_codes[] = {"inso", "waso", "soot", "ssam", "ss
 /* Layers may reach the stratosphere but not beyond the model atmosphere. */
 #define BIOME_TOP_M (50.0 * FM_KM)
 
-static int is_path(const char *s)
-{
-    size_t n = strlen(s);
-    return strchr(s, '/') != NULL || (n > 5 && strcmp(s + n - 5, ".json") == 0);
-}
-
 
 static int known_component(const char *code)
 {
@@ -146,31 +140,10 @@ fm_status biome_load(const char *name_or_path, const char *presets_dir, biome *o
 {
     memset(out, 0, sizeof *out);
     char path[1024];
-    /* never a shortened path: that would read another file */
-    if (strlen(name_or_path) >= sizeof path - 16)
-        return fm_fail_parameter(err, "biome", "'%.60s...' is %zu bytes, longer than the %zu a biome name or path "
-                                               "may have",
-                                 name_or_path, strlen(name_or_path), sizeof path - 17);
-    if (is_path(name_or_path)) {
-        snprintf(path, sizeof path, "%s", name_or_path);
-    } else {
-        char dir[900];
-        fm_status found = presets_locate(presets_dir, dir, sizeof dir - 8, err);
-        if (found)
-            return found;
-        strcat(dir, "/biomes");
-        int valid = name_or_path[0] != '\0';
-        for (const char *c = name_or_path; *c; c++)
-            valid = valid && ((*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9') || *c == '-' || *c == '_');
-        snprintf(path, sizeof path, "%s/%s.json", dir, name_or_path);
-        FILE *f = valid ? platform_fopen(path, "r") : NULL;
-        if (!f) {
-            char names[600];
-            presets_list(dir, "biome", names, sizeof names);
-            return fm_fail_parameter(err, "biome", "unknown biome '%s' (known: none, %s)", name_or_path, names);
-        }
-        fclose(f);
-    }
+    fm_status found = presets_find(name_or_path, presets_dir, "biomes", "biome", "biome", "none, ", path, sizeof path,
+                                   err);
+    if (found)
+        return found;
     json_reader rd = {path, "biome", err};
     fm_status s;
     cJSON *root = json_reader_load(&rd, &s);

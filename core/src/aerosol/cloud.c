@@ -13,24 +13,22 @@
 
 /* Droplet spectra: the headers of OPAC's optdat files (Hess, Koepke & Schult 1998), dN/dr = A r^alpha
  * exp(-B r^gamma) over 0.02-50 um; effective radii 7.33 um (stco), 11.3 um (stma), 10.7 um (fogr).
- * Default layers: bases and thicknesses typical of each genus (WMO International Cloud Atlas: low
- * clouds below 2 km, middle 2-7 km, high 5-13 km), optical depths inside the ISCCP classes of
- * Rossow & Schiffer (1999): stratus and nimbostratus above 23, stratocumulus and altostratus 3.6-23,
- * cirrus below 3.6. */
+ * The genera without an OPAC spectrum of their own take the nearest one: altostratus the continental
+ * stratus, nimbostratus the maritime.  The default layers are presets/clouds/TYPE.json. */
 #define STCO {5.0, 0.938, 1.05, 0.02, 50.0}
 #define STMA {3.0, 0.193, 1.3, 0.02, 50.0}
 #define FOGR {4.0, 0.0562, 1.77, 0.02, 50.0}
 #define NO_SIZE {0.0, 0.0, 0.0, 0.0, 0.0}
 
 const cloud_type cloud_types[] = {
-    {"stratus", 0, STCO, "OPAC stratus (continental)", 500.0, 500.0, 30.0},
-    {"stratocumulus", 0, STMA, "OPAC stratus (maritime)", 1000.0, 500.0, 10.0},
-    {"altostratus", 0, STCO, "OPAC stratus (continental)", 3000.0, 1000.0, 10.0},
-    {"nimbostratus", 0, STMA, "OPAC stratus (maritime)", 1000.0, 3000.0, 50.0},
-    {"fog", 0, FOGR, "OPAC fog", 0.0, 200.0, CLOUD_KOSCHMIEDER}, /* visibility 200 m */
-    {"cirrostratus", 1, NO_SIZE, "two-term Henyey-Greenstein, g = 0.77", 8000.0, 1500.0, 1.0},
-    {"cirrus", 1, NO_SIZE, "two-term Henyey-Greenstein, g = 0.77", 9000.0, 1000.0, 0.5},
-    {NULL, 0, NO_SIZE, NULL, 0.0, 0.0, 0.0},
+    {"stratus", 0, STCO, "OPAC stratus (continental)"},
+    {"stratocumulus", 0, STMA, "OPAC stratus (maritime)"},
+    {"altostratus", 0, STCO, "OPAC stratus (continental)"},
+    {"nimbostratus", 0, STMA, "OPAC stratus (maritime)"},
+    {"fog", 0, FOGR, "OPAC fog"},
+    {"cirrostratus", 1, NO_SIZE, "two-term Henyey-Greenstein, g = 0.77"},
+    {"cirrus", 1, NO_SIZE, "two-term Henyey-Greenstein, g = 0.77"},
+    {NULL, 0, NO_SIZE, NULL},
 };
 
 const cloud_type *cloud_type_find(const char *name)

@@ -30,7 +30,6 @@ typedef struct cloud_type {
     int ice;                 /* 0: water droplets (Mie), 1: ice crystals (two-term HG) */
     modified_gamma_size size; /* water: the droplet spectrum */
     const char *source;      /* where the droplet spectrum comes from */
-    double base_m, thickness_m, tau550; /* the default layer */
 } cloud_type;
 
 /* The built-in types, in the order --help lists them; NULL-named sentinel at the end. */

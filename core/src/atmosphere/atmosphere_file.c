@@ -506,8 +506,10 @@ static double file_solar(const void *ctx, double lambda_nm)
     return s->count == 1 ? s->value[0] : interpolate_clamped(s->lambda_nm, s->value, s->count, lambda_nm);
 }
 
+/* "clouds" (cloud layers over the constituents) is read by aerosol/cloud_file.c, a layer above this one */
 static const char *const top_keys[] = {"name",          "description",      "planet_radius_km", "top_altitude_km",
-                                       "ground_albedo", "solar_irradiance", "constituents",     NULL};
+                                       "ground_albedo", "solar_irradiance", "constituents",     "clouds",
+                                       NULL};
 
 static fm_status build(const reader *rd, const cJSON *root, atmosphere *atm, double solar_scale, double ground_albedo)
 {

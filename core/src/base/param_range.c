@@ -31,6 +31,13 @@ static const fm_param_range ranges[] = {
     {"turbidity", 0.0, 50.0, 0, ""},
     {"aod550", 0.0, 10.0, 1, ""},
     {"humidity_percent", 0.0, 99.0, 0, "%"},
+    /* clouds (docs/clouds.md): optical depths up to the thickest nimbostratus; layers at least two
+     * steps of the 50 m profile grid deep, within the troposphere and lower stratosphere */
+    {"cloud_tau550", 0.0, 100.0, 1, ""},
+    {"cloud_lwp_gm2", 0.0, 1000.0, 1, "g/m^2"},
+    {"cloud_base_km", 0.0, 20.0, 0, "km"},
+    {"cloud_thickness_km", 0.1, 10.0, 0, "km"},
+    {"fog_visibility_m", 10.0, 10000.0, 0, "m"},
     {"width", 8.0, 16384.0, 0, "pixels"},
     {"sample_scale", 0.0, 1024.0, 1, ""},
     {"reference_samples", 1.0, 16777216.0, 0, ""},

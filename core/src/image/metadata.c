@@ -105,6 +105,31 @@ static void collect_solar_position(metadata *m, const fm_render_record *r)
 
 /* The camera: image.projection and image.layout say how to read the pixels, the "camera" group holds
  * the camera's parameters (docs/output.md, "Cameras"). */
+/* Each cloud layer (bottom to top as listed) and their total optical depth, in "atmosphere". */
+static void add_clouds(metadata *m)
+{
+    static const char *const keys[FM_MAX_CLOUD_LAYERS][4] = {
+        {"cloud_1_type", "cloud_1_optical_depth_550nm", "cloud_1_base_km", "cloud_1_thickness_km"},
+        {"cloud_2_type", "cloud_2_optical_depth_550nm", "cloud_2_base_km", "cloud_2_thickness_km"},
+        {"cloud_3_type", "cloud_3_optical_depth_550nm", "cloud_3_base_km", "cloud_3_thickness_km"},
+        {"cloud_4_type", "cloud_4_optical_depth_550nm", "cloud_4_base_km", "cloud_4_thickness_km"},
+    };
+    const fm_composition *c = &m->composition;
+    if (c->cloud_count == 0)
+        return;
+    double total = 0.0;
+    for (int i = 0; i < c->cloud_count; i++)
+        total += c->cloud[i].tau550;
+    add_int(m, "atmosphere", "cloud_layers", c->cloud_count);
+    add_double(m, "atmosphere", "cloud_optical_depth_550nm", total);
+    for (int i = 0; i < c->cloud_count; i++) {
+        add_string(m, "atmosphere", keys[i][0], c->cloud[i].type);
+        add_double(m, "atmosphere", keys[i][1], c->cloud[i].tau550);
+        add_double(m, "atmosphere", keys[i][2], c->cloud[i].base_m / 1000.0);
+        add_double(m, "atmosphere", keys[i][3], c->cloud[i].thickness_m / 1000.0);
+    }
+}
+
 static void add_camera(metadata *m, const fm_image *img)
 {
     const fm_camera *p = &img->camera;
@@ -254,6 +279,8 @@ void metadata_collect(metadata *m, const fm_image *img, const char *exr_path)
         add_double(m, "atmosphere", "turbidity", c->turbidity);
     }
 
+    add_clouds(m);
+
     const fm_sun_light sun = r->sun;
     double diffuse[3];
     int hemisphere = fm_image_diffuse_horizontal(img, diffuse); /* 0 for a pinhole view */
@@ -261,6 +288,8 @@ void metadata_collect(metadata *m, const fm_image *img, const char *exr_path)
     add_double(m, "sun", "elevation_deg", sp->sun_elevation_deg);
     add_double(m, "sun", "azimuth_deg", sp->sun_azimuth_deg);
     add_double(m, "sun", "angular_diameter_deg", 2.0 * sun.angular_radius_deg);
+    if (m->composition.cloud_count > 0)
+        add_double(m, "sun", "cloud_direct_transmittance_550nm", sun.cloud_transmittance);
     /* the RGB values are in the image's colour space (image.colorspace) */
     double xyz_to_rgb[3][3] = {{0.0}};
     if (img->content == FM_IMAGE_RGB)

@@ -5,7 +5,7 @@
 
 #include "firmament/firmament.h"
 
-#define FM_META_MAX 112
+#define FM_META_MAX 144
 
 typedef enum meta_type { META_DOUBLE, META_INT, META_STRING, META_VEC3 } meta_type;
 

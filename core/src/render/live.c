@@ -97,6 +97,11 @@ void fm_sky_live_key(const fm_sky_params *params, char out[33])
                      p->earth_sun_distance_au, p->wavelength_nm, p->biome ? p->biome : "none", p->turbidity,
                      p->aod550, p->humidity_percent, (int)p->aerosol_phase,
                      p->atmosphere_file ? p->atmosphere_file : "", p->presets_dir ? p->presets_dir : "");
+    /* clouds only when there are some, so that clear skies keep their keys */
+    if ((p->clouds || p->fog_visibility_m > 0.0) && n > 0 && (size_t)n < sizeof text)
+        n += snprintf(text + n, sizeof text - (size_t)n, "|clouds %s|tau %.17g|lwp %.17g|base %.17g|thick %.17g|fog %.17g",
+                      p->clouds ? p->clouds : "", p->cloud_tau550, p->cloud_lwp_gm2, p->cloud_base_km,
+                      p->cloud_thickness_km, p->fog_visibility_m);
     if (p->year != 0 && n > 0 && (size_t)n < sizeof text)
         snprintf(text + n, sizeof text - (size_t)n, "|date %d-%d-%d|place %.17g %.17g|utc %d|delta %.17g",
                  p->year, p->month, p->day, p->latitude_deg, p->longitude_deg, p->utc_offset_min, p->delta_t_s);
