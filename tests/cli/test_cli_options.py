@@ -12,6 +12,7 @@ checked by parsing only: `--list-colorspaces` exits after the options are read, 
 """
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -121,6 +122,9 @@ def check_no_biomes(work):
     """A presets folder without biomes: --biome offers only "none" and one line on stderr names the folder."""
     empty = os.path.join(work, "no-biomes")
     os.makedirs(os.path.join(empty, "biomes"), exist_ok=True)
+    # the clouds are there (they warn alike when missing): only the biomes are
+    shutil.copytree(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "presets", "clouds"),
+                    os.path.join(empty, "clouds"), dirs_exist_ok=True)
     r = subprocess.run([FIRMAMENT, "options", "--json"], capture_output=True, text=True,
                        env=dict(os.environ, FIRMAMENT_PRESETS=empty))
     check(r.returncode == 0, f"options --json without biomes: exit {r.returncode}: {r.stderr.strip()}")
