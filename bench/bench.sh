@@ -48,6 +48,16 @@
 #                                   suggested exposure (mean, 99th percentile), and the flicker of a
 #                                   time series (bench/seed_noise.h) (issue "Sun and sky geometry":
 #                                   noise-free at -18)
+#   bench/bench.sh --live           the live sky (docs/rendering.md, "Live sky"; bench/live_bench.c):
+#                                   per biome (none, rural, urban) the build time, the tables' memory,
+#                                   the time from a new sun to a written 512 x 256 map (median of 40
+#                                   suns) and the process's peak memory; then the accuracy table: the
+#                                   live map against the final quality path at the same sun (128 x 64,
+#                                   no sun disk) at suns -18 to 90, luminance RMS, bias and 99th
+#                                   percentile, mean and largest u'v' distance, and the final path's own
+#                                   noise (a second seed); and the zenith luminance swept in 0.1 degree
+#                                   steps across the grid (the largest step across a grid elevation
+#                                   against the largest elsewhere)
 #   bench/bench.sh --make-reference rewrites the converged references (after a change of the physics;
 #                                   below 0.1% noise: about 15 minutes for the default sky and 3-4 hours
 #                                   for the sunset on 2 cores)
@@ -77,7 +87,7 @@ esac
 . "$ROOT/scripts/common.sh"
 install_missing_packages
 build build >/dev/null
-cmake --build "$ROOT/build" --target sky-bench >/dev/null
+cmake --build "$ROOT/build" --target sky-bench live-bench >/dev/null
 FM="$ROOT/build/firmament"
 SB="$ROOT/build/tools/sky-bench"
 export FIRMAMENT_PRESETS="$ROOT/presets"
@@ -193,6 +203,16 @@ if [ "${1:-}" = "--biomes" ]; then
             "$(awk -v e="$e_ref" 'BEGIN { print 100 * e }')" "$(awk -v c="$ref" -v c0="$clear_ref" 'BEGIN { print c / c0 }')" \
             "$rms4" "$(awk -v s="$sec4" -v c="$(clear_time_at "$rms4")" 'BEGIN { print s / c }')"
     done
+    exit 0
+fi
+
+if [ "${1:-}" = "--live" ]; then
+    LB="$ROOT/build/tools/live-bench"
+    for b in none rural urban; do "$LB" speed "$b" 40; done
+    for b in none rural urban; do
+        "$LB" accuracy "$b" 128 noise -18 -12 -6 -2 0 2 5 10 20 30 45 60 90 | { [ "$b" = none ] && cat || tail -n +2; }
+    done
+    for b in none urban; do "$LB" sweep "$b" -20 90 0.1 | tail -n 1; done
     exit 0
 fi
 

@@ -1,14 +1,32 @@
-/* The live sky: built once per atmosphere, a map per sun (firmament.h, "The live sky"). */
+/* The live sky: the fast path's tables over a grid of sun elevations, built once per atmosphere;
+ * a map per sun from the four nearest elevations' tables (live.h, docs/rendering.md "Live sky"). */
 #include "render/live.h"
 
 #include "base/hash.h"
+#include "base/param_range.h"
 #include "base/platform.h"
 #include "base/status.h"
+#include "base/units.h"
+#include "render/ms_table.h"
+#include "render/render.h"
 #include "sky.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* The sun elevations of the tables (degrees): 1 degree apart where the sun's light through the
+ * horizon changes fastest, wider by day and in deep twilight, where the sky's logarithm changes
+ * smoothly (docs/decisions/2026-12-06-live-sky.md). */
+static const double SUN_DEG[] = {-20, -17.5, -15, -12.5, -10, -8, -6, -4.5, -3, -2, -1, 0, 1,
+                                 2,   3.5,   5.5, 8,     11,  15, 20, 27,   35, 45, 60, 75, 90};
+#define NODES ((int)(sizeof SUN_DEG / sizeof SUN_DEG[0]))
+#define QUALITY FM_QUALITY_PREVIEW
+#define SAMPLE_SCALE 1.0
+/* Below the horizon the paths cost several times a day's (twilight sampling): a quarter of them,
+ * whose noise the fit still averages (the same decision record). */
+#define TWILIGHT_PATH_SCALE 0.25
 
 fm_status live_sky_params(const fm_sky_params *params, fm_sky_params *out, fm_error *err)
 {
@@ -28,20 +46,36 @@ fm_status live_sky_params(const fm_sky_params *params, fm_sky_params *out, fm_er
     return FM_OK;
 }
 
-fm_status fm_sky_live_create(const fm_sky_params *params, const atomic_int *cancel, fm_sky_live **out,
-                             fm_error *err)
+fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *err)
 {
     *out = NULL;
     fm_sky_live *live = calloc(1, sizeof *live);
     if (!live)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
     fm_status s = live_sky_params(params, &live->params, err);
-    if (!s && cancel && atomic_load(cancel))
-        s = fm_fail(err, FM_ERR_CANCELLED, "cancelled");
     if (!s)
         s = fm_sky_create(&live->params, &live->sky, err);
-    if (!s && cancel && atomic_load(cancel))
-        s = fm_fail(err, FM_ERR_CANCELLED, "cancelled");
+    if (!s && !(live->nodes = calloc(NODES, sizeof *live->nodes)))
+        s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
+    if (s) {
+        fm_sky_live_destroy(live);
+        return s;
+    }
+    const fm_sky *sky = live->sky;
+    live->quality = QUALITY;
+    live->sample_scale = SAMPLE_SCALE;
+    live->q = render_quality_settings(QUALITY, SAMPLE_SCALE);
+    live->channels = sky->atm.grid.colour ? 3 : 1;
+    live->count = NODES;
+    const quality_settings q = live->q;
+    const double horizon = asin(horizon_mu(&sky->atm, v3_length(sky->observer)));
+    for (int i = 0; i < NODES && !s; i++) {
+        live_node *n = &live->nodes[i];
+        n->sun_elevation_deg = SUN_DEG[i];
+        if (sky_grid_init(&n->ss, horizon, q.ss_rows_sky, q.ss_rows_ground, q.ss_cols, live->channels, 1) ||
+            sky_grid_init(&n->ms, horizon, q.ms_rows_sky, q.ms_rows_ground, q.ms_cols, live->channels, 0))
+            s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
+    }
     if (s) {
         fm_sky_live_destroy(live);
         return s;
@@ -50,18 +84,217 @@ fm_status fm_sky_live_create(const fm_sky_params *params, const atomic_int *canc
     return FM_OK;
 }
 
+/* A copy of the live sky's fm_sky with the sun at (elevation, azimuth): the tables are shared,
+ * read-only (sky_sun.c); free() it. */
+static fm_sky *sky_with_sun(const fm_sky_live *live, double elevation_deg, double azimuth_deg, fm_error *err)
+{
+    fm_sky *sky = malloc(sizeof *sky);
+    if (!sky) {
+        fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
+        return NULL;
+    }
+    *sky = *live->sky;
+    if (fm_sky_set_sun(sky, elevation_deg, azimuth_deg, err)) {
+        free(sky);
+        return NULL;
+    }
+    return sky;
+}
+
+/* The tables of one node: the fast path's, for a sun at the node's elevation. */
+static fm_status build_node(fm_sky_live *live, live_node *node, const atomic_int *cancel, fm_error *err)
+{
+    fm_sky *sky = sky_with_sun(live, node->sun_elevation_deg, 180.0, err);
+    if (!sky)
+        return err->status;
+    fm_render_params rp = fm_render_params_default();
+    rp.quality = live->quality;
+    rp.sample_scale = live->sample_scale;
+    rp.threads = live->params.threads;
+    rp.cancel = cancel;
+    ms_table ms = {0};
+    render_job job = {.sky = sky, .params = &rp, .ms = &ms, .channels = live->channels};
+    job.q = live->q;
+    if (node->sun_elevation_deg < 0.0) {
+        job.q.ms_paths = (int)fmax(1.0, round(job.q.ms_paths * TWILIGHT_PATH_SCALE));
+        job.q.ground_paths = (int)fmax(1.0, round(job.q.ground_paths * TWILIGHT_PATH_SCALE));
+    }
+    job.seed = mix64(0); /* one seed for every node: their noise is alike from one elevation to the next */
+    twilight_sampling *twilight = NULL;
+    fm_status s = render_twilight(&job, &twilight, err);
+    if (!s) {
+        job.twilight = twilight;
+        s = render_fast_tables(&job, node->sun_elevation_deg * FM_DEG, err);
+    }
+    if (!s) {
+        memcpy(node->ss.values, job.ss.values, sizeof(float) * (size_t)sky_grid_nodes(&node->ss) * live->channels);
+        memcpy(node->ms.values, ms.grid.values, sizeof(float) * (size_t)sky_grid_nodes(&node->ms) * live->channels);
+        node->paths_per_node = job.paths_per_node;
+    }
+    free(twilight);
+    sky_grid_free(&job.ss);
+    ms_table_free(&ms);
+    ground_irradiance_free(&job.ground);
+    free(sky);
+    return s;
+}
+
+fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, const atomic_int *cancel,
+                           fm_error *err)
+{
+    fm_status s = FM_OK;
+    for (int i = 0; i < live->count && !s; i++)
+        if (live->nodes[i].sun_elevation_deg >= from_deg && live->nodes[i].sun_elevation_deg <= to_deg)
+            s = build_node(live, &live->nodes[i], cancel, err);
+    return s == FM_ERR_CANCELLED ? fm_fail(err, s, "live sky cancelled") : s;
+}
+
+fm_status fm_sky_live_create(const fm_sky_params *params, const atomic_int *cancel, fm_sky_live **out,
+                             fm_error *err)
+{
+    fm_sky_live *live;
+    fm_status s = live_alloc(params, &live, err);
+    if (s)
+        return s;
+    if ((s = live_build_nodes(live, -90.0, 90.0, cancel, err))) {
+        fm_sky_live_destroy(live);
+        return s;
+    }
+    *out = live;
+    return FM_OK;
+}
+
+/* Where a sun elevation lies on the grid: between nodes i and i + 1 at t in [0, 1], and the nodes'
+ * elevations x[0..3] (i - 1 to i + 2; lo, hi: whether i - 1 and i + 2 exist). */
+typedef struct grid_place {
+    int i, lo, hi;
+    double t, x[4];
+} grid_place;
+
+static grid_place place_on_grid(const fm_sky_live *live, double elevation_deg)
+{
+    grid_place g = {0};
+    while (g.i + 2 < live->count && live->nodes[g.i + 1].sun_elevation_deg <= elevation_deg)
+        g.i++;
+    g.lo = g.i > 0;
+    g.hi = g.i + 2 < live->count;
+    for (int k = 0; k < 4; k++) {
+        int n = g.i - 1 + k;
+        g.x[k] = n >= 0 && n < live->count ? live->nodes[n].sun_elevation_deg : 0.0;
+    }
+    g.t = (elevation_deg - g.x[1]) / (g.x[2] - g.x[1]);
+    return g;
+}
+
+/* The slope at a node from its neighbours' values (ym at hm before, yp at hp after), limited so
+ * that the curve never overshoots its nodes (Fritsch & Carlson, SIAM J. Numer. Anal. 17 (1980) 238):
+ * 0 at a local extremum, at most 3 times the smaller secant. */
+static double limited_slope(double ym, double y, double yp, double hm, double hp)
+{
+    double sm = (y - ym) / hm, sp = (yp - y) / hp;
+    if (sm * sp <= 0.0)
+        return 0.0;
+    double d = (hm * sp + hp * sm) / (hm + hp), most = 3.0 * fmin(fabs(sm), fabs(sp));
+    return fabs(d) > most ? copysign(most, d) : d;
+}
+
+/* The monotone cubic Hermite interpolant through y[0..3] (at the nodes of g) at g's place; a slope
+ * at a node without an outer neighbour is its secant. */
+static double hermite(const grid_place *g, const double y[4])
+{
+    const double h = g->x[2] - g->x[1], s = (y[2] - y[1]) / h, t = g->t;
+    double d1 = g->lo ? limited_slope(y[0], y[1], y[2], g->x[1] - g->x[0], h) : s;
+    double d2 = g->hi ? limited_slope(y[1], y[2], y[3], h, g->x[3] - g->x[2]) : s;
+    double t2 = t * t, t3 = t2 * t;
+    return (2 * t3 - 3 * t2 + 1) * y[1] + (t3 - 2 * t2 + t) * h * d1 + (3 * t2 - 2 * t3) * y[2] + (t3 - t2) * h * d2;
+}
+
+/* One value on the monotone cubic through the four nodes' values v[0..3] (of g): in their
+ * logarithms where all that it reads are positive, else in the values (light that one node's sun
+ * does not reach, 0 there, as a shadowed direction in deep twilight, or a fit's dip to 0). */
+static double interpolate_value(const grid_place *g, const double v[4])
+{
+    double y[4];
+    int positive = 1;
+    for (int k = 0; k < 4; k++)
+        positive &= v[k] > 0.0 || (k == 0 && !g->lo) || (k == 3 && !g->hi);
+    for (int k = 0; k < 4; k++)
+        y[k] = positive ? (v[k] > 0.0 ? log(v[k]) : 0.0) : v[k];
+    double r = hermite(g, y);
+    return positive ? exp(r) : r;
+}
+
+/* The tables at g's sun elevation, into ss and ms (initialised like the nodes'), value by value
+ * (interpolate_value).  The sky's brightness is neither linear nor exponential in the sun's
+ * elevation (it follows the sine by day and falls by decades in twilight); a cubic in the logarithm
+ * follows both. */
+static void interpolate_tables(const fm_sky_live *live, const grid_place *g, sky_grid *ss, sky_grid *ms)
+{
+    const live_node *n[4];
+    for (int k = 0; k < 4; k++)
+        n[k] = &live->nodes[g->i - 1 + k < 0 ? 0 : (g->i - 1 + k >= live->count ? live->count - 1 : g->i - 1 + k)];
+    const size_t nss = (size_t)sky_grid_nodes(ss) * live->channels, nms = (size_t)sky_grid_nodes(ms) * live->channels;
+    const double floor_log = log(FM_GRID_FLOOR) + 1.0; /* at or below: a 0 stored as the grid's floor */
+    double v[4];
+    for (size_t i = 0; i < nss; i++) {
+        for (int k = 0; k < 4; k++)
+            v[k] = n[k]->ss.values[i] > floor_log ? exp(n[k]->ss.values[i]) : 0.0;
+        double r = interpolate_value(g, v);
+        ss->values[i] = r > 0.0 ? logf((float)fmax(r, FM_GRID_FLOOR)) : logf(FM_GRID_FLOOR);
+    }
+    for (size_t i = 0; i < nms; i++) {
+        for (int k = 0; k < 4; k++)
+            v[k] = n[k]->ms.values[i];
+        ms->values[i] = (float)interpolate_value(g, v);
+    }
+}
+
+/* A sun below the grid (night): the fast path itself, at the tables' quality. */
+static fm_status render_below_grid(const fm_sky *sky, const fm_render_params *rp, fm_image **out, fm_error *err)
+{
+    return fm_render(sky, rp, out, err);
+}
+
 fm_status fm_sky_live_render(const fm_sky_live *live, double sun_elevation_deg, double sun_azimuth_deg,
                              const fm_render_params *render, fm_image **out, fm_error *err)
 {
     *out = NULL;
-    /* a copy of the sky with this sun: its tables are shared, read-only (sky_sun.c) */
-    fm_sky *sky = malloc(sizeof *sky);
+    if (render->spectral)
+        return fm_fail_parameter(err, "spectral", "a live sky makes colour maps only");
+    fm_sky *sky = sky_with_sun(live, sun_elevation_deg, sun_azimuth_deg, err);
     if (!sky)
-        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
-    *sky = *live->sky;
-    fm_status s = fm_sky_set_sun(sky, sun_elevation_deg, sun_azimuth_deg, err);
-    if (!s)
-        s = fm_render(sky, render, out, err);
+        return err->status;
+    fm_render_params rp = *render;
+    rp.quality = live->quality;
+    rp.sample_scale = live->sample_scale;
+    fm_status s;
+    if (sun_elevation_deg < live->nodes[0].sun_elevation_deg) {
+        s = render_below_grid(sky, &rp, out, err);
+        free(sky);
+        return s;
+    }
+    render_job job = {.sky = sky, .params = &rp};
+    if ((s = render_start(&job, err))) {
+        free(sky);
+        return s;
+    }
+    job.q = live->q;
+    render_quality_fit_footprint(&job.q, &job.cam, &rp);
+    const grid_place g = place_on_grid(live, sun_elevation_deg);
+    const live_node *a = &live->nodes[g.i], *b = &live->nodes[g.i + 1];
+    sky_grid ms = {0};
+    if (sky_grid_init(&job.ss, a->ss.horizon_elevation, a->ss.rows_sky, a->ss.rows_ground, a->ss.cols,
+                      live->channels, 1) ||
+        sky_grid_init(&ms, a->ms.horizon_elevation, a->ms.rows_sky, a->ms.rows_ground, a->ms.cols, live->channels, 0))
+        s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
+    if (!s) {
+        interpolate_tables(live, &g, &job.ss, &ms);
+        job.img->paths_per_node = g.t < 0.5 ? a->paths_per_node : b->paths_per_node;
+        s = render_fast_pixels(&job, &ms, err);
+    }
+    sky_grid_free(&job.ss);
+    sky_grid_free(&ms);
+    s = render_finish(&job, s, out, err);
     free(sky);
     return s;
 }
@@ -115,28 +348,11 @@ void fm_sky_live_destroy(fm_sky_live *live)
 {
     if (!live)
         return;
+    for (int i = 0; i < live->count && live->nodes; i++) {
+        sky_grid_free(&live->nodes[i].ss);
+        sky_grid_free(&live->nodes[i].ms);
+    }
+    free(live->nodes);
     fm_sky_destroy(live->sky);
     free(live);
-}
-
-/* Nothing yet: a loaded file's atmosphere is built anew. */
-size_t live_payload_size(const fm_sky_live *live)
-{
-    (void)live;
-    return 0;
-}
-
-void live_payload_write(const fm_sky_live *live, unsigned char *out)
-{
-    (void)live;
-    (void)out;
-}
-
-fm_status live_from_payload(const fm_sky_params *params, const unsigned char *in, size_t n, fm_sky_live **out,
-                            fm_error *err)
-{
-    (void)in;
-    if (n != 0)
-        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the tables are %zu bytes, not 0", n);
-    return fm_sky_live_create(params, NULL, out, err);
 }

@@ -1,31 +1,52 @@
-/* The live sky (fm_sky_live, docs/rendering.md "Live sky"): what live.c builds once per atmosphere
- * and live_file.c saves and loads. */
+/* The live sky (fm_sky_live, docs/rendering.md "Live sky"): the fast path's two radiance tables
+ * (single scattering, and the fitted multiple scattering) made once for each sun elevation of a
+ * grid, from -20 to 90 degrees; a map for any sun interpolates the four nearest elevations'
+ * tables and reads them at the azimuth relative to the sun, as the fast path reads its own.
+ * live.c builds and renders, live_file.c saves and loads. */
 #ifndef FM_RENDER_LIVE_H
 #define FM_RENDER_LIVE_H
 
 #include "firmament/firmament.h"
+#include "render/quality.h"
+#include "transport/sky_grid.h"
 
 #include <stddef.h>
 #include <stdint.h>
 
 /* Part of every key: a change of what the tables hold or how they are laid out makes old files
  * another atmosphere's. */
-#define LIVE_TABLE_VERSION 1
+#define LIVE_TABLE_VERSION 2
+
+/* The tables of one sun elevation. */
+typedef struct live_node {
+    double sun_elevation_deg;
+    int paths_per_node; /* the multiple-scattering table's */
+    sky_grid ss;        /* single scattering, logarithmic */
+    sky_grid ms;        /* multiple scattering, fitted, linear */
+} live_node;
 
 struct fm_sky_live {
     fm_sky *sky;          /* the atmosphere; its sun is set per render on a copy */
-    fm_sky_params params; /* as given to create, the sun and time resolved away (live.c) */
+    fm_sky_params params; /* as given to create, the sun and time resolved away (live_sky_params) */
+    quality_settings q;   /* the tables' (live.c) */
+    fm_quality quality;   /* the level and sample scale the maps record */
+    double sample_scale;
+    int channels;         /* 3 (CIE XYZ) or 1 (a monochromatic sky) */
+    int count;            /* nodes, by rising sun elevation */
+    live_node *nodes;
 };
 
 /* The parameters a live sky builds its fm_sky from: the sun at a fixed place, no time of day, the
  * Earth-Sun distance of the date when it came from the time. */
 fm_status live_sky_params(const fm_sky_params *params, fm_sky_params *out, fm_error *err);
 
-/* The live sky's tables as one block of bytes, for live_file.c: its size, the bytes, and a live sky
- * made from them (params: the atmosphere, whose key the file matched). */
-size_t live_payload_size(const fm_sky_live *live);
-void live_payload_write(const fm_sky_live *live, unsigned char *out);
-fm_status live_from_payload(const fm_sky_params *params, const unsigned char *in, size_t n, fm_sky_live **out,
-                            fm_error *err);
+/* A live sky for the atmosphere of params with its sky built and every node's tables allocated
+ * (zero) at its sun elevation: for fm_sky_live_create to fill and for live_file.c to read into. */
+fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *err);
+
+/* Fills the tables of the nodes from from_deg to to_deg (fm_sky_live_create: all of them; a test
+ * may build a few). */
+fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, const atomic_int *cancel,
+                           fm_error *err);
 
 #endif

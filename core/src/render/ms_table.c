@@ -231,7 +231,7 @@ fm_status ms_table_fill(render_job *job, double sun_elevation_deg)
     if (s)
         return s;
     finish_nodes(job, job->q.ms_paths);
-    job->img->paths_per_node = job->q.ms_paths;
+    job->paths_per_node = job->q.ms_paths;
     int extra = deep_twilight_extra_paths(job, params->sample_scale, sun_elevation_deg);
     if (!extra)
         return FM_OK;
@@ -239,7 +239,7 @@ fm_status ms_table_fill(render_job *job, double sun_elevation_deg)
     if ((s = parallel_for(params->threads, nodes, 1, node_paths, &pass, params->cancel, &more)))
         return s;
     finish_nodes(job, job->q.ms_paths + extra);
-    job->img->paths_per_node = job->q.ms_paths + extra;
+    job->paths_per_node = job->q.ms_paths + extra;
     return FM_OK;
 }
 

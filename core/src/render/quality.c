@@ -69,7 +69,7 @@ static double deep_twilight_path_scale(fm_quality quality, double sun_elevation_
  * the single-scattering table across a pixel follow the tables' bilinear pieces, so a wide map's
  * small pixels need fewer than the quality's count (never more; rows at the horizon are sampled
  * finer anyway, render.c's row_samples). */
-static void fit_footprint_to_pixels(quality_settings *q, const camera *cam, const fm_render_params *p)
+void render_quality_fit_footprint(quality_settings *q, const camera *cam, const fm_render_params *p)
 {
     double pixel = cam->type == FM_CAMERA_EQUIRECT ? 2.0 * FM_PI / cam->width
                    : cam->type == FM_CAMERA_FISHEYE ? FM_PI / cam->width
@@ -79,13 +79,19 @@ static void fit_footprint_to_pixels(quality_settings *q, const camera *cam, cons
     q->subpixels = n < 1 ? 1 : (n < q->subpixels ? n : q->subpixels);
 }
 
+quality_settings render_quality_at(fm_quality quality, double scale, double sun_elevation_deg)
+{
+    quality_settings q = render_quality_settings(quality, scale);
+    q.ms_paths = (int)round(q.ms_paths * deep_twilight_path_scale(quality, sun_elevation_deg));
+    return q;
+}
+
 quality_settings render_quality_for(const fm_render_params *p, const camera *cam, double sun_elevation_deg)
 {
-    quality_settings q = render_quality_settings(p->quality, p->sample_scale);
-    q.ms_paths = (int)round(q.ms_paths * deep_twilight_path_scale(p->quality, sun_elevation_deg));
+    quality_settings q = render_quality_at(p->quality, p->sample_scale, sun_elevation_deg);
     if (p->quality == FM_QUALITY_REFERENCE && p->reference_samples > 0)
         q.reference_paths = p->reference_samples;
     if (p->quality != FM_QUALITY_REFERENCE)
-        fit_footprint_to_pixels(&q, cam, p);
+        render_quality_fit_footprint(&q, cam, p);
     return q;
 }

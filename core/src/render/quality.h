@@ -21,10 +21,16 @@ typedef struct quality_settings {
 /* The settings of a quality level, with every sample count scaled by `scale`. */
 quality_settings render_quality_settings(fm_quality quality, double scale);
 
+/* The settings of a level for the tables of a sun elevation: scaled, with deep twilight's paths. */
+quality_settings render_quality_at(fm_quality quality, double scale, double sun_elevation_deg);
+
 /* The settings of a render: its level's, scaled by the render's sample scale, with the paths per
  * multiple-scattering node of deep twilight, the reference's paths per pixel when given and the
  * footprint samples the camera's pixels need. */
 quality_settings render_quality_for(const fm_render_params *p, const camera *cam, double sun_elevation_deg);
+
+/* Footprint samples per pixel and axis no denser than the tables need (never more than q's). */
+void render_quality_fit_footprint(quality_settings *q, const camera *cam, const fm_render_params *p);
 
 /* The share of deep twilight's extra effort still spent at a sun elevation: 1 down to sun -18
  * degrees, 0 from -21 (night: the scattered sunlight fainter than the night sky's own light, which

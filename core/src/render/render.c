@@ -112,7 +112,7 @@ static void fast_rows(void *ctx, int64_t begin, int64_t end, int thread)
                     sky_grid_lookup(&job->ss, elevation[sy], phi, v);
                     for (int c = 0; c < C; c++)
                         acc[c] += w * v[c];
-                    sky_grid_lookup(&job->ms->grid, elevation[sy], phi, v);
+                    sky_grid_lookup(job->ms_grid, elevation[sy], phi, v);
                     for (int c = 0; c < C; c++)
                         acc[c] += w * v[c];
                 }
@@ -131,7 +131,7 @@ static void table_radiance(void *ctx, vec3 d, double elevation, float *out)
     double phi = render_relative_azimuth(job->sky, atan2(d.x, d.y));
     float ss[3], ms[3];
     sky_grid_lookup(&job->ss, elevation, phi, ss);
-    sky_grid_lookup(&job->ms->grid, elevation, phi, ms);
+    sky_grid_lookup(job->ms_grid, elevation, phi, ms);
     for (int c = 0; c < job->channels; c++)
         out[c] = (float)((double)ss[c] + ms[c]);
 }
@@ -276,10 +276,10 @@ static fm_status build_ground(render_job *job, int *from_table)
                                    job->seed, job->params->threads, job->params->cancel);
 }
 
-/* The fast path: the multiple-scattering table first (on the ground it completes the ground's
- * irradiance, which the single-scattering table's downward rows reflect), then the
- * single-scattering table, the fit, and the pixels' footprints over both. */
-static fm_status render_fast(render_job *job, double sun_elevation, fm_error *err)
+/* The fast path's tables: the multiple-scattering table first (on the ground it completes the
+ * ground's irradiance, which the single-scattering table's downward rows reflect), then the
+ * single-scattering table and the fit. */
+fm_status render_fast_tables(render_job *job, double sun_elevation, fm_error *err)
 {
     const fm_render_params *params = job->params;
     const quality_settings *q = &job->q;
@@ -295,7 +295,6 @@ static fm_status render_fast(render_job *job, double sun_elevation, fm_error *er
     if (s == FM_ERR_OUT_OF_MEMORY)
         return fm_fail(err, s, "out of memory for the ground irradiance");
     parallel_progress pss = {params->progress, params->progress_user, "single scattering", 0.80, 0.10};
-    parallel_progress ppx = {params->progress, params->progress_user, "pixels", 0.9, 0.08};
     if (s || (s = ms_table_fill(job, sun_elevation / FM_DEG)) ||
         (ground_from_table && (s = ms_table_add_to_ground(job))) ||
         (s = parallel_for(params->threads, job->ss.rows_sky + job->ss.rows_ground, 1, ss_rows, job, params->cancel,
@@ -303,8 +302,17 @@ static fm_status render_fast(render_job *job, double sun_elevation, fm_error *er
         (s = atomic_load(&job->no_memory) ? FM_ERR_OUT_OF_MEMORY : FM_OK) || (s = ms_table_fit(job, sun_elevation)))
         return render_failed(s, err);
     sky_grid_average_poles(&job->ms->grid);
-    s = parallel_for(params->threads, job->img->height, 4,
-                     job->cam.type == FM_CAMERA_EQUIRECT ? fast_rows : fast_rows_camera, job, params->cancel, &ppx);
+    return FM_OK;
+}
+
+fm_status render_fast_pixels(render_job *job, const sky_grid *ms, fm_error *err)
+{
+    const fm_render_params *params = job->params;
+    parallel_progress ppx = {params->progress, params->progress_user, "pixels", 0.9, 0.08};
+    job->ms_grid = ms;
+    fm_status s = parallel_for(params->threads, job->img->height, 4,
+                               job->cam.type == FM_CAMERA_EQUIRECT ? fast_rows : fast_rows_camera, job,
+                               params->cancel, &ppx);
     return s ? render_failed(s, err) : FM_OK;
 }
 
@@ -318,43 +326,65 @@ static fm_status render_reference(render_job *job, fm_error *err)
     return s ? render_failed(s, err) : FM_OK;
 }
 
+fm_status render_start(render_job *job, fm_error *err)
+{
+    fm_status s = validate(job->params, &job->cam, err);
+    if (s)
+        return s;
+    const double sun_elevation = asin(clamp_cosine(job->sky->sun_dir.z)); /* rad */
+    job->q = render_quality_for(job->params, &job->cam, sun_elevation / FM_DEG);
+    job->seed = render_seed(&job->sky->atm, job->params->seed);
+    return create_image(job, err);
+}
+
+fm_status render_twilight(render_job *job, twilight_sampling **tw, fm_error *err)
+{
+    *tw = NULL;
+    if (v3_dot(job->sky->sun_dir, job->sky->observer) < 0.0)
+        report(job->params, 0.0, "twilight guide");
+    return make_twilight(job->sky, &job->q, job->params, tw, err);
+}
+
+fm_status render_finish(render_job *job, fm_status s, fm_image **out, fm_error *err)
+{
+    if (!s && job->params->sun_disk) {
+        report(job->params, 0.98, "sun disk");
+        if (sun_disk_rasterise(job->sky, &job->cam, job->img))
+            s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the sun disk");
+    }
+    if (s) {
+        fm_image_destroy(job->img);
+        job->img = NULL;
+        return s;
+    }
+    report(job->params, 1.0, "done");
+    *out = job->img;
+    return FM_OK;
+}
+
 fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image **out, fm_error *err)
 {
     *out = NULL;
     ms_table ms = {0};
     render_job job = {.sky = sky, .params = params, .ms = &ms};
-    fm_status s = validate(params, &job.cam, err);
+    fm_status s = render_start(&job, err);
     if (s)
         return s;
-    const double sun_elevation = asin(clamp_cosine(sky->sun_dir.z)); /* rad */
-    job.q = render_quality_for(params, &job.cam, sun_elevation / FM_DEG);
-    job.seed = render_seed(&sky->atm, params->seed);
-    if ((s = create_image(&job, err)))
-        return s;
     twilight_sampling *twilight = NULL;
-    if (v3_dot(sky->sun_dir, sky->observer) < 0.0)
-        report(params, 0.0, "twilight guide");
-    if (!(s = make_twilight(sky, &job.q, params, &twilight, err))) {
+    if (!(s = render_twilight(&job, &twilight, err))) {
         job.twilight = twilight;
-        s = params->quality == FM_QUALITY_REFERENCE ? render_reference(&job, err)
-                                                    : render_fast(&job, sun_elevation, err);
+        if (params->quality == FM_QUALITY_REFERENCE)
+            s = render_reference(&job, err);
+        else if (!(s = render_fast_tables(&job, asin(clamp_cosine(sky->sun_dir.z)), err))) {
+            job.img->paths_per_node = job.paths_per_node;
+            s = render_fast_pixels(&job, &ms.grid, err);
+        }
     }
     free(twilight);
     sky_grid_free(&job.ss);
     ms_table_free(&ms);
     ground_irradiance_free(&job.ground);
-    if (!s && params->sun_disk) {
-        report(params, 0.98, "sun disk");
-        if (sun_disk_rasterise(sky, &job.cam, job.img))
-            s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the sun disk");
-    }
-    if (s) {
-        fm_image_destroy(job.img);
-        return s;
-    }
-    report(params, 1.0, "done");
-    *out = job.img;
-    return FM_OK;
+    return render_finish(&job, s, out, err);
 }
 
 typedef struct pixels_job {

@@ -14,5 +14,23 @@
 
 #include "firmament/firmament.h"
 #include "render/quality.h"
+#include "render/render_job.h"
+
+/* fm_render in steps, for the live sky (live.c) to make its tables and its maps alike.  The job
+ * holds the sky (its sun), the parameters and a zeroed ms_table. */
+
+/* Checks the parameters, sets the camera, the quality settings and the seed, and creates the image
+ * (the render record filled). */
+fm_status render_start(render_job *job, fm_error *err);
+/* The twilight sampling with the sun below the observer's horizon plane (*tw NULL otherwise). */
+fm_status render_twilight(render_job *job, twilight_sampling **tw, fm_error *err);
+/* The fast path's tables into job->ss and job->ms (the caller frees them, and job->ground): needs
+ * the job's sky, parameters, quality settings, seed, channels and twilight sampling, not its image. */
+fm_status render_fast_tables(render_job *job, double sun_elevation, fm_error *err);
+/* The fast path's pixels: footprint averages of job->ss and the multiple-scattering table ms. */
+fm_status render_fast_pixels(render_job *job, const sky_grid *ms, fm_error *err);
+/* The sun disk after a render that went well (status s FM_OK): the image goes to *out; else it is
+ * freed and s returned. */
+fm_status render_finish(render_job *job, fm_status s, fm_image **out, fm_error *err);
 
 #endif

@@ -30,6 +30,9 @@ typedef struct render_job {
     const twilight_sampling *twilight; /* below the horizon only (twilight.h) */
     sky_grid ss;                       /* the single-scattering table */
     struct ms_table *ms;               /* the multiple-scattering table (ms_table.h) */
+    const sky_grid *ms_grid;           /* the pixels' multiple-scattering radiance (ms->grid, or the live
+                                        * sky's, live.c) */
+    int paths_per_node;                /* the multiple-scattering table's, once filled */
     ground_irradiance ground;
     fm_image *img;
     atomic_int no_memory; /* a worker could not allocate */

@@ -1,0 +1,265 @@
+/* The live sky's benchmark (bench/bench.sh --live runs it; docs/rendering.md "Live sky").
+ *
+ *   live-bench speed BIOME [SUNS]       builds the live sky of BIOME (none, rural, urban, ...; the
+ *                                       default sky otherwise) on every core, prints its build time and
+ *                                       table memory, then renders SUNS (default 40) suns spread over
+ *                                       -20..90 degrees and every azimuth to 512 x 256 maps written as
+ *                                       EXR + sidecar (/tmp), and prints the median and 90th percentile
+ *                                       of the time per map, its render and write parts, and the
+ *                                       process's peak memory
+ *   live-bench accuracy BIOME WIDTH E... the live map at each sun elevation E against the final quality
+ *                                       path at the same sun (sun disk left out, aureole kept; the
+ *                                       azimuth 180): luminance RMS of the relative error, its mean
+ *                                       (bias) and 99th percentile, and the mean and largest u'v'
+ *                                       chromaticity distance; with "noise" after WIDTH, also the final
+ *                                       path's own RMS from a second seed
+ *   live-bench sweep BIOME FROM TO STEP the zenith luminance (cd/m^2) of the live map from FROM to TO
+ *                                       degrees in steps of STEP, and the largest step of its logarithm
+ *                                       across a grid elevation against the largest elsewhere */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime */
+
+#include "firmament/firmament.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "base/platform.h"
+#include "render/live.h"
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static fm_sky_params params_for(const char *biome)
+{
+    fm_sky_params p = fm_sky_params_default();
+    p.biome = biome;
+    return p;
+}
+
+static fm_sky_live *build(const char *biome, double *seconds)
+{
+    fm_sky_params p = params_for(biome);
+    fm_sky_live *live;
+    fm_error err;
+    double t0 = now();
+    if (fm_sky_live_create(&p, NULL, &live, &err)) {
+        fprintf(stderr, "live-bench: %s\n", err.message);
+        exit(1);
+    }
+    *seconds = now() - t0;
+    return live;
+}
+
+static size_t table_bytes(const fm_sky_live *live)
+{
+    size_t n = 0;
+    for (int i = 0; i < live->count; i++)
+        n += sizeof(float) * (size_t)live->channels *
+             (size_t)(sky_grid_nodes(&live->nodes[i].ss) + sky_grid_nodes(&live->nodes[i].ms));
+    return n;
+}
+
+static int by_value(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double percentile(double *v, int n, double q)
+{
+    qsort(v, (size_t)n, sizeof *v, by_value);
+    return v[(int)fmin(n - 1, floor(q * n))];
+}
+
+static int speed(const char *biome, int suns)
+{
+    double build_s;
+    double m0 = platform_peak_memory_mib();
+    fm_sky_live *live = build(biome, &build_s);
+    printf("%-8s build %6.2f s  nodes %d  tables %6.2f MiB  peak after build %6.1f MiB (before %5.1f)\n", biome,
+           build_s, live->count, table_bytes(live) / 1048576.0, platform_peak_memory_mib(), m0);
+    double *total = malloc(sizeof(double) * suns * 3), *render = total + suns, *write = total + 2 * suns;
+    for (int i = 0; i < suns; i++) {
+        double e = -20.0 + 110.0 * (i + 0.5) / suns, a = fmod(137.5 * i, 360.0);
+        fm_render_params rp = fm_render_params_default();
+        rp.width = 512;
+        fm_image *img;
+        fm_output *out;
+        fm_error err;
+        double t0 = now();
+        if (fm_sky_live_render(live, e, a, &rp, &img, &err) ||
+            (render[i] = now() - t0, fm_image_to_rec709(img, &err)) ||
+            fm_output_open("/tmp/live_bench.exr", "/tmp/live_bench.json", &out, &err) ||
+            fm_output_commit(out, img, NULL, &err)) {
+            fprintf(stderr, "live-bench: %s\n", err.message);
+            return 1;
+        }
+        fm_output_close(out);
+        fm_image_destroy(img);
+        total[i] = now() - t0;
+        write[i] = total[i] - render[i];
+    }
+    printf("%-8s 512 x 256 map per sun (%d suns): median %5.1f ms (render %5.1f, write %5.1f), p90 %5.1f ms; "
+           "peak %6.1f MiB\n",
+           biome, suns, 1e3 * percentile(total, suns, 0.5), 1e3 * percentile(render, suns, 0.5),
+           1e3 * percentile(write, suns, 0.5), 1e3 * percentile(total, suns, 0.9), platform_peak_memory_mib());
+    free(total);
+    fm_sky_live_destroy(live);
+    return 0;
+}
+
+static fm_image *final_map(const char *biome, double e, int width, uint64_t seed)
+{
+    fm_sky_params p = params_for(biome);
+    p.sun_elevation_deg = e;
+    fm_sky *sky;
+    fm_image *img;
+    fm_error err;
+    fm_render_params rp = fm_render_params_default();
+    rp.width = width;
+    rp.sun_disk = 0;
+    rp.seed = seed;
+    if (fm_sky_create(&p, &sky, &err) || fm_render(sky, &rp, &img, &err)) {
+        fprintf(stderr, "live-bench: %s\n", err.message);
+        exit(1);
+    }
+    fm_sky_destroy(sky);
+    return img;
+}
+
+/* u'v' (CIE 1976) of an XYZ pixel. */
+static void uv(const float *xyz, double *u, double *v)
+{
+    double d = xyz[0] + 15.0 * xyz[1] + 3.0 * xyz[2];
+    *u = d > 0.0 ? 4.0 * xyz[0] / d : 0.0;
+    *v = d > 0.0 ? 9.0 * xyz[1] / d : 0.0;
+}
+
+/* Mean and largest u'v' distance over the pixels brighter than 1e-6 of b's mean luminance. */
+static void chromaticity(const fm_image *a, const fm_image *b, double *mean, double *max)
+{
+    const size_t n = (size_t)a->width * a->height;
+    double ymean = 0.0;
+    for (size_t i = 0; i < n; i++)
+        ymean += b->pixels[3 * i + 1] / (double)n;
+    double sum = 0.0;
+    long used = 0;
+    *max = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        if (!(b->pixels[3 * i + 1] > 1e-6 * ymean))
+            continue;
+        double ua, va, ub, vb;
+        uv(&a->pixels[3 * i], &ua, &va);
+        uv(&b->pixels[3 * i], &ub, &vb);
+        double d = hypot(ua - ub, va - vb);
+        sum += d;
+        used++;
+        *max = fmax(*max, d);
+    }
+    *mean = used ? sum / used : 0.0;
+}
+
+static int accuracy(const char *biome, int width, int noise, int count, char **elevations)
+{
+    double build_s;
+    fm_sky_live *live = build(biome, &build_s);
+    printf("%-8s %7s %8s %8s %8s %9s %9s%s\n", "biome", "sun", "RMS %", "bias %", "p99 %", "u'v' mean", "u'v' max",
+           noise ? "  final noise RMS %" : "");
+    for (int i = 0; i < count; i++) {
+        double e = atof(elevations[i]);
+        fm_render_params rp = fm_render_params_default();
+        rp.width = width;
+        rp.sun_disk = 0;
+        fm_image *got, *want = final_map(biome, e, width, 0);
+        fm_error err;
+        if (fm_sky_live_render(live, e, 180.0, &rp, &got, &err)) {
+            fprintf(stderr, "live-bench: %s\n", err.message);
+            return 1;
+        }
+        fm_comparison c;
+        fm_image_compare(got, want, 0.0, &c, &err);
+        double uv_mean, uv_max;
+        chromaticity(got, want, &uv_mean, &uv_max);
+        printf("%-8s %7.2f %8.3f %8.3f %8.3f %9.5f %9.5f", biome, e, 100 * c.rms, 100 * c.mean, 100 * c.p99, uv_mean,
+               uv_max);
+        if (noise) {
+            fm_image *other = final_map(biome, e, width, 1);
+            fm_comparison n;
+            fm_image_compare(other, want, 0.0, &n, &err);
+            printf("  %8.3f", 100 * n.rms);
+            fm_image_destroy(other);
+        }
+        printf("\n");
+        fflush(stdout);
+        fm_image_destroy(got);
+        fm_image_destroy(want);
+    }
+    fm_sky_live_destroy(live);
+    return 0;
+}
+
+/* Mean luminance (cd/m^2) of the map's top row: the zenith. */
+static double zenith(const fm_sky_live *live, double e)
+{
+    fm_render_params rp = fm_render_params_default();
+    rp.width = 64;
+    rp.sun_disk = 0;
+    rp.threads = 1;
+    fm_image *img;
+    fm_error err;
+    if (fm_sky_live_render(live, e, 180.0, &rp, &img, &err)) {
+        fprintf(stderr, "live-bench: %s\n", err.message);
+        exit(1);
+    }
+    double y = 0.0;
+    for (int x = 0; x < img->width; x++)
+        y += img->pixels[3 * x + 1] * 683.0 / img->width;
+    fm_image_destroy(img);
+    return y;
+}
+
+static int sweep(const char *biome, double from, double to, double step)
+{
+    double build_s;
+    fm_sky_live *live = build(biome, &build_s);
+    double prev = zenith(live, from), across = 0.0, elsewhere = 0.0, worst_at = from;
+    for (double e = from + step; e <= to + 1e-9; e += step) {
+        double y = zenith(live, e), d = fabs(log(y / prev));
+        int crosses = 0;
+        for (int i = 0; i < live->count; i++)
+            crosses |= live->nodes[i].sun_elevation_deg > e - step + 1e-9 && live->nodes[i].sun_elevation_deg <= e;
+        printf("%7.2f %12.6g %s\n", e, y, crosses ? "grid" : "");
+        if (crosses && d > across)
+            across = d, worst_at = e;
+        if (!crosses)
+            elsewhere = fmax(elsewhere, d);
+        prev = y;
+    }
+    printf("%-8s zenith luminance steps of %.2f deg: largest across a grid elevation %.4f (at %.2f), elsewhere "
+           "%.4f (log)\n",
+           biome, step, across, worst_at, elsewhere);
+    fm_sky_live_destroy(live);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc >= 3 && !strcmp(argv[1], "speed"))
+        return speed(argv[2], argc > 3 ? atoi(argv[3]) : 40);
+    if (argc >= 5 && !strcmp(argv[1], "accuracy")) {
+        int noise = !strcmp(argv[4], "noise");
+        return accuracy(argv[2], atoi(argv[3]), noise, argc - 4 - noise, argv + 4 + noise);
+    }
+    if (argc == 6 && !strcmp(argv[1], "sweep"))
+        return sweep(argv[2], atof(argv[3]), atof(argv[4]), atof(argv[5]));
+    fprintf(stderr, "usage: live-bench speed BIOME [SUNS] | accuracy BIOME WIDTH [noise] E... | sweep BIOME FROM TO "
+                    "STEP\n");
+    return 2;
+}
