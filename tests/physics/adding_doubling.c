@@ -58,7 +58,7 @@ static double moments(ad_phase_fn phase, const void *ctx, int lmax, double *chi)
     for (int k = 0; k < MOMENT_PANELS; k++)
         for (int q = 0; q < 4; q++) {
             double th = h * (k + 0.5 * (1.0 + g4.x[q])), x = cos(th);
-            double v = phase(x, ctx) * sin(th) * 0.5 * h * g4.w[q];
+            double v = 0.5 * phase(x, ctx) * sin(th) * (0.5 * h * g4.w[q]); /* (1/2) p sin(theta) dtheta */
             legendre(lmax, x, pl);
             for (int l = 0; l <= lmax; l++)
                 chi[l] += v * pl[l];

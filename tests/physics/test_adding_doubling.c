@@ -7,11 +7,13 @@
  *    (mu + mu0) with Chandrasekhar's H-function solved here from its integral equation (Chandrasekhar
  *    1950, "Radiative Transfer", eq. V.(11)), whose conservative value H(1) = 2.9078 (his Table XIII)
  *    checks the iteration;
- *  - the single-scattering limit (tau 1e-5, Henyey-Greenstein g 0.5 and 0.85), in closed form;
+ *  - the single-scattering limit (tau 1e-5, Henyey-Greenstein g 0.5 and 0.85 expanded in full, 0.9
+ *    truncated by delta-M with its exact single scattering), in closed form;
  *  - conservative scattering: R + T = 1 over a black ground, and R = 1 over a white one (HG g 0.85
  *    and 0.9, optical depths 10 and 100);
  *  - reciprocity: mu0 R(mu, mu0, phi) is symmetric in mu and mu0;
- *  - convergence in the number of streams for the cases the path tracer is compared with. */
+ *  - convergence in the number of streams for the cases the path tracer is compared with, and
+ *    delta-M with its exact single scattering against the full expansion. */
 #include "check.h"
 
 #include "adding_doubling.h"
@@ -104,10 +106,10 @@ static void test_chandrasekhar_h(void **state)
     }
 }
 
-static void single_scattering(double g, int streams)
+static void single_scattering(double g, int streams, int delta_m)
 {
     double tau = 1e-5, ssa = 0.9, mu0 = 0.6, mu[3] = {0.25, 0.6, 0.95};
-    ad_solution s = solve(tau, ssa, 0.0, mu0, ad_phase_hg, &g, streams, 0, 3, mu);
+    ad_solution s = solve(tau, ssa, 0.0, mu0, ad_phase_hg, &g, streams, delta_m, 3, mu);
     for (int k = 0; k < 3; k++)
         for (int a = 0; a < 5; a++) {
             double phi = a * FM_PI / 4.0, sn = sqrt((1.0 - mu[k] * mu[k]) * (1.0 - mu0 * mu0));
@@ -127,8 +129,9 @@ static void single_scattering(double g, int streams)
 static void test_single_scattering_limit(void **state)
 {
     (void)state;
-    single_scattering(0.5, 24);  /* 0.5^48: the expansion is exact */
-    single_scattering(0.85, 64); /* 0.85^128 = 9e-10 */
+    single_scattering(0.5, 24, 0);  /* 0.5^48: the expansion is exact */
+    single_scattering(0.85, 64, 0); /* 0.85^128 = 9e-10 */
+    single_scattering(0.9, 8, 1);   /* truncated at 16 moments: the exact single scattering (TMS) */
 }
 
 static void test_conservation(void **state)
@@ -190,6 +193,21 @@ static void test_stream_convergence(void **state)
         ad_free(&a);
         ad_free(&b);
     }
+    /* delta-M with its exact single scattering against the plain expansion at 64 streams, whose 128
+     * moments hold HG g 0.85 to 0.85^128 = 9e-10 */
+    g = 0.85;
+    ad_solution a = solve(2.0, 1.0, 0.3, 0.5, ad_phase_hg, &g, 32, 1, 6, mu);
+    ad_solution b = solve(2.0, 1.0, 0.3, 0.5, ad_phase_hg, &g, 64, 0, 6, mu);
+    for (int k = 0; k < 6; k++)
+        for (int p = 0; p < 3; p++) {
+            double phi = (90.0 * p) * FM_DEG;
+            char what[96];
+            snprintf(what, sizeof what, "delta-M 32 vs plain 64 streams, tau 2 mu %.2f phi %.0f", mu[k], phi / FM_DEG);
+            check_rel(ad_radiance_bottom(&a, k, phi), ad_radiance_bottom(&b, k, phi), 1e-3, what);
+            check_rel(ad_radiance_top(&a, k, phi), ad_radiance_top(&b, k, phi), 1e-3, what);
+        }
+    ad_free(&a);
+    ad_free(&b);
 }
 
 int main(void)
