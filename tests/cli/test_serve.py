@@ -3,21 +3,24 @@
 
 Usage: test_serve.py path/to/firmament [session|signal|cache ...]   (default: all three)
 
-session  ten requests (one malformed, one superseded: two sent while a build renders, the first
-         of them answered "superseded" and the newest done), then the end of the input: every
-         request answered once, in order of completion; each done map is a whole EXR (read back by
-         `firmament compare`) with its sidecar, and its sun is the request's: in the EXR header, in
-         the sidecar, and in the pixels (the map is close to `firmament render` at that sun and far
-         from one at another sun); bad requests are answered with the field and `render`'s own
-         message; the last request, sent just before the end of the input, is still answered.
+session  ten requests of one atmosphere (one malformed, one superseded: two sent while the first
+         builds the atmosphere, the first of them answered "superseded" and the newest done), then the
+         end of the input: every request answered once, in order of completion; each done map is a
+         whole EXR (read back by `firmament compare`) with its sidecar, and its sun is the request's
+         (given, from the preset's time or from another time of its day): in the EXR header, in the
+         sidecar, and in the pixels (close to `firmament render` at that sun, far from it at another
+         sun); bad requests are answered with the field and `render`'s own message; the atmosphere is
+         built once (into the default cache folder, $XDG_CACHE_HOME/firmament) and then taken from
+         memory; the last request, sent just before the end of the input, is still answered.
 signal   SIGTERM mid-request (its temporary files made, its atmosphere building): exit status
          128 + 15, both requests answered "cancelled", no map, no temporary file, an existing map kept
          as it was; and SIGTERM while idle.
-cache    a server makes its cache folder ($XDG_CACHE_HOME/firmament by default); a second server on
-         that folder takes the atmosphere from the disk (both times printed, not asserted); a
-         truncated or byte-flipped cache file is refused, rebuilt and replaced (a third server takes
-         it from the disk again).
-Small maps at preview quality keep it to seconds per build."""
+cache    a new server on the session's cache folder takes the atmosphere from the disk (the build's
+         and the disk's times printed, not asserted); a truncated cache file is refused, rebuilt and
+         replaced whole (the next server takes it from the disk); a byte-flipped one is refused (its
+         rebuild stopped by SIGTERM, which leaves no temporary in the folder).
+Two builds of an atmosphere in all (the session's, the truncated file's); small maps at preview
+quality."""
 import json
 import math
 import os
@@ -33,6 +36,7 @@ FM = os.path.abspath(sys.argv[1])
 SOURCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 PARTS = sys.argv[2:] or ["session", "signal", "cache"]
 SMALL = {"quality": "preview", "width": 32}
+GOLDEN = {"preset": "golden-hour", **SMALL}  # one atmosphere (its date and place) for the session and the cache
 failures = []
 
 
@@ -136,10 +140,11 @@ def check_done(reply, folder, elevation, azimuth, width=32, colorspace="Linear R
 
 
 def cli_render(folder, name, elevation, azimuth):
+    """`firmament render` of the session's sky at a sun."""
     path = os.path.join(folder, name)
-    out = subprocess.run([FM, "render", "--quality", "preview", "--width", "32", "--sun-elevation", str(elevation),
-                          "--sun-azimuth", str(azimuth), "-o", path, "--progress", "none"], capture_output=True,
-                         text=True)
+    out = subprocess.run([FM, "render", "--preset", "golden-hour", "--quality", "preview", "--width", "32",
+                          "--sun-elevation", str(elevation), "--sun-azimuth", str(azimuth), "-o", path, "--progress",
+                          "none"], capture_output=True, text=True)
     check(out.returncode == 0, f"render {name}: {out.stderr.strip()}")
     return path
 
@@ -161,16 +166,18 @@ def cli_message(*args):
 
 # ---- a session of ten requests --------------------------------------------------------------------
 
-def session(tmp):
+def session(tmp, xdg):
+    """Every request of the session is of one atmosphere (golden-hour's: its date and place), built
+    once by request 1 into the default cache folder under xdg."""
     with open(os.path.join(SOURCE, "presets", "skies", "golden-hour.json")) as f:
         golden = json.load(f)
-    srv = Server(tmp, "--cache", os.path.join(tmp, "cache"), "--threads", "2")
-    # 1: a new atmosphere: built, then rendered; 2 and 3 arrive while it builds
-    srv.send({"id": 1, "output": "r1.exr", "sun_elevation": 10, "sun_azimuth": 180, **SMALL})
-    time.sleep(0.3)  # the server has taken request 1 (it builds for a second or more)
-    srv.send({"id": 2, "output": "r2.exr", "sun_elevation": 20, "sun_azimuth": 90, **SMALL})
-    srv.send({"id": "three", "output": "r3.exr", "sun_elevation": 35, "sun_azimuth": 250, **SMALL})
-    replies = [srv.reply() for _ in range(3)]
+    srv = Server(tmp, "--threads", "2", env={**os.environ, "XDG_CACHE_HOME": xdg})
+    # 1: the atmosphere is built (seconds), then the map rendered; 2 and 3 arrive while it builds
+    srv.send({"id": 1, "output": "r1.exr", **GOLDEN, "sun_elevation": 10, "sun_azimuth": 180})
+    time.sleep(0.3)  # the server has taken request 1
+    srv.send({"id": 2, "output": "r2.exr", **GOLDEN, "sun_elevation": 20, "sun_azimuth": 90})
+    srv.send({"id": "three", "output": "r3.exr", **GOLDEN, "sun_elevation": 35, "sun_azimuth": 250})
+    replies = [srv.reply(timeout=300) for _ in range(3)]
     ids = [r.get("id") for r in replies]
     check(ids == [2, 1, "three"], f"replies to 1, 2, 3 in the order 2 (superseded), 1, three: {ids}")
     by_id = {r.get("id"): r for r in replies}
@@ -186,7 +193,7 @@ def session(tmp):
     print(f"r3 against render at its sun: rms {same['rms']:.4f}; at another azimuth: rms {other['rms']:.4f}")
     check(same["rms"] < 0.1 and other["rms"] > 0.3, f"r3's pixels follow its sun: {same['rms']}, {other['rms']}")
 
-    # 4: not JSON; 5: a value out of range; 6: an unknown key; 7: a wrong type -- each answered,
+    # 4: not JSON; 5: a value out of range; 6: an unknown key; 7: an unknown biome -- each answered,
     # the server goes on
     srv.send("{this is not json")
     r = srv.reply()
@@ -204,30 +211,31 @@ def session(tmp):
     check(r.get("status") == "error" and r.get("field") == "biome"
           and r.get("message") == cli_message("--biome", "nowhere"), f"unknown biome answered as render: {r}")
 
-    # 8: a preset, its sun from the time; 9: the sun from a date, time and place, ACEScg, a sidecar
-    # of its own name
-    srv.send({"id": 8, "output": "r8.exr", "preset": "golden-hour", **SMALL})
+    # 8: the preset's own sun, from its time; 9: another time of its day, ACEScg, a sidecar of its
+    # own name.  The time of day is no part of the atmosphere: both from memory.
+    srv.send({"id": 8, "output": "r8.exr", **GOLDEN})
     sun8 = sun_of(golden["date"], golden["time"], golden["utc_offset"], golden["latitude"], golden["longitude"])
-    check_done(srv.reply(), tmp, sun8["elevation_deg"], sun8["azimuth_deg"])
-    place = {"date": "2023-06-21", "time": "20:45", "utc_offset": "+02:00", "latitude": 48.85, "longitude": 2.35}
-    srv.send({"id": 9, "output": "r9.exr", "sidecar": "r9-sky.json", "colorspace": "ACEScg", **place, **SMALL})
+    r8 = srv.reply()
+    check_done(r8, tmp, sun8["elevation_deg"], sun8["azimuth_deg"])
+    srv.send({"id": 9, "output": "r9.exr", "sidecar": "r9-sky.json", "colorspace": "ACEScg", "time": "20:45", **GOLDEN})
     r9 = srv.reply()
     check(r9.get("sidecar") == "r9-sky.json", f"the request's sidecar name: {r9.get('sidecar')}")
-    sun9 = sun_of(*place.values())
+    sun9 = sun_of(golden["date"], "20:45", golden["utc_offset"], golden["latitude"], golden["longitude"])
     check_done(r9, tmp, sun9["elevation_deg"], sun9["azimuth_deg"], colorspace="ACEScg")
+    check(r8.get("cache") == "memory" and r9.get("cache") == "memory",
+          f"8 and 9 from memory: {r8.get('cache')}, {r9.get('cache')}")
 
     # 10: sent just before the end of the input: still answered, then the server exits 0
-    srv.send({"id": 10, "output": "r10.exr", "sun_elevation": -5, "sun_azimuth": 270, **SMALL})
+    srv.send({"id": 10, "output": "r10.exr", **GOLDEN, "sun_elevation": -5, "sun_azimuth": 270})
     code, rest = srv.finish()
     check(code == 0, f"exit status 0 at the end of the input, not {code}: {''.join(srv.stderr)}")
     check(len(rest) == 1 and rest[0].get("id") == 10, f"request 10 answered after the end of input: {rest}")
     if rest:
         check_done(rest[0], tmp, -5, 270)
-        # requests 8 and 9 (two other atmospheres) pushed 1's out of the two kept in memory
-        check(rest[0].get("cache") == "disk", f"request 10's atmosphere from the disk: {rest[0].get('cache')}")
-    expected = ["cache", "r1.exr", "r1.json", "r3.exr", "r3.json", "r8.exr", "r8.json", "r9.exr", "r9-sky.json",
+    expected = ["r1.exr", "r1.json", "r3.exr", "r3.json", "r8.exr", "r8.json", "r9.exr", "r9-sky.json",
                 "r10.exr", "r10.json", "cli_same.exr", "cli_same.json", "cli_other.exr", "cli_other.json"]
     check(not leftovers(tmp, expected), f"nothing else written: {leftovers(tmp, expected)}")
+    return by_id.get(1, {}).get("seconds")
 
 
 # ---- signals ----------------------------------------------------------------------------------------
@@ -266,13 +274,13 @@ def signals(tmp):
 
 # ---- the disk cache ---------------------------------------------------------------------------------
 
-def one_map(tmp, cache, name, elevation, xdg=None):
-    """A server that renders one map and ends: (reply, seconds from start to reply, stderr).  With
-    xdg, the server's cache is the default one under $XDG_CACHE_HOME = xdg."""
+def one_map(tmp, folder, name, elevation):
+    """A server on the cache folder that renders one map of the session's sky and ends: (reply,
+    seconds from start to reply, stderr)."""
     start = time.monotonic()
-    srv = Server(tmp, env={**os.environ, "XDG_CACHE_HOME": xdg}) if xdg else Server(tmp, "--cache", cache)
-    srv.send({"id": name, "output": name + ".exr", "sun_elevation": elevation, "turbidity": 2, **SMALL})
-    code, rest = srv.finish()
+    srv = Server(tmp, "--cache", folder)
+    srv.send({"id": name, "output": name + ".exr", **GOLDEN, "sun_elevation": elevation, "sun_azimuth": 180})
+    code, rest = srv.finish(timeout=300)
     seconds = time.monotonic() - start
     check(code == 0 and len(rest) == 1, f"{name}: exit {code}, replies {rest}")
     reply = rest[0] if rest else {}
@@ -280,52 +288,68 @@ def one_map(tmp, cache, name, elevation, xdg=None):
     return reply, seconds, "".join(srv.stderr)
 
 
-def cache(tmp):
-    folder = os.path.join(tmp, "xdg", "firmament")  # the default under $XDG_CACHE_HOME, made with its parent
-    first, t_built, _ = one_map(tmp, None, "c1", 20, xdg=os.path.join(tmp, "xdg"))
+def cache(tmp, folder, built_seconds):
+    """folder: the session's default cache folder, holding its atmosphere (or none, when the session
+    did not run: then the first server here builds it)."""
+    first, t_first, _ = one_map(tmp, folder, "c1", 20)
+    if first.get("cache") == "built":
+        built_seconds = first.get("seconds")
+        first, t_first, _ = one_map(tmp, folder, "c2", 40)
     files = os.listdir(folder) if os.path.isdir(folder) else []
     check(len(files) == 1 and len(files[0].split(".")[0]) == 32, f"one cache file named by its key: {files}")
-    second, t_disk, _ = one_map(tmp, folder, "c2", 40)
-    print(f"first server (build): {t_built:.2f} s, its request {first.get('seconds')} s; "
-          f"second server (disk cache): {t_disk:.2f} s, its request {second.get('seconds')} s")
-    check(first.get("cache") == "built" and second.get("cache") == "disk",
-          f"built, then from the disk: {first.get('cache')}, {second.get('cache')}")
+    print(f"a request that built the atmosphere: {built_seconds} s; a new server's first request with it "
+          f"on the disk: {first.get('seconds')} s ({t_first:.2f} s from the server's start)")
+    check(first.get("cache") == "disk", f"a new server takes the atmosphere from the disk: {first.get('cache')}")
     if len(files) != 1:
         return
     path = os.path.join(folder, files[0])
     size = os.path.getsize(path)
 
-    def damaged(how, damage):
-        damage()
-        reply, _, err = one_map(tmp, folder, "d_" + how, 30)
-        check(reply.get("cache") == "built", f"{how} cache file rebuilt, not used: {reply.get('cache')}")
-        check("refused" in err, f"{how} cache file: stderr says it was refused: {err.strip()}")
-        check(os.path.getsize(path) == size, f"{how} cache file replaced whole ({os.path.getsize(path)} bytes)")
-        again, _, _ = one_map(tmp, folder, "e_" + how, 30)
-        check(again.get("cache") == "disk", f"after the {how} file was replaced: from the disk ({again.get('cache')})")
+    # truncated: refused, rebuilt, replaced whole; the next server takes the new file
+    with open(path, "r+b") as f:
+        f.truncate(size // 2)
+    reply, _, err = one_map(tmp, folder, "truncated", 30)
+    check(reply.get("cache") == "built", f"truncated cache file rebuilt, not used: {reply.get('cache')}")
+    check("refused" in err, f"truncated cache file: stderr says it was refused: {err.strip()}")
+    check(os.path.getsize(path) == size, f"truncated cache file replaced whole ({os.path.getsize(path)} bytes)")
+    again, _, _ = one_map(tmp, folder, "replaced", 25)
+    check(again.get("cache") == "disk", f"after the truncated file was replaced: from the disk ({again.get('cache')})")
 
-    def truncate():
-        with open(path, "r+b") as f:
-            f.truncate(size // 2)
-
-    def flip():
-        with open(path, "r+b") as f:
-            data = bytearray(f.read())
-            for i in (len(data) // 3, len(data) // 2, len(data) - 9):
-                data[i] ^= 0x5A
-            f.seek(0)
-            f.write(data)
-
-    damaged("truncated", truncate)
-    damaged("byte-flipped", flip)
+    # bytes flipped: refused too (its rebuild is the truncated file's: stopped here by SIGTERM, which
+    # leaves no temporary in the folder)
+    with open(path, "r+b") as f:
+        data = bytearray(f.read())
+        for i in (len(data) // 3, len(data) // 2, len(data) - 9):
+            data[i] ^= 0x5A
+        f.seek(0)
+        f.write(data)
+    srv = Server(tmp, "--cache", folder)
+    srv.send({"id": "flipped", "output": "flipped.exr", **GOLDEN, "sun_elevation": 30})
+    deadline = time.monotonic() + 120
+    while not any("refused" in line for line in srv.stderr) and srv.replies.empty() and time.monotonic() < deadline:
+        time.sleep(0.02)
+    srv.proc.send_signal(signal.SIGTERM)
+    code = srv.proc.wait(timeout=120)
+    rest = srv.rest()
+    check(any("refused" in line for line in srv.stderr), f"byte-flipped cache file refused: {''.join(srv.stderr)}")
+    check(not any(r.get("status") == "done" for r in rest), f"no map from the byte-flipped file: {rest}")
+    check(code == 128 + signal.SIGTERM, f"SIGTERM during the rebuild: exit {code}")
     check(sorted(os.listdir(folder)) == files, f"no temporary left in the cache: {os.listdir(folder)}")
 
 
-for part, fn in (("session", session), ("signal", signals), ("cache", cache)):
-    if part in PARTS:
-        with tempfile.TemporaryDirectory() as tmp:
-            start = time.monotonic()
-            fn(tmp)
-            print(f"{part}: {time.monotonic() - start:.1f} s")
+with tempfile.TemporaryDirectory() as root:
+    xdg = os.path.join(root, "xdg")
+    folder = os.path.join(xdg, "firmament")  # the default cache folder, made with its parent
+    built = None
+    for part in PARTS:
+        start = time.monotonic()
+        os.mkdir(os.path.join(root, part))
+        if part == "session":
+            built = session(os.path.join(root, part), xdg)
+        elif part == "signal":
+            signals(os.path.join(root, part))
+        elif part == "cache":
+            cache(os.path.join(root, part), folder, built)
+        print(f"{part}: {time.monotonic() - start:.1f} s")
 print(f"{len(failures)} failures" if failures else "all serve checks passed")
 sys.exit(1 if failures else 0)
