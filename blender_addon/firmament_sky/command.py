@@ -33,6 +33,9 @@ def validate(s, opts):
         raise SettingsError("UTC offset: %r is outside [-12, 14] hours" % s["utc_offset"])
     if s["biome"] not in options.choices(opts, "--biome"):
         raise SettingsError("biome: unknown '%s' (known: %s)" % (s["biome"], ", ".join(options.choices(opts, "--biome"))))
+    cloud = s.get("cloud", "none")  # a list or a cloud file (from a preset) is the executable's to check
+    if not any(c in cloud for c in ",/\\") and cloud not in ["none"] + options.choices(opts, "--cloud"):
+        raise SettingsError("cloud: unknown '%s' (known: none, %s)" % (s["cloud"], ", ".join(options.choices(opts, "--cloud"))))
     if s["quality"] not in options.choices(opts, "--quality"):
         raise SettingsError("quality: unknown '%s'" % s["quality"])
     if s["sun_mode"] not in SUN_MODES:
@@ -65,7 +68,7 @@ def build_arguments(executable, opts, s, output, sidecar, disk_map=None):
         if s["ozone_mode"] == "AUTO":  # the climatology's column depends on the date and the place
             args += ["--date", date, "--latitude", repr(float(s["latitude"])),
                      "--longitude", repr(float(s["longitude"]))]
-    args += aerosol_options(s)
+    args += aerosol_options(s) + cloud_options(s)
     if s["ozone_mode"] == "MANUAL":
         args += ["--ozone-du", repr(float(s["ozone_du"]))]
     args += ["--albedo", repr(float(s["albedo"])), "--altitude", repr(float(s["altitude"])),
@@ -133,9 +136,26 @@ def aerosol_options(s):
     return args
 
 
+def cloud_options(s):
+    """--cloud, its amount and height, and --fog-visibility of settings s (docs/clouds.md)."""
+    args = []
+    if s.get("cloud", "none") != "none":
+        args += ["--cloud", s["cloud"]]
+        if s["cloud_amount"] == "TAU":
+            args += ["--cloud-tau", repr(float(s["cloud_tau"]))]
+        elif s["cloud_amount"] == "LWP":
+            args += ["--cloud-lwp", repr(float(s["cloud_lwp"]))]
+        if s["use_cloud_height"]:
+            args += ["--cloud-base", repr(float(s["cloud_base"])), "--cloud-thickness", repr(float(s["cloud_thickness"]))]
+    if s.get("use_fog"):
+        args += ["--fog-visibility", repr(float(s["fog_visibility"]))]
+    return args
+
+
 def atmosphere_arguments(executable, s):
-    """`firmament render --print-atmosphere`: the sidecar's AOD 550 and visibility without a render."""
-    return [executable, "render", "--print-atmosphere"] + aerosol_options(s)
+    """`firmament render --print-atmosphere`: the sidecar's AOD 550, visibility and cloud optical depth
+    without a render."""
+    return [executable, "render", "--print-atmosphere"] + aerosol_options(s) + cloud_options(s)
 
 
 def sun_arguments(executable, s):

@@ -1,6 +1,7 @@
 """The World-properties panel, the same in a 3D view N-panel tab, and the preset menu."""
 
 import json
+import math
 import os
 import subprocess
 
@@ -54,16 +55,18 @@ _aerosol_cache = {}
 
 
 def aerosol_summary(p, context):
-    """(AOD 550, visibility km) of the biome, amount and humidity, from `firmament render
-    --print-atmosphere` (no render: milliseconds; run once per change of those), or None."""
+    """(AOD 550, visibility km, cloud optical depth) of the biome, amount, humidity and clouds, from
+    `firmament render --print-atmosphere` (no render: milliseconds; run once per change of those), or
+    None."""
     s = properties.to_dict(p)
-    key = tuple(command.aerosol_options(s))
+    key = tuple(command.aerosol_options(s) + command.cloud_options(s))
     if key not in _aerosol_cache:
         try:
             exe = preferences.executable_and_options(context)[0]
             r = subprocess.run(command.atmosphere_arguments(exe, s), capture_output=True, text=True, timeout=5)
             d = json.loads(r.stdout) if r.returncode == 0 else None
-            _aerosol_cache[key] = None if d is None else (d["aerosol_optical_depth_550nm"], d["visibility_km"])
+            _aerosol_cache[key] = None if d is None else (d["aerosol_optical_depth_550nm"], d["visibility_km"],
+                                                          d.get("cloud_optical_depth_550nm", 0.0))
         except (preferences.NotFound, options.OptionsError, OSError, ValueError, KeyError, subprocess.TimeoutExpired):
             _aerosol_cache[key] = None
         if len(_aerosol_cache) > 64:
@@ -79,6 +82,30 @@ def _labelled_row(layout, label, props, p):
     row = col.row(align=True)
     for prop in props:
         row.prop(p, prop, text="")
+
+
+def draw_clouds(layout, p, context):
+    """The cloud layer (type, amount, height) and the fog."""
+    col = layout.column(align=True)
+    col.prop(p, "cloud_menu")
+    if p.cloud != "none":
+        col.row(align=True).prop(p, "cloud_amount", expand=True)
+        if p.cloud_amount != "DEFAULT":
+            col.prop(p, "cloud_tau" if p.cloud_amount == "TAU" else "cloud_lwp")
+        col.prop(p, "use_cloud_height")
+        if p.use_cloud_height:
+            col.prop(p, "cloud_base")
+            col.prop(p, "cloud_thickness")
+    row = layout.row(align=True)
+    row.prop(p, "use_fog")
+    sub = row.row()
+    sub.enabled = p.use_fog
+    sub.prop(p, "fog_visibility", text="")
+    if p.cloud != "none" or p.use_fog:
+        summary = aerosol_summary(p, context)
+        if summary:
+            layout.label(text="Cloud optical depth %.2f: the sun's beam x %.2g straight up" % (
+                summary[2], math.exp(-summary[2])), icon="LIGHT_SUN")
 
 
 def draw_settings(layout, context):
@@ -116,12 +143,13 @@ def draw_settings(layout, context):
         box.prop(p, "turbidity" if p.aerosol_amount == "TURBIDITY" else "aod550")
         aerosol = aerosol_summary(p, context)
         if aerosol:  # visibility: Koschmieder's 3.912 / the extinction at 550 nm at the ground (air + aerosol)
-            box.label(text="AOD 550 = %.3f, visibility %.0f km" % aerosol)
+            box.label(text="AOD 550 = %.3f, visibility %.0f km" % aerosol[:2])
         row = box.row(align=True)
         row.prop(p, "use_humidity")
         sub = row.row()
         sub.enabled = p.use_humidity
         sub.prop(p, "humidity", text="")
+    draw_clouds(box, p, context)
     box.label(text="Ozone source:")
     box.row(align=True).prop(p, "ozone_mode", expand=True)
     if p.ozone_mode == "MANUAL":

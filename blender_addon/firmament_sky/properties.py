@@ -25,15 +25,43 @@ def _biome_items_of(self, context):
     return _biome_items
 
 
-def _get_biome(self):
-    names = _biome_names(self, bpy.context)
-    return names.index(self.biome) if self.biome in names else 0
+_cloud_items = []
 
 
-def _set_biome(self, value):
-    names = _biome_names(self, bpy.context)
-    if 0 <= value < len(names):
-        self.biome = names[value]
+def _cloud_names(self, context):
+    """"none" and the executable's cloud layers (presets/clouds/, `firmament options --json`)."""
+    from . import options, preferences
+    try:
+        names = ["none"] + options.choices(preferences.executable_and_options(context)[1], "--cloud")
+    except (preferences.NotFound, options.OptionsError):
+        names = ["none"]
+    return names if self.cloud in names else names + [self.cloud]
+
+
+def _cloud_items_of(self, context):
+    _cloud_items[:] = [("none", "None", "No clouds", 0)] + [
+        (n, n.replace("-", " ").capitalize(),
+         "A uniform layer of %s (presets/clouds/%s.json: its height and optical depth unless set below)" % (n, n), i)
+        for i, n in enumerate(_cloud_names(self, context)) if n != "none"]
+    return _cloud_items
+
+
+def _menu_accessors(names_of, attr):
+    """get and set of a dynamic enum that shows the string property attr among names_of's names."""
+    def get(self):
+        names = names_of(self, bpy.context)
+        value = getattr(self, attr)
+        return names.index(value) if value in names else 0
+
+    def set_(self, value):
+        names = names_of(self, bpy.context)
+        if 0 <= value < len(names):
+            setattr(self, attr, names[value])
+    return get, set_
+
+
+_get_biome, _set_biome = _menu_accessors(_biome_names, "biome")
+_get_cloud, _set_cloud = _menu_accessors(_cloud_names, "cloud")
 
 
 class FirmamentSkySettings(bpy.types.PropertyGroup):
@@ -77,6 +105,28 @@ class FirmamentSkySettings(bpy.types.PropertyGroup):
                                            "and whiten the sky")
     humidity: FloatProperty(name="Humidity (%)", default=70.0,
                             description="Relative humidity in %: higher swells the aerosols, hazier horizon")
+    cloud: StringProperty(name="Cloud", default="none", description="Cloud layer (a name in presets/clouds/), or none")
+    cloud_menu: EnumProperty(name="Clouds", items=_cloud_items_of, get=_get_cloud, set=_set_cloud,
+                             description="A horizontally uniform cloud layer: overcast decks dim and hide the sun, "
+                                         "thin cirrostratus keeps it with a bright halo of light around it")
+    cloud_amount: EnumProperty(name="Cloud Amount", items=[
+        ("DEFAULT", "Type's", "The cloud type's own optical depth (presets/clouds/)"),
+        ("TAU", "Optical Depth", "Optical depth at 550 nm: 0.5 thin veil, 10 grey deck, 30+ dark overcast"),
+        ("LWP", "Water Path", "Liquid water path in g/m^2 (water clouds): 100 g/m^2 of stratus is optical depth 22"),
+    ], default="DEFAULT", description="How the amount of cloud is given")
+    cloud_tau: FloatProperty(name="Optical Depth", default=10.0, soft_max=60.0,
+                             description="Cloud optical depth at 550 nm: more is darker and hides the sun sooner")
+    cloud_lwp: FloatProperty(name="Water Path (g/m²)", default=100.0, soft_max=400.0,
+                             description="Liquid water path of the cloud in g/m^2")
+    use_cloud_height: BoolProperty(name="Set Height", default=False,
+                                   description="Set the layer's base and thickness (else the cloud type's own)")
+    cloud_base: FloatProperty(name="Base (km)", default=1.0, precision=2,
+                              description="Cloud base above the ground in km")
+    cloud_thickness: FloatProperty(name="Thickness (km)", default=0.5, precision=2,
+                                   description="Cloud layer thickness in km")
+    use_fog: BoolProperty(name="Fog", default=False, description="A layer of ground fog (200 m deep)")
+    fog_visibility: FloatProperty(name="Visibility (m)", default=300.0, soft_max=2000.0,
+                                  description="Fog visibility in metres: how far a dark object can still be seen")
     ozone_mode: EnumProperty(name="Ozone Source", items=[
         ("AUTO", "Auto", "Total ozone column from the date and place (climatology)"),
         ("MANUAL", "Manual", "Total ozone column in Dobson units"),
@@ -153,13 +203,17 @@ class FirmamentSkySettings(bpy.types.PropertyGroup):
 
 SETTING_KEYS = ("sun_source", "year", "month", "day", "hour", "minute", "second", "utc_offset", "latitude",
                 "longitude", "sun_elevation", "sun_azimuth", "biome", "aerosol_amount", "turbidity", "aod550",
-                "use_humidity", "humidity", "ozone_mode", "ozone_du", "albedo", "altitude", "resolution",
+                "use_humidity", "humidity", "cloud", "cloud_amount", "cloud_tau", "cloud_lwp", "use_cloud_height",
+                "cloud_base", "cloud_thickness", "use_fog", "fog_visibility", "ozone_mode", "ozone_du", "albedo",
+                "altitude", "resolution",
                 "quality", "sun_mode", "north_offset", "apply_exposure", "metering", "threads", "bake_timing",
                 "bake_start", "bake_end", "bake_step_min", "sky_strength", "sun_strength", "ground", "ground_colour", "camera_disk")
 # what a sky preset holds (the rest are render choices)
 PRESET_KEYS = ("sun_source", "year", "month", "day", "hour", "minute", "second", "utc_offset", "latitude",
                "longitude", "sun_elevation", "sun_azimuth", "biome", "aerosol_amount", "turbidity", "aod550",
-               "use_humidity", "humidity", "ozone_mode", "ozone_du", "albedo", "altitude")
+               "use_humidity", "humidity", "cloud", "cloud_amount", "cloud_tau", "cloud_lwp", "use_cloud_height",
+               "cloud_base", "cloud_thickness", "use_fog", "fog_visibility", "ozone_mode", "ozone_du", "albedo",
+               "altitude")
 
 
 def to_dict(p):

@@ -47,6 +47,8 @@ def _check(path, d, opts):
         raise _bad(path, "$", "missing 'name'")
     if "turbidity" in d and "aod550" in d:
         raise _bad(path, "$.aod550", "give turbidity or aod550, not both")
+    if "cloud_tau" in d and "cloud_lwp" in d:
+        raise _bad(path, "$.cloud_lwp", "give cloud_tau or cloud_lwp, not both")
     if "date" in d:
         m = re.fullmatch(r"(\d{4})-(\d{2})-(\d{2})", d["date"])
         try:
@@ -110,6 +112,18 @@ def to_settings(d, defaults):
         s["aerosol_amount"], s["aod550"] = "AOD", float(d["aod550"])
     if "humidity" in d:
         s["use_humidity"], s["humidity"] = True, float(d["humidity"])
+    if "cloud" in d:
+        s["cloud"] = d["cloud"]
+    if "cloud_tau" in d:
+        s["cloud_amount"], s["cloud_tau"] = "TAU", float(d["cloud_tau"])
+    if "cloud_lwp" in d:
+        s["cloud_amount"], s["cloud_lwp"] = "LWP", float(d["cloud_lwp"])
+    if "cloud_base" in d or "cloud_thickness" in d:
+        s["use_cloud_height"] = True
+        s["cloud_base"] = float(d.get("cloud_base", s["cloud_base"]))
+        s["cloud_thickness"] = float(d.get("cloud_thickness", s["cloud_thickness"]))
+    if "fog_visibility" in d:
+        s["use_fog"], s["fog_visibility"] = True, float(d["fog_visibility"])
     if "ozone_du" in d:
         s["ozone_mode"], s["ozone_du"] = "MANUAL", float(d["ozone_du"])
     else:
@@ -141,6 +155,16 @@ def from_settings(name, s):
         d["turbidity"] = _num(s["turbidity"])
     if s["use_humidity"]:
         d["humidity"] = _num(s["humidity"])
+    if s.get("cloud", "none") != "none":
+        d["cloud"] = s["cloud"]
+        if s["cloud_amount"] == "TAU":
+            d["cloud_tau"] = _num(s["cloud_tau"])
+        elif s["cloud_amount"] == "LWP":
+            d["cloud_lwp"] = _num(s["cloud_lwp"])
+        if s["use_cloud_height"]:
+            d["cloud_base"], d["cloud_thickness"] = _num(s["cloud_base"]), _num(s["cloud_thickness"])
+    if s.get("use_fog"):
+        d["fog_visibility"] = _num(s["fog_visibility"])
     if s["ozone_mode"] == "MANUAL":
         d["ozone_du"] = _num(s["ozone_du"])
     d["albedo"], d["altitude"] = _num(s["albedo"]), _num(s["altitude"])

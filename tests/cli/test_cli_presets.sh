@@ -32,7 +32,7 @@ for p in "$here"/../../presets/skies/*.json; do
         fail "shipped preset $p"
 done
 expect_usage_error "unknown preset" render --preset nowhere
-grep -q 'known: blue-hour, clear-noon, golden-hour' "$work/stderr" && ok || fail "unknown preset lists names: $(cat "$work/stderr")"
+grep -q 'known: blue-hour, bright-overcast-noon, clear-noon, golden-hour' "$work/stderr" && ok || fail "unknown preset lists names: $(cat "$work/stderr")"
 expect_usage_error "--preset twice" render --preset clear-noon --preset golden-hour
 bad() { # bad "what" 'json text' 'expected message part'
     printf '%s' "$2" >"$work/bad.json"

@@ -38,7 +38,7 @@ exe = "firmament_sky/bin/" + ("firmament.exe" if platform.startswith("windows") 
 check(exe in names, f"{exe} missing")
 if exe in names:
     check((z.getinfo(exe).external_attr >> 16) & 0o111 == 0o111, f"{exe} is not executable (mode in the zip)")
-for d in ("biomes", "skies", "atmospheres"):
+for d in ("biomes", "clouds", "skies", "atmospheres"):
     want = sorted(f for f in os.listdir(os.path.join(source, "presets", d)) if f.endswith(".json"))
     have = sorted(n.rsplit("/", 1)[1] for n in names if n.startswith(f"firmament_sky/presets/{d}/") and n.endswith(".json"))
     check(have == want, f"presets/{d}: {have}, expected {want}")
