@@ -259,6 +259,43 @@ static void cancelled_commit_leaves_existing_files_alone(void **state)
     fm_sky_destroy(sky);
 }
 
+/* A map holding values that are not finite is refused before anything is written, by a message
+ * that names them (not the half-float range, which a NaN or infinity would also fail), and the
+ * files already at the paths stay as they were. */
+static void non_finite_maps_are_refused(void **state)
+{
+    fm_sky *sky;
+    char exr[300], json[300];
+    fm_image *img = small_sky(0.0, "nan", &sky, exr, json);
+    for (int i = 0; i < 2; i++) {
+        FILE *f = fopen(i ? json : exr, "w");
+        fputs("old", f);
+        fclose(f);
+    }
+    const int before = count_files();
+    img->pixels[5] = NAN;
+    img->pixels[(size_t)img->width * img->height * img->channels - 1] = INFINITY;
+    for (int half = 0; half < 2; half++) {
+        fm_output *out = NULL;
+        fm_error err;
+        assert_int_equal(fm_output_open(exr, json, &out, &err), FM_OK);
+        assert_int_equal(fm_output_set_format(out, half, FM_EXR_PIZ, &err), FM_OK);
+        assert_int_equal(fm_output_commit(out, img, NULL, &err), FM_ERR_INTERNAL);
+        fm_output_close(out);
+        assert_non_null(strstr(err.message, "2 values that are not finite"));
+        assert_int_equal(count_files(), before);
+        for (int i = 0; i < 2; i++) {
+            char buf[8] = {0};
+            FILE *f = fopen(i ? json : exr, "r");
+            assert_non_null(fgets(buf, sizeof buf, f));
+            fclose(f);
+            assert_string_equal(buf, "old");
+        }
+    }
+    fm_image_destroy(img);
+    fm_sky_destroy(sky);
+}
+
 static void unwritable_paths_are_refused_up_front(void **state)
 {
     fm_output *out = NULL;
@@ -278,6 +315,7 @@ int main(void)
         cmocka_unit_test(files_report_the_render_not_the_sky),
         cmocka_unit_test(monochromatic_exr_has_one_channel),
         cmocka_unit_test(cancelled_commit_leaves_existing_files_alone),
+        cmocka_unit_test(non_finite_maps_are_refused),
         cmocka_unit_test(unwritable_paths_are_refused_up_front),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
