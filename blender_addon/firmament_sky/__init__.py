@@ -17,9 +17,9 @@ import atexit
 
 import bpy
 
-from . import maps, operators, options, panels, preferences, properties
+from . import live, maps, operators, options, panels, preferences, properties
 
-_classes = (preferences.FirmamentSkyPreferences, properties.FirmamentSkySettings) + operators.classes + panels.classes
+_classes = (preferences.FirmamentSkyPreferences, properties.FirmamentSkySettings) + operators.classes + live.classes + panels.classes
 
 
 def register():
@@ -27,15 +27,18 @@ def register():
         properties.set_ranges(preferences.executable_and_options()[1])
     except (preferences.NotFound, options.OptionsError, AttributeError, KeyError):
         pass  # no executable yet: Generate checks against it when there is one
+    properties.set_updates(properties.LIVE_KEYS, live.on_setting_changed)
     for cls in _classes:
         bpy.utils.register_class(cls)
     properties.register()
     bpy.app.handlers.load_pre.append(operators.cancel_running)
     bpy.app.handlers.save_post.append(maps.on_save_post)
     atexit.register(operators.cancel_running)  # quitting Blender ends a running child too
+    live.register()
 
 
 def unregister():
+    live.unregister()
     operators.cancel_running()
     atexit.unregister(operators.cancel_running)
     if maps.on_save_post in bpy.app.handlers.save_post:

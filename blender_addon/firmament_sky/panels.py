@@ -182,6 +182,7 @@ def draw_settings(layout, context):
         row.label(text="Rendering: %s %.0f%% (Esc cancels)" % (r.stage, 100 * r.fraction), icon="TIME")
     else:
         row.operator("firmament_sky.generate", icon="WORLD")
+    row.prop(p, "live", toggle=True, icon="PLAY")
     if p.last_message:  # one sentence under the button, never a popup over it
         layout.label(text=p.last_message.splitlines()[0], icon="ERROR" if p.last_message.startswith("Error") else "INFO")
     if p.has_result:

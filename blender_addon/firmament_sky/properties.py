@@ -64,6 +64,11 @@ _get_biome, _set_biome = _menu_accessors(_biome_names, "biome")
 _get_cloud, _set_cloud = _menu_accessors(_cloud_names, "cloud")
 
 
+def _live_toggled(self, context):
+    from . import live
+    live.on_live_toggled(self, context)
+
+
 class FirmamentSkySettings(bpy.types.PropertyGroup):
     # Ranges are the executable's (`firmament options --json`), set by register(): none are copied here.
     sun_source: EnumProperty(name="Sun From", items=[
@@ -194,6 +199,10 @@ class FirmamentSkySettings(bpy.types.PropertyGroup):
     bake_step_min: IntProperty(name="Step (min)", default=30,
                                description="Bake a day: minutes between frames (one map per frame)")
     threads: IntProperty(name="Threads", default=0, description="Worker threads of the executable; 0 = all cores")
+    live: BoolProperty(name="Live", default=False, update=_live_toggled,
+                       description="Follow every change of the sky's settings (and their keyframes) in the "
+                                   "viewport with a 512 x 256 preview map and the lamp; renders still use "
+                                   "final maps")
     # results, for the panel
     suggested_exposure_ev: FloatProperty(name="Suggested Exposure", default=0.0)
     aod550_result: FloatProperty(name="AOD 550 of the Last Map", default=-1.0)
@@ -214,6 +223,10 @@ PRESET_KEYS = ("sun_source", "year", "month", "day", "hour", "minute", "second",
                "use_humidity", "humidity", "cloud", "cloud_amount", "cloud_tau", "cloud_lwp", "use_cloud_height",
                "cloud_base", "cloud_thickness", "use_fog", "fog_visibility", "ozone_mode", "ozone_du", "albedo",
                "altitude")
+
+# what the live sky follows: the sky and how the world and lamp show it
+LIVE_KEYS = PRESET_KEYS + ("sun_mode", "camera_disk", "north_offset", "sky_strength", "sun_strength", "ground",
+                           "ground_colour")
 
 
 def to_dict(p):
@@ -246,6 +259,13 @@ def set_ranges(opts):
         if prop.function is IntProperty:
             lo, hi = int(lo) + (1 if lo_open else 0), int(hi)
         ann[key] = prop.function(**dict(prop.keywords, min=lo, max=hi))
+
+
+def set_updates(keys, update):
+    """Gives the settings keys an update callback (before the class is registered)."""
+    ann = FirmamentSkySettings.__annotations__
+    for key in keys:
+        ann[key] = ann[key].function(**dict(ann[key].keywords, update=update))
 
 
 def register():

@@ -24,6 +24,14 @@ def read_sidecar(path):
     try:
         with open(path, encoding="utf-8") as f:
             d = json.load(f)
+    except (OSError, ValueError) as e:
+        raise SetupError("cannot read the sidecar %s: %s" % (path, e)) from None
+    return sidecar_fields(d, path)
+
+
+def sidecar_fields(d, where):
+    """What the add-on uses of a sidecar's dict (a file's, or a `firmament serve` reply's)."""
+    try:
         sun, image = d["sun"], d["image"]
         out = {
             "direction": [float(x) for x in sun["direction"]],
@@ -39,10 +47,10 @@ def read_sidecar(path):
             "dni_lux": sun.get("direct_normal_illuminance_lux"),
             "aod550": d.get("atmosphere", {}).get("aerosol_optical_depth_550nm"),
         }
-    except (OSError, ValueError, KeyError, TypeError) as e:
-        raise SetupError("cannot read the sidecar %s: %s" % (path, e)) from None
+    except (ValueError, KeyError, TypeError) as e:
+        raise SetupError("cannot read the sidecar %s: %s" % (where, e)) from None
     if len(out["direction"]) != 3 or len(out["irradiance_rgb"]) != 3:
-        raise SetupError("sidecar %s: sun.direction and sun.direct_normal_irradiance_rgb need 3 values" % path)
+        raise SetupError("sidecar %s: sun.direction and sun.direct_normal_irradiance_rgb need 3 values" % where)
     return out
 
 
@@ -325,12 +333,20 @@ def setup_lamp(scene, sun, north_offset, strength=1.0):
     light.energy = max(peak, 0.0) * sun.get("strength", 1.0)
     light.color = [c / peak for c in rgb] if peak > 0.0 else (1.0, 1.0, 1.0)
     light.angle = math.radians(sun["angular_diameter_deg"])
-    d = scene_direction(sun["direction"], north_offset)
+    point_lamp(scene, sun["direction"], north_offset,
+               sun["elevation_deg"] + sun["angular_diameter_deg"] / 2 < 0.0 or peak <= 0.0)
+    return obj
+
+
+def point_lamp(scene, direction, north_offset, below):
+    """Turns the add-on's lamp toward the sky direction (+X east, +Y north, +Z up); below: the sun's
+    disk is under the horizon (the lamp is hidden: no light up through the ground)."""
+    obj = _ensure_lamp(scene)
+    d = scene_direction(direction, north_offset)
     obj.rotation_mode = "XYZ"
     obj.rotation_euler = d.to_track_quat("Z", "Y").to_euler()  # the lamp shines along its -Z
     centre, radius = _scene_bounds(scene)
     obj.location = centre + d * (radius + 2.0)  # only for the viewport: outside the scene, toward the sun
-    below = sun["elevation_deg"] + sun["angular_diameter_deg"] / 2 < 0.0 or peak <= 0.0
     obj.hide_render = obj.hide_viewport = below
     return obj
 
@@ -368,6 +384,27 @@ def _set_exposure(scene, settings, sun, frame=None):
     return ev
 
 
+def set_world(scene, settings, sun, sky_image, disk_image=None):
+    """The scene's world shows sky_image (and disk_image) and the lamp is set from sidecar fields sun."""
+    mode = settings["sun_mode"]
+    world = scene.world
+    if world is None:
+        world = scene.world = bpy.data.worlds.new("Firmament World")
+    build_world_nodes(world, sky_image, disk_image, mapping_rotation_z(settings["north_offset"],
+                                                                       sun["azimuth_at_center_deg"]), settings, sun)
+    for obj in _our_lamps():
+        _clear_animation(obj)  # a baked day's keyframes would override the new values
+    if mode == "DISK":
+        _remove_lamp()
+    else:
+        setup_lamp(scene, sun, settings["north_offset"], settings.get("sun_strength", 1.0))
+    if mode == "DISK" and hasattr(world, "cycles"):  # resolve the small, bright disk when sampling the map
+        world.cycles.sample_map_resolution = max(world.cycles.sample_map_resolution, sky_image.size[0] // 2)
+    if hasattr(world, "sun_threshold"):  # EEVEE (4.2+): extract a sun from the map only when it has one
+        world.sun_threshold = 10.0 if mode == "DISK" else 0.0
+    return world
+
+
 def apply(scene, settings, exr_path, sidecar_path, disk_path=None):
     """Sets up the world (and lamp) from a finished render.  Returns (sidecar dict, exposure applied
     or None).  The previous maps' images are removed from the file, never their files from disk."""
@@ -386,22 +423,7 @@ def apply(scene, settings, exr_path, sidecar_path, disk_path=None):
         except SetupError:
             bpy.data.images.remove(sky_image)
             raise
-    # from here on the world changes
-    world = scene.world
-    if world is None:
-        world = scene.world = bpy.data.worlds.new("Firmament World")
-    build_world_nodes(world, sky_image, disk_image, mapping_rotation_z(settings["north_offset"],
-                                                                       sun["azimuth_at_center_deg"]), settings, sun)
-    for obj in _our_lamps():
-        _clear_animation(obj)  # a baked day's keyframes would override the new values
-    if mode == "DISK":
-        _remove_lamp()
-    else:
-        setup_lamp(scene, sun, settings["north_offset"], settings.get("sun_strength", 1.0))
-    if mode == "DISK" and hasattr(world, "cycles"):  # resolve the small, bright disk when sampling the map
-        world.cycles.sample_map_resolution = max(world.cycles.sample_map_resolution, sky_image.size[0] // 2)
-    if hasattr(world, "sun_threshold"):  # EEVEE (4.2+): extract a sun from the map only when it has one
-        world.sun_threshold = 10.0 if mode == "DISK" else 0.0
+    set_world(scene, settings, sun, sky_image, disk_image)  # from here on the world changes
     _replace_images(previous, [(sky_image, "Firmament Sky")] + ([(disk_image, "Firmament Sky With Disk")] if disk_image else []))
     return sun, _set_exposure(scene, settings, sun)
 

@@ -1,0 +1,355 @@
+"""The live sky.  While a scene's Live toggle is on, every change of its sky settings (an edit: the
+properties' update callbacks; a keyframed value: the frame-change handler) turns the lamp at once
+and asks one `firmament serve` per Blender session for a small preview map.  Changes within
+DEBOUNCE_S are coalesced (the newest wins; the server also drops a waiting request for a newer one),
+and a timer polls the server's replies, so the interface never waits.  The world's image is swapped
+in place when a reply says done, and the lamp takes the reply's strength and colour.
+
+Final renders never use the preview: a render_pre handler renders the final map of the frame's
+settings (blocking, as Generate does in background mode) and sets it up before Blender renders,
+once per distinct sky (a still renders one map; an animation one per frame whose sky changed)."""
+
+import atexit
+import json
+import math
+import os
+import subprocess
+import time
+
+import bpy
+
+from . import command, maps, operators, options, preferences, properties, runner, server, sky_presets, world
+
+LIVE_WIDTH = 512  # px; height 256
+DEBOUNCE_S = 0.03
+POLL_S = 0.01
+IMAGE_NAME = "Firmament Live Sky"
+LIVE_TAG = "firmament_live"  # the live image's custom property (not the maps' TAG: never saved or packed)
+FINAL_KEY = "firmament_final_sky"  # the world's custom property: the request of its final map
+
+# the session's one server and what it was last asked
+_state = {"server": None, "restarted": False, "scene": None, "pending": False, "last": None,
+          "sent": None, "next_id": 1, "rendering": False}
+
+
+def live_settings(s):
+    """The settings of the preview: the lamp plus the camera's disk unless the disk is in the map."""
+    mode = "DISK" if s["sun_mode"] == "DISK" else "LAMP"
+    return dict(s, sun_mode=mode, camera_disk=s["camera_disk"] or s["sun_mode"] == "LAMP_CAMERA_DISK")
+
+
+def request_of(s):
+    """The `firmament serve` request (without id and output) for settings s: the preset's keys."""
+    d = sky_presets.from_settings("live", s)
+    del d["name"]
+    if s["biome"] == "none":
+        for k in ("turbidity", "aod550", "humidity"):
+            d.pop(k, None)
+    d.update(width=LIVE_WIDTH, quality="preview", no_sun_disk=s["sun_mode"] != "DISK")
+    return d
+
+
+def live_folder():
+    path = os.path.join(os.path.dirname(maps.cache_dir()), "live")
+    os.makedirs(path, exist_ok=True)
+    return path
+
+
+def server_cache_dir():
+    """Built atmospheres, shared by every Blender session (a new one starts warm)."""
+    path = os.path.join(os.path.dirname(maps.cache_dir()), "atmospheres")
+    os.makedirs(path, exist_ok=True)
+    return path
+
+
+_sun_cache = {}
+
+
+def sun_direction(s):
+    """(direction +X east +Y north +Z up, elevation in degrees) of the request's sun: the angles, or
+    `firmament sun --json` for the date, time and place (milliseconds; cached)."""
+    if s["sun_source"] == "TIME":
+        key = tuple(s[k] for k in ("year", "month", "day", "hour", "minute", "second", "utc_offset",
+                                   "latitude", "longitude", "altitude"))
+        if key not in _sun_cache:
+            exe = preferences.executable_and_options()[0]
+            r = subprocess.run(command.sun_arguments(exe, s), capture_output=True, text=True, timeout=10)
+            if r.returncode != 0:
+                raise command.SettingsError(r.stderr.strip() or "firmament sun failed")
+            d = json.loads(r.stdout)
+            _sun_cache[key] = (d["elevation_deg"], d["azimuth_deg"])
+            if len(_sun_cache) > 256:
+                _sun_cache.pop(next(iter(_sun_cache)))
+        el, az = _sun_cache[key]
+    else:
+        el, az = s["sun_elevation"], s["sun_azimuth"]
+    e, a = math.radians(el), math.radians(az)
+    return (math.cos(e) * math.sin(a), math.cos(e) * math.cos(a), math.sin(e)), el
+
+
+def report(scene, message):
+    """One sentence under the panel's buttons and in the info bar."""
+    message = " ".join(str(message).split())
+    scene.firmament_sky.last_message = "Error: live sky: " + message
+    print("Firmament: live sky: " + message)
+    try:
+        bpy.ops.firmament_sky.live_report("EXEC_DEFAULT", message="Firmament live sky: " + message)
+    except (RuntimeError, AttributeError):
+        pass  # no window (background mode): the panel's line and the console have it
+
+
+def request_update(scene):
+    """A sky setting of scene changed: the lamp turns now; the map is asked for after DEBOUNCE_S."""
+    p = scene.firmament_sky
+    if not p.live or _state["rendering"]:
+        return
+    s = live_settings(properties.to_dict(p))
+    try:
+        exe, opts = preferences.executable_and_options()
+        command.validate(s, opts)
+        req = request_of(s)
+        if req == _state["last"] and scene.name == _state["scene"]:
+            return  # nothing the map depends on changed (e.g. a frame without keyframes)
+        direction, elevation = sun_direction(s)
+    except (preferences.NotFound, options.OptionsError, command.SettingsError, OSError, ValueError,
+            subprocess.TimeoutExpired) as e:
+        report(scene, e)
+        return
+    if s["sun_mode"] != "DISK":
+        world.point_lamp(scene, direction, s["north_offset"], elevation + 0.27 < 0.0)  # the disk's radius
+    _state.update(scene=scene.name, last=req, pending=True)
+    if not bpy.app.timers.is_registered(send_pending):
+        bpy.app.timers.register(send_pending, first_interval=DEBOUNCE_S)
+
+
+def _ensure_server():
+    srv = _state["server"]
+    if srv is not None and srv.alive():
+        return srv
+    if srv is not None:  # it died: once restarted, then reported
+        srv.stop()
+        _state["server"] = None
+        if _state["restarted"]:
+            raise OSError("the firmament server stopped twice: %s" % srv.error_text())
+        _state["restarted"] = True
+    exe = preferences.executable_and_options()[0]
+    _state["server"] = server.Server(exe, server_cache_dir()).start()
+    return _state["server"]
+
+
+def send_pending():
+    """Timer: sends the newest request (two output files in turn: a reply's map is never the one
+    being replaced by the next).  Returns None: a one-shot timer."""
+    if not _state["pending"]:
+        return None
+    scene = bpy.data.scenes.get(_state["scene"])
+    _state["pending"] = False
+    if scene is None:
+        return None
+    try:
+        srv = _ensure_server()
+    except (OSError, preferences.NotFound, options.OptionsError) as e:
+        _give_up(scene, e)
+        return None
+    rid = _state["next_id"]
+    _state["next_id"] += 1
+    out = os.path.join(live_folder(), "live_%d.exr" % (rid % 2))
+    req = dict(_state["last"], id=rid, output=out)
+    _state["sent"] = {"id": rid, "request": req, "settings": live_settings(properties.to_dict(scene.firmament_sky)),
+                      "time": time.monotonic()}
+    srv.send(req)
+    if not bpy.app.timers.is_registered(poll):
+        bpy.app.timers.register(poll, first_interval=POLL_S)
+    return None
+
+
+def _give_up(scene, why):
+    report(scene, why)
+    stop()
+    scene.firmament_sky.live = False
+
+
+def poll():
+    """Timer: applies the newest done reply, reports errors, restarts a dead server once.  Returns
+    the next interval while a reply is awaited, else None."""
+    sent, srv = _state["sent"], _state["server"]
+    if sent is None or srv is None:
+        return None
+    scene = bpy.data.scenes.get(_state["scene"])
+    for reply in srv.replies():
+        if reply.get("id") != sent["id"]:
+            continue  # superseded, or an older map: a newer one is on its way
+        _state["sent"] = None
+        if scene is None:
+            return None
+        if reply.get("status") == "done":
+            try:
+                apply_reply(scene, reply, sent["settings"])
+            except world.SetupError as e:
+                report(scene, e)
+        elif reply.get("status") == "error":
+            report(scene, "%s" % reply.get("message", reply))
+        return None
+    if not srv.alive():
+        _state["last"] = None  # asked again below
+        try:
+            _ensure_server()
+        except OSError as e:
+            _give_up(scene, e)
+            return None
+        _state["server"].send(sent["request"])
+    return POLL_S
+
+
+def _live_image(path):
+    for img in bpy.data.images:
+        if img.get(LIVE_TAG):
+            if bpy.path.abspath(img.filepath) != path:
+                img.filepath = path  # a new path: read from it
+            else:
+                img.reload()
+            return img
+    img = world.load_float_image(path, IMAGE_NAME)
+    del img[world.TAG]  # not one of the maps a saved file keeps: the preview lives in the cache
+    img[LIVE_TAG] = 1
+    return img
+
+
+def apply_reply(scene, reply, settings):
+    """A done reply: the world shows its map (in place) and the lamp its sun."""
+    sun = world.sidecar_fields(reply, "reply %s" % reply.get("id"))
+    img = _live_image(reply["output"])
+    w = world.set_world(scene, settings, sun, img)
+    w.pop(FINAL_KEY, None)
+    w.update_tag()
+    for window in bpy.context.window_manager.windows if bpy.context.window_manager else ():
+        for area in window.screen.areas:
+            if area.type in ("VIEW_3D", "PROPERTIES"):
+                area.tag_redraw()
+
+
+def settle(timeout_s=60.0):
+    """Runs the timers' work until the newest request is answered (background mode and tests, where
+    Blender's timers do not run while a script does).  Returns True when nothing is awaited."""
+    end = time.monotonic() + timeout_s
+    while time.monotonic() < end:
+        if _state["pending"]:
+            send_pending()
+        if _state["sent"] is None:
+            return True
+        if poll() is None and _state["sent"] is None:
+            return True
+        time.sleep(POLL_S)
+    return False
+
+
+def stop(*_args):
+    """Ends the server (toggle off, file load, unregister, quit): no zombie, no orphan."""
+    for t in (send_pending, poll):
+        if bpy.app.timers.is_registered(t):
+            bpy.app.timers.unregister(t)
+    srv = _state["server"]
+    _state.update(server=None, restarted=False, pending=False, last=None, sent=None)
+    if srv is not None:
+        srv.stop()
+
+
+def on_setting_changed(self, context):
+    """The update callback of every sky setting."""
+    request_update(self.id_data)
+
+
+def on_live_toggled(self, context):
+    if self.live:
+        _state["last"] = None
+        request_update(self.id_data)
+    else:
+        stop()
+
+
+@bpy.app.handlers.persistent
+def on_frame_change(scene, _depsgraph=None):
+    """Keyframed settings: the sky follows each frame (scrubbing, playing, frame_set)."""
+    if scene.firmament_sky.live:
+        request_update(scene)
+
+
+@bpy.app.handlers.persistent
+def on_load_pre(*_args):
+    stop()
+
+
+@bpy.app.handlers.persistent
+def on_render_init(*_args):
+    _state["rendering"] = True
+
+
+@bpy.app.handlers.persistent
+def on_render_end(*_args):
+    _state["rendering"] = False
+
+
+@bpy.app.handlers.persistent
+def on_render_pre(scene, _depsgraph=None):
+    """A render with Live on gets the final map of the frame's settings (once per distinct sky)."""
+    if not scene.firmament_sky.live:
+        return
+    settings = properties.to_dict(scene.firmament_sky)
+    if settings["quality"] == "preview":
+        settings["quality"] = "final"
+    key = json.dumps(settings, sort_keys=True)
+    if scene.world is not None and scene.world.get(FINAL_KEY) == key:
+        return
+    try:
+        exe, opts = preferences.executable_and_options()
+        command.validate(settings, opts)
+        job = operators.Job(settings, exe, opts)
+        job.runner.start()
+    except (preferences.NotFound, options.OptionsError, command.SettingsError, OSError) as e:
+        report(scene, "the final map for the render: %s" % e)
+        return
+    if job.runner.wait() != runner.Runner.DONE:
+        job.discard()
+        report(scene, "the final map for the render: %s" % job.runner.error_text())
+        return
+    try:
+        world.apply(scene, settings, job.exr, job.sidecar, job.disk)
+    except world.SetupError as e:
+        job.discard()
+        report(scene, "the final map for the render: %s" % e)
+        return
+    scene.world[FINAL_KEY] = key
+
+
+class FIRMAMENT_OT_live_report(bpy.types.Operator):
+    """Shows a live-sky message in the info bar (the timers have no operator of their own)"""
+    bl_idname = "firmament_sky.live_report"
+    bl_label = "Firmament Live Sky Message"
+    bl_options = {"INTERNAL"}
+
+    message: bpy.props.StringProperty()
+
+    def execute(self, context):
+        self.report({"WARNING"}, self.message)
+        return {"FINISHED"}
+
+
+classes = (FIRMAMENT_OT_live_report,)
+
+_HANDLERS = (("frame_change_post", on_frame_change), ("load_pre", on_load_pre), ("render_init", on_render_init),
+             ("render_complete", on_render_end), ("render_cancel", on_render_end), ("render_pre", on_render_pre))
+
+
+def register():
+    for name, fn in _HANDLERS:
+        getattr(bpy.app.handlers, name).append(fn)
+    atexit.register(stop)
+
+
+def unregister():
+    stop()
+    atexit.unregister(stop)
+    for name, fn in _HANDLERS:
+        handlers = getattr(bpy.app.handlers, name)
+        if fn in handlers:
+            handlers.remove(fn)

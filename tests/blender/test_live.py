@@ -1,0 +1,177 @@
+"""The live sky (Live toggle): one `firmament serve` per session, the world's image swapped in place
+and the lamp turned at once.  Headless Blender runs no timers while a script runs, so the test calls
+what the timers call (live.settle: live.send_pending, then live.poll until the reply).
+
+- Live on, the sun's elevation changed: the lamp points at the requested sun within 0.1 degree before
+  the reply; after it the world's image is the reply's map: its diffuse horizontal illuminance (the
+  upper hemisphere integrated) is the sidecar's within 3%, and its zenith luminance is that of a
+  direct `firmament render` of the same request within 3% (preview noise, and the live path's
+  interpolation over sun elevations: within 1% of the final path).
+- The elevation keyframed over 5 frames, frame_set on each: lamp and map follow every frame.
+- A killed server is restarted once; killed again, the error is reported and Live turns off.
+- Toggle off: the server process is gone (reaped: no zombie).
+- F12 with Live on renders with a final-quality map of the frame's settings, not the preview."""
+
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(__file__))
+import harness as h  # noqa: E402
+import bpy  # noqa: E402
+from mathutils import Vector  # noqa: E402
+
+h.install_and_enable()
+live, world = h.submodule("live"), h.submodule("world")
+live.LIVE_WIDTH = 128  # CI: a small map (the add-on's is 512 x 256)
+scene = bpy.context.scene
+p = scene.firmament_sky
+p.sun_source, p.biome, p.sun_azimuth, p.sun_elevation = "ANGLES", "rural", 150.0, 20.0
+p.camera_disk = False
+
+
+def lamp_direction():
+    lamp = h.sun_lamps()[0]  # its rotation as set (matrix_world waits for the depsgraph)
+    return (lamp.rotation_euler.to_matrix() @ Vector((0, 0, 1))).normalized()
+
+
+def requested_direction():
+    e, a = math.radians(p.sun_elevation), math.radians(p.sun_azimuth)
+    return Vector((math.cos(e) * math.sin(a), math.cos(e) * math.cos(a), math.sin(e)))
+
+
+def angle_deg(a, b):
+    return math.degrees(math.acos(max(-1.0, min(1.0, a.dot(b)))))
+
+
+def live_image():
+    imgs = [i for i in bpy.data.images if i.get(live.LIVE_TAG)]
+    h.check(len(imgs) == 1, "one live image: %s" % [i.name for i in imgs])
+    env = h.env_of(scene.world.node_tree.nodes[world.NODE_PREFIX + "Sky Background"])
+    h.check(env.image == imgs[0], "the world shows the live image")
+    return imgs[0]
+
+
+def rows(img):
+    """(zenith luminance: the top row's mean, diffuse horizontal illuminance in lux) of a map."""
+    px, (w, hgt) = h.image_pixels(img), img.size
+    top = 4 * w * (hgt - 1)
+    zenith = sum(h.luminance(px[top + 4 * x:top + 4 * x + 3]) for x in range(w)) / w
+    e = 0.0
+    for y in range(hgt // 2, hgt):  # rows bottom-up: the upper half is the sky
+        theta = (hgt - 0.5 - y) / hgt * math.pi  # zenith angle of the row's centre
+        row = sum(h.luminance(px[4 * (y * w + x):4 * (y * w + x) + 3]) for x in range(w)) / w
+        e += row * math.cos(theta) * math.sin(theta) * (math.pi / hgt) * 2 * math.pi
+    return zenith, 683.0 * e
+
+
+def direct_zenith(request):
+    """Zenith luminance of `firmament render` of the same request (a preset of its keys)."""
+    preset = os.path.join(h.OUT, "request.json")
+    keys = {k: v for k, v in request.items() if k not in ("id", "output", "width", "quality", "no_sun_disk")}
+    with open(preset, "w") as f:
+        json.dump(dict(keys, name="live request"), f)
+    out = os.path.join(h.OUT, "direct.exr")
+    r = subprocess.run([h.EXE, "render", "--preset", preset, "-o", out, "--width", str(request["width"]),
+                        "--quality", "preview", "--no-sun-disk", "--threads", "2"], capture_output=True, text=True)
+    h.check(r.returncode == 0, "direct render: %s" % r.stderr.strip())
+    img = world.load_float_image(out, "direct")
+    z = rows(img)[0]
+    bpy.data.images.remove(img)
+    return z
+
+
+def settled(what):
+    t0 = time.monotonic()
+    h.check(live.settle(120.0), "%s: the reply arrived (%.2f s)" % (what, time.monotonic() - t0))
+    h.check(not p.last_message.startswith("Error"), "%s: no error (%s)" % (what, p.last_message or "none"))
+
+
+# Live on: the first map
+p.live = True
+settled("Live on")
+srv = live._state["server"]
+h.check(srv is not None and srv.alive(), "one server runs")
+pid = srv.pid
+img = live_image()
+before = rows(img)
+
+# the elevation changed: the lamp at once, then the map
+p.sun_elevation = 35.0
+h.close(angle_deg(lamp_direction(), requested_direction()), 0.0, 0.1, "lamp toward the requested sun before the reply (deg)")
+request = dict(live._state["last"], width=live.LIVE_WIDTH)
+settled("elevation 35")
+img = live_image()
+side = h.sidecar_of(img)
+h.close(side["sun"]["elevation_deg"], 35.0, 1e-6, "the map's sun elevation")
+h.check(tuple(img.size) == (side["image"]["width"], side["image"]["height"]) == (128, 64),
+        "the image is the reply's map: %s" % (tuple(img.size),))
+zenith, diffuse = rows(img)
+h.check(zenith != before[0], "the world's image changed: zenith %.5g -> %.5g" % (before[0], zenith))
+h.close(diffuse / side["sky"]["diffuse_horizontal_illuminance_lux"], 1.0, 0.03,
+        "image's diffuse horizontal illuminance / the sidecar's")
+h.close(zenith / direct_zenith(request), 1.0, 0.03, "zenith luminance / that of a direct render of the request")
+h.close(angle_deg(lamp_direction(), Vector(side["sun"]["direction"])), 0.0, 0.1, "lamp toward the sidecar's sun (deg)")
+lamp = h.sun_lamps()[0]
+h.close(lamp.data.energy, max(side["sun"]["direct_normal_irradiance_rgb"]), 1e-3 * lamp.data.energy,
+        "lamp strength from the reply")
+h.check(srv.pid == pid, "the same server")
+
+# keyframed elevation over 5 frames
+p.keyframe_insert("sun_elevation", frame=1)
+p.sun_elevation = 55.0
+p.keyframe_insert("sun_elevation", frame=5)
+seen = []
+for f in range(1, 6):
+    scene.frame_set(f)
+    h.close(angle_deg(lamp_direction(), requested_direction()), 0.0, 0.1,
+            "frame %d: lamp toward the keyframed sun (%.3f deg up) at once" % (f, p.sun_elevation))
+    settled("frame %d" % f)
+    side = h.sidecar_of(live_image())
+    h.close(side["sun"]["elevation_deg"], p.sun_elevation, 1e-3, "frame %d: the map's sun elevation" % f)
+    seen.append(rows(live_image())[0])
+h.check(len(set(seen)) == 5, "a new map each frame: zenith %s" % ["%.5g" % z for z in seen])
+scene.animation_data_clear()
+
+# a server that dies is restarted once, then reported
+os.kill(pid, signal.SIGKILL)
+p.sun_elevation = 40.0
+settled("after the server was killed")
+srv = live._state["server"]
+h.check(srv is not None and srv.alive() and srv.pid != pid, "a new server: %s" % (srv and srv.pid))
+h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], 40.0, 1e-6, "its map")
+pid = srv.pid
+os.kill(pid, signal.SIGKILL)
+p.sun_elevation = 41.0
+live.settle(30.0)
+h.check(not p.live and p.last_message.startswith("Error: live sky:") and "stopped twice" in p.last_message,
+        "killed again: reported, Live off (%s)" % p.last_message)
+h.check(not os.path.exists("/proc/%d" % pid), "the killed server was reaped")
+
+# toggle off stops the server
+p.last_message = ""
+p.live = True
+settled("Live on again")
+pid = live._state["server"].pid
+p.live = False
+h.check(live._state["server"] is None and not os.path.exists("/proc/%d" % pid),
+        "Live off: the server (pid %d) is gone" % pid)
+
+# F12 with Live on: a final map of the settings, not the preview
+p.live = True
+settled("Live on for a render")
+p.resolution, p.threads = 64, 2
+h.render_settings(scene, res=(8, 8), samples=1)
+bpy.ops.render.render()
+final = [i for i in h.world_images() if i.users]
+h.check(len(final) == 1 and not final[0].get(live.LIVE_TAG), "the render's world map is a generated one")
+side = h.sidecar_of(final[0])
+h.check(side["parameters"]["quality"] == "final" and side["image"]["width"] == 64,
+        "final quality at the set width: %s, %d" % (side["parameters"]["quality"], side["image"]["width"]))
+h.close(side["sun"]["elevation_deg"], p.sun_elevation, 1e-3, "the render's map has the settings' sun")
+p.live = False
+h.finish()
