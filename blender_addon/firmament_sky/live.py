@@ -127,10 +127,11 @@ def _ensure_server():
     if srv is not None and srv.alive():
         return srv
     if srv is not None:  # it died: once restarted, then reported
+        why = srv.error_text()
         srv.stop()
         _state["server"] = None
         if _state["restarted"]:
-            raise OSError("the firmament server stopped twice: %s" % srv.error_text())
+            raise OSError("the firmament server stopped twice: %s" % why)
         _state["restarted"] = True
     exe = preferences.executable_and_options()[0]
     _state["server"] = server.Server(exe, server_cache_dir()).start()
@@ -244,10 +245,15 @@ def settle(timeout_s=60.0):
 
 
 def stop(*_args):
-    """Ends the server (toggle off, file load, unregister, quit): no zombie, no orphan."""
+    """Ends the server (toggle off, file load, unregister): no zombie, no orphan."""
     for t in (send_pending, poll):
         if bpy.app.timers.is_registered(t):
             bpy.app.timers.unregister(t)
+    _stop_server()
+
+
+def _stop_server():
+    """Also at Python's exit (atexit), when bpy may be gone: nothing of bpy here."""
     srv = _state["server"]
     _state.update(server=None, restarted=False, pending=False, last=None, sent=None)
     if srv is not None:
@@ -343,12 +349,12 @@ _HANDLERS = (("frame_change_post", on_frame_change), ("load_pre", on_load_pre), 
 def register():
     for name, fn in _HANDLERS:
         getattr(bpy.app.handlers, name).append(fn)
-    atexit.register(stop)
+    atexit.register(_stop_server)  # quitting Blender ends the server too
 
 
 def unregister():
     stop()
-    atexit.unregister(stop)
+    atexit.unregister(_stop_server)
     for name, fn in _HANDLERS:
         handlers = getattr(bpy.app.handlers, name)
         if fn in handlers:

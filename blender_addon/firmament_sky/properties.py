@@ -69,6 +69,12 @@ def _live_toggled(self, context):
     live.on_live_toggled(self, context)
 
 
+def _setting_changed(self, context):
+    """The update callback of the LIVE_KEYS (set by register())."""
+    from . import live
+    live.on_setting_changed(self, context)
+
+
 class FirmamentSkySettings(bpy.types.PropertyGroup):
     # Ranges are the executable's (`firmament options --json`), set by register(): none are copied here.
     sun_source: EnumProperty(name="Sun From", items=[
@@ -261,11 +267,11 @@ def set_ranges(opts):
         ann[key] = prop.function(**dict(prop.keywords, min=lo, max=hi))
 
 
-def set_updates(keys, update):
-    """Gives the settings keys an update callback (before the class is registered)."""
+def set_updates():
+    """Gives the LIVE_KEYS their update callback (before the class is registered)."""
     ann = FirmamentSkySettings.__annotations__
-    for key in keys:
-        ann[key] = ann[key].function(**dict(ann[key].keywords, update=update))
+    for key in LIVE_KEYS:
+        ann[key] = ann[key].function(**dict(ann[key].keywords, update=_setting_changed))
 
 
 def register():

@@ -38,6 +38,30 @@ def parse_progress_line(line):
     return event
 
 
+def terminate(proc, grace_s=3.0):
+    """Stops a child of ours and reaps it: SIGTERM (firmament removes its temporary files), then
+    SIGKILL after grace_s."""
+    if proc.poll() is not None:
+        return
+    if os.name == "nt":
+        # Ctrl-Break, which firmament.exe handles like SIGTERM (it removes its temporary files);
+        # Popen's SIGTERM there would be TerminateProcess.  No console to send it through: that.
+        try:
+            proc.send_signal(signal.CTRL_BREAK_EVENT)
+        except OSError:
+            proc.terminate()
+    else:
+        try:
+            proc.send_signal(signal.SIGTERM)
+        except OSError:  # it ended meanwhile
+            pass
+    try:
+        proc.wait(timeout=grace_s)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+
+
 class Runner:
     """One child process.  start() launches it; poll() drains what the reader threads collected
     and returns the state; cancel() terminates it (SIGTERM, then SIGKILL after a grace period) and
@@ -132,20 +156,7 @@ class Runner:
     def cancel(self, grace_s=3.0):
         if self.state != self.RUNNING:
             return self.state
-        if os.name == "nt":
-            # Ctrl-Break, which firmament.exe handles like SIGTERM (it removes its temporary files);
-            # Popen's SIGTERM there would be TerminateProcess.  No console to send it through: that.
-            try:
-                self._proc.send_signal(signal.CTRL_BREAK_EVENT)
-            except OSError:
-                self._proc.terminate()
-        else:
-            self._proc.send_signal(signal.SIGTERM)
-        try:
-            self._proc.wait(timeout=grace_s)
-        except subprocess.TimeoutExpired:
-            self._proc.kill()
-            self._proc.wait()
+        terminate(self._proc, grace_s)
         for t in self._threads:
             t.join(timeout=2.0)
         self._drain()

@@ -5,9 +5,10 @@ interface).  No bpy here, so that a test can drive it directly."""
 import json
 import os
 import queue
-import signal
 import subprocess
 import threading
+
+from . import runner
 
 
 class Server:
@@ -89,25 +90,16 @@ class Server:
         """Why the child ended: its last line on stderr, else its exit status."""
         if self.stderr_lines:
             return self.stderr_lines[-1]
-        return "firmament serve exited with status %s" % (self._proc.poll() if self._proc else None)
+        rc = self._proc.poll() if self._proc else None
+        if rc is not None and rc < 0:
+            return "firmament serve was killed by signal %d" % -rc
+        return "firmament serve exited with status %s" % rc
 
     def stop(self, grace_s=3.0):
         if self._proc is None:
             return
         self._outbox.put(None)
-        if self._proc.poll() is None:
-            try:
-                if os.name == "nt":
-                    self._proc.send_signal(signal.CTRL_BREAK_EVENT)
-                else:
-                    self._proc.send_signal(signal.SIGTERM)  # stops a render at once; no partial file
-            except OSError:
-                pass
-            try:
-                self._proc.wait(timeout=grace_s)
-            except subprocess.TimeoutExpired:
-                self._proc.kill()
-                self._proc.wait()
+        runner.terminate(self._proc, grace_s)  # stops a render at once; no partial file
         for t in self._threads:
             t.join(timeout=2.0)
         self._proc = None
