@@ -15,6 +15,7 @@ what the timers call (live.settle: live.send_pending, then live.poll until the r
 import json
 import math
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -91,9 +92,28 @@ def settled(what):
     h.check(not p.last_message.startswith("Error"), "%s: no error (%s)" % (what, p.last_message or "none"))
 
 
+# CI: the versions' runs share the built atmosphere (a build takes seconds of CPU; a cache file is
+# used only when the library accepts it): seeded from and copied back to $FIRMAMENT_TEST_LIVE_CACHE
+shared = os.environ.get("FIRMAMENT_TEST_LIVE_CACHE")
+
+
+def share(src, dst):
+    if not shared:
+        return
+    os.makedirs(dst, exist_ok=True)
+    for f in os.listdir(src):
+        if not os.path.exists(os.path.join(dst, f)) and not f.startswith("."):
+            shutil.copyfile(os.path.join(src, f), os.path.join(dst, ".%s.%d" % (f, os.getpid())))
+            os.replace(os.path.join(dst, ".%s.%d" % (f, os.getpid())), os.path.join(dst, f))
+
+
+if shared and os.path.isdir(shared):
+    share(shared, live.server_cache_dir())
+
 # Live on: the first map
 p.live = True
 settled("Live on")
+share(live.server_cache_dir(), shared)
 srv = live._state["server"]
 h.check(srv is not None and srv.alive(), "one server runs")
 pid = srv.pid
