@@ -46,6 +46,7 @@ def sidecar_fields(d, where):
             "diffuse_lux": d.get("sky", {}).get("diffuse_horizontal_illuminance_lux"),
             "dni_lux": sun.get("direct_normal_illuminance_lux"),
             "aod550": d.get("atmosphere", {}).get("aerosol_optical_depth_550nm"),
+            "cloud_transmittance": float(sun.get("cloud_direct_transmittance_550nm", 1.0)),
         }
     except (ValueError, KeyError, TypeError) as e:
         raise SetupError("cannot read the sidecar %s: %s" % (where, e)) from None
@@ -319,9 +320,14 @@ def _scene_bounds(scene):
     return (lo + hi) / 2, (hi - lo).length / 2
 
 
+# Clouds that leave less than this of the direct beam (at 550 nm) switch the lamp off: its strength
+# is already nothing (a millionth of the sun's, 0.1 lux at most) and the sky carries the light.
+HIDDEN_BY_CLOUDS = 1e-6
+
+
 def setup_lamp(scene, sun, north_offset, strength=1.0):
     """Points, sizes and colours the add-on's lamp for one sidecar; a sun whose disk is wholly below
-    the horizon hides it (no lamp shining up through the ground)."""
+    the horizon, or hidden by clouds, hides it (no lamp shining up through the ground or a deck)."""
     obj = _ensure_lamp(scene)
     light = obj.data
     sun = dict(sun, strength=strength)
@@ -333,8 +339,9 @@ def setup_lamp(scene, sun, north_offset, strength=1.0):
     light.energy = max(peak, 0.0) * sun.get("strength", 1.0)
     light.color = [c / peak for c in rgb] if peak > 0.0 else (1.0, 1.0, 1.0)
     light.angle = math.radians(sun["angular_diameter_deg"])
+    clouded = sun.get("cloud_transmittance", 1.0) < HIDDEN_BY_CLOUDS
     point_lamp(scene, sun["direction"], north_offset,
-               sun["elevation_deg"] + sun["angular_diameter_deg"] / 2 < 0.0 or peak <= 0.0)
+               sun["elevation_deg"] + sun["angular_diameter_deg"] / 2 < 0.0 or peak <= 0.0 or clouded)
     return obj
 
 

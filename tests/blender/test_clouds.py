@@ -2,7 +2,8 @@
 the executable, and the Sun lamp is dimmed exactly as the sidecar says.  High cirrostratus (ice, tau
 0.5): the lamp's irradiance over the same sky without the veil is the sidecar's cloud transmittance
 (the crystals' extinction does not depend on wavelength, so every channel falls alike); Overcast
-(stratus, tau 30): the disk is hidden and the lamp's strength is nothing (the sky carries the light).
+(stratus, tau 30): the disk is hidden, the lamp's strength is nothing and it is switched off (the sky
+carries the light).
 Maps 32 pixels wide, preview quality."""
 
 import json
@@ -24,14 +25,15 @@ def generate():
     lamps = h.sun_lamps()
     h.check(len(lamps) == 1, "one sun lamp")
     lamp = lamps[0]
-    return side, [lamp.data.energy * c for c in lamp.data.color]
+    return side, [lamp.data.energy * c for c in lamp.data.color], lamp
 
 
 bpy.ops.firmament_sky.load_preset(filepath=h.shipped_preset("high-cirrostratus"))
 p = h.fast_settings(scene, width=32)
 h.check(p.cloud == "cirrostratus" and p.cloud_amount == "TAU" and abs(p.cloud_tau - 0.5) < 1e-6,
         "preset's cloud: %s, %s %.3g" % (p.cloud, p.cloud_amount, p.cloud_tau))
-side, veiled = generate()
+side, veiled, lamp = generate()
+h.check(not lamp.hide_render, "cirrostratus: the lamp shines")
 a = side["atmosphere"]
 h.check(a.get("cloud_1_type") == "cirrostratus" and abs(a["cloud_1_optical_depth_550nm"] - 0.5) < 1e-9,
         "sidecar: the layer (%s, %s)" % (a.get("cloud_1_type"), a.get("cloud_1_optical_depth_550nm")))
@@ -42,7 +44,7 @@ t = side["sun"]["cloud_direct_transmittance_550nm"]
 h.check(0.3 < t < 0.7, "cirrostratus transmittance %.4f" % t)
 
 p.cloud = "none"  # the same sky without the veil
-side_clear, clear = generate()
+side_clear, clear, _ = generate()
 h.check("cloud_layers" not in side_clear["atmosphere"], "no clouds in the clear sidecar")
 for c in range(3):
     h.close(veiled[c] / clear[c], t, 1e-3 * t, "lamp dimmed by the sidecar's cloud transmittance [%d]" % c)
@@ -50,9 +52,10 @@ for c in range(3):
 bpy.ops.firmament_sky.load_preset(filepath=h.shipped_preset("overcast"))
 p = h.fast_settings(scene, width=32)
 h.check(p.cloud == "stratus" and p.cloud_amount == "DEFAULT", "overcast: stratus at its own optical depth")
-side, hidden = generate()
+side, hidden, lamp = generate()
 h.check(side["sun"]["cloud_direct_transmittance_550nm"] < 1e-12, "overcast: the disk is hidden (T = %.3g)"
         % side["sun"]["cloud_direct_transmittance_550nm"])
 h.check(max(hidden) < 1e-9 * max(clear), "overcast: the lamp's strength is nothing (%.3g)" % max(hidden))
+h.check(lamp.hide_render and lamp.hide_viewport, "overcast: the lamp is off")
 h.check(side["sky"]["diffuse_horizontal_illuminance_lux"] > 0.0, "overcast: the sky carries the light")
 h.finish()
