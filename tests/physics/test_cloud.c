@@ -255,6 +255,19 @@ static void phase_table_resolves_the_diffraction_peak(void **state)
     atmosphere_free(&atm);
 }
 
+/* The sun's chord through a layer (the sidecar's transmittance): from below, inside and above a
+ * layer near the ground, where the shell is a plane slab but for the curvature (6e-4 for a layer
+ * 1 km up and the sun 30 degrees up, 3e-5 within 200 m of the ground). */
+static void chord_through_a_layer(void **state)
+{
+    (void)state;
+    const double R = 6371e3, mu = 0.5;
+    check_rel(cloud_shell_chord_m(R, mu, R + 1000.0, R + 1500.0), 500.0 / mu, 1e-3, "below: thickness / mu");
+    check_rel(cloud_shell_chord_m(R + 50.0, mu, R, R + 200.0), 150.0 / mu, 1e-4, "inside fog: to its top / mu");
+    check_abs(cloud_shell_chord_m(R + 2000.0, mu, R + 1000.0, R + 1500.0), 0.0, 0.0, "above: nothing");
+    check_rel(cloud_shell_chord_m(R, 1.0, R + 1000.0, R + 1500.0), 500.0, 1e-12, "overhead: the thickness");
+}
+
 static void ice_phase_function(void **state)
 {
     (void)state;
@@ -280,6 +293,7 @@ int main(void)
         cmocka_unit_test(optical_depth_from_liquid_water_path),
         cmocka_unit_test(layer_optical_depth_and_fog_visibility),
         cmocka_unit_test(phase_table_resolves_the_diffraction_peak),
+        cmocka_unit_test(chord_through_a_layer),
         cmocka_unit_test(ice_phase_function),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
