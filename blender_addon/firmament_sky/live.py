@@ -1,7 +1,8 @@
 """The live sky.  While a scene's Live toggle is on, every change of its sky settings (an edit: the
 properties' update callbacks; a keyframed value: the frame-change handler) turns the lamp at once
-and asks one `firmament serve` per Blender session for a small preview map.  Changes within
-DEBOUNCE_S are coalesced (the newest wins; the server also drops a waiting request for a newer one),
+and asks one `firmament serve` per Blender session for a small preview map: at once when no map is
+awaited, else the changes are coalesced by a DEBOUNCE_S timer (the newest wins; the server also
+drops a waiting request for a newer one),
 and a timer polls the server's replies, so the interface never waits.  The world's image is swapped
 in place when a reply says done, and the lamp takes the reply's strength and colour.
 
@@ -118,7 +119,11 @@ def request_update(scene):
     if s["sun_mode"] != "DISK":
         world.point_lamp(scene, direction, s["north_offset"], elevation + 0.27 < 0.0)  # the disk's radius
     _state.update(scene=scene.name, last=req, pending=True)
-    if not bpy.app.timers.is_registered(send_pending):
+    if bpy.app.timers.is_registered(send_pending):
+        return  # coalesced: the timer sends the newest
+    if _state["sent"] is None:
+        send_pending()  # nothing awaited: at once (the writer thread takes it; nothing waits here)
+    else:
         bpy.app.timers.register(send_pending, first_interval=DEBOUNCE_S)
 
 
