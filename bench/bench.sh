@@ -57,7 +57,11 @@
 #                                   percentile, mean and largest u'v' distance, and the final path's own
 #                                   noise (a second seed); and the zenith luminance swept in 0.1 degree
 #                                   steps across the grid (the largest step across a grid elevation
-#                                   against the largest elsewhere)
+#                                   against the largest elsewhere); and `firmament serve` as a client
+#                                   sees it (bench/serve_latency.py, 512 x 256 maps of the default
+#                                   sky): a request that builds the atmosphere, a new server's first
+#                                   with it on the disk, 40 suns with it in memory (median, 90th
+#                                   percentile, largest; the server's atmosphere, render, write parts)
 #   bench/bench.sh --make-reference rewrites the converged references (after a change of the physics;
 #                                   below 0.1% noise: about 15 minutes for the default sky and 3-4 hours
 #                                   for the sunset on 2 cores)
@@ -213,6 +217,7 @@ if [ "${1:-}" = "--live" ]; then
         "$LB" accuracy "$b" 128 noise -18 -12 -6 -2 0 2 5 10 20 30 45 60 90 | { [ "$b" = none ] && cat || tail -n +2; }
     done
     for b in none urban; do "$LB" sweep "$b" -20 90 0.1 | tail -n 1; done
+    python3 "$ROOT/bench/serve_latency.py" "$FM" --requests 40
     exit 0
 fi
 
