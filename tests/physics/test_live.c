@@ -105,6 +105,29 @@ static void key_is_the_atmosphere_not_the_sun(void **state)
     b.biome = "rural";
     fm_sky_live_key(&b, kc);
     assert_string_not_equal(ka, kc);
+    /* clouds: the list, the first layer's numbers, and a cloud file's contents */
+    b = a;
+    b.clouds = "stratus";
+    fm_sky_live_key(&b, kb);
+    assert_string_not_equal(ka, kb);
+    b.cloud_tau550 = 12.0;
+    fm_sky_live_key(&b, kc);
+    assert_string_not_equal(kb, kc);
+    char path[64];
+    snprintf(path, sizeof path, "/tmp/fm_live_cloud_%ld.json", (long)getpid());
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs("{\"type\": \"stratus\", \"base_km\": 1, \"thickness_km\": 0.5, \"tau550\": 10}", f);
+    fclose(f);
+    b = a;
+    b.clouds = path;
+    fm_sky_live_key(&b, kb);
+    f = fopen(path, "w");
+    fputs("{\"type\": \"stratus\", \"base_km\": 1, \"thickness_km\": 0.5, \"tau550\": 20}", f);
+    fclose(f);
+    fm_sky_live_key(&b, kc);
+    remove(path);
+    assert_string_not_equal(kb, kc);
 }
 
 static void bad_sun_is_refused(void **state)

@@ -341,6 +341,17 @@ void fm_sky_live_key(const fm_sky_params *params, char out[33])
     uint64_t h[2] = {hash_bytes(text, strlen(text), 1), hash_bytes(text, strlen(text), 2)};
     hash_file(p->atmosphere_file, h);
     hash_file(p->biome, h); /* a biome given as a file; a name reads nothing */
+    for (const char *c = p->clouds; c && *c;) { /* each cloud given as a file, alike */
+        const char *end = strchr(c, ',');
+        size_t len = end ? (size_t)(end - c) : strlen(c);
+        char name[1024];
+        if (len < sizeof name) {
+            memcpy(name, c, len);
+            name[len] = '\0';
+            hash_file(name, h);
+        }
+        c = end ? end + 1 : c + len;
+    }
     snprintf(out, 33, "%016llx%016llx", (unsigned long long)h[0], (unsigned long long)h[1]);
 }
 
