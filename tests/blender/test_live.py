@@ -10,7 +10,10 @@ what the timers call (live.settle: live.send_pending, then live.poll until the r
 - The elevation keyframed over 5 frames, frame_set on each: lamp and map follow every frame.
 - A killed server is restarted once; killed again, the error is reported and Live turns off.
 - Toggle off: the server process is gone (reaped: no zombie).
-- F12 with Live on renders with a final-quality map of the frame's settings, not the preview."""
+- The sun from a clock time: the lamp at once toward `firmament sun`'s sun, the map's sun the same.
+- F12 with Live on renders with a final-quality map of the settings, not the preview, once (a second
+  F12 makes none); in 3.4 an animation of keyframed settings renders each frame with its own.
+- Opening a file ends the server."""
 
 import json
 import math
@@ -28,6 +31,7 @@ from mathutils import Vector  # noqa: E402
 
 h.install_and_enable()
 live, world = h.submodule("live"), h.submodule("world")
+command, properties = h.submodule("command"), h.submodule("properties")
 live.LIVE_WIDTH = 128  # CI: a small map (the add-on's is 512 x 256)
 scene = bpy.context.scene
 p = scene.firmament_sky
@@ -181,17 +185,54 @@ p.live = False
 h.check(live._state["server"] is None and not os.path.exists("/proc/%d" % pid),
         "Live off: the server (pid %d) is gone" % pid)
 
-# F12 with Live on: a final map of the settings, not the preview
+# the sun from the date, time and place: the lamp at once from `firmament sun`, then the map's
+p.last_message = ""
 p.live = True
-settled("Live on for a render")
-p.resolution, p.threads = 64, 2
+p.sun_source, p.hour, p.minute = "TIME", 10, 30
+r = subprocess.run(command.sun_arguments(h.EXE, properties.to_dict(p)), capture_output=True, text=True)
+sun = json.loads(r.stdout)
+e, a = math.radians(sun["elevation_deg"]), math.radians(sun["azimuth_deg"])
+expected = Vector((math.cos(e) * math.sin(a), math.cos(e) * math.cos(a), math.sin(e)))
+h.close(angle_deg(lamp_direction(), expected), 0.0, 0.1, "clock time: lamp toward `firmament sun`'s sun at once (deg)")
+settled("clock time")
+share(live.server_cache_dir(), shared)  # another atmosphere: the date's Earth-Sun distance (angles: 1 AU)
+side = h.sidecar_of(live_image())
+h.close(angle_deg(Vector(side["sun"]["direction"]), expected), 0.0, 0.1, "clock time: the map's sun is the lamp's (deg)")
+p.sun_source = "ANGLES"
+settled("angles again")
+
+# F12 with Live on: a final map of the settings, not the preview; a second F12 makes none
+p.resolution, p.threads = 32, 2
 h.render_settings(scene, res=(8, 8), samples=1)
 bpy.ops.render.render()
 final = [i for i in h.world_images() if i.users]
 h.check(len(final) == 1 and not final[0].get(live.LIVE_TAG), "the render's world map is a generated one")
 side = h.sidecar_of(final[0])
-h.check(side["parameters"]["quality"] == "final" and side["image"]["width"] == 64,
+h.check(side["parameters"]["quality"] == "final" and side["image"]["width"] == 32,
         "final quality at the set width: %s, %d" % (side["parameters"]["quality"], side["image"]["width"]))
 h.close(side["sun"]["elevation_deg"], p.sun_elevation, 1e-3, "the render's map has the settings' sun")
-p.live = False
+path = final[0].filepath
+bpy.ops.render.render()
+h.check([i.filepath for i in h.world_images() if i.users] == [path], "a second still render uses the same map")
+if h.LEGACY:  # (one version: each final map costs seconds) an animation: each frame's own final map
+    p.sun_elevation = 20.0
+    p.keyframe_insert("sun_elevation", frame=1)
+    p.sun_elevation = 40.0
+    p.keyframe_insert("sun_elevation", frame=2)
+    scene.frame_start, scene.frame_end = 1, 2
+    scene.frame_set(1)
+    settled("keyframed for the animation")
+    elevations = []
+    bpy.app.handlers.render_post.append(lambda sc, *_: elevations.append(
+        h.sidecar_of([i for i in h.world_images() if i.users][0])["sun"]["elevation_deg"]))
+    scene.render.filepath = os.path.join(h.OUT, "frame_")
+    bpy.ops.render.render(animation=True)
+    h.check(elevations == [20.0, 40.0], "animation: each frame rendered with its own final map: %s" % elevations)
+
+# opening a file ends the server
+p.live = True
+settled("Live on before a file is opened")
+pid = live._state["server"].pid
+bpy.ops.wm.read_homefile()
+h.check(live._state["server"] is None and not os.path.exists("/proc/%d" % pid), "a file opened: the server is gone")
 h.finish()
