@@ -46,7 +46,11 @@ def request_of(s):
     if s["biome"] == "none":
         for k in ("turbidity", "aod550", "humidity"):
             d.pop(k, None)
-    d.update(width=LIVE_WIDTH, quality="preview", no_sun_disk=s["sun_mode"] != "DISK")
+    d.update(width=LIVE_WIDTH, quality="preview")
+    if s["sun_mode"] == "DISK":
+        d["no_sun_disk"] = False
+    else:  # half floats hold the sky without the disk (over 65504): written several times faster
+        d.update(no_sun_disk=True, half=True, compression="zip")
     return d
 
 

@@ -77,7 +77,7 @@ def rows(img):
 def direct_zenith(request):
     """Zenith luminance of `firmament render` of the same request (a preset of its keys)."""
     preset = os.path.join(h.OUT, "request.json")
-    keys = {k: v for k, v in request.items() if k not in ("id", "output", "width", "quality", "no_sun_disk")}
+    keys = {k: v for k, v in request.items() if k not in ("id", "output", "width", "quality", "no_sun_disk", "half", "compression")}
     with open(preset, "w") as f:
         json.dump(dict(keys, name="live request"), f)
     out = os.path.join(h.OUT, "direct.exr")
