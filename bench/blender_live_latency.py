@@ -7,7 +7,8 @@ an artist's drags are.  Prints the median, 90th percentile and largest, and wher
   pipe     the rest until the reply is read (the pipe, the poll timer's interval, JSON)
   apply    the image reloaded and the world's nodes and lamp set
   loop     the period of Blender's event loop meanwhile (a timer asking to run at once: timers run
-           once per loop, after the windows' redraws), which the wait and the pipe wait for
+           once per loop, after the windows' redraws), which the wait and the pipe wait for; and
+           for 5 s before the first change, with nothing to redraw ("idle")
 Usage (inside Blender): blender -P bench/blender_live_latency.py -- ZIP EXE OUT [N] [WIDTH]"""
 
 import os
@@ -26,7 +27,7 @@ state = {"phase": "start", "i": 0, "t0": None, "applied": [], "rows": [], "ticks
 
 def tick():
     state["ticks"].append(time.monotonic())
-    return 0.0 if state["phase"] in ("change", "waiting") else None
+    return 0.0 if state["phase"] in ("idle", "change", "waiting") else None
 
 
 def _step():
@@ -61,8 +62,16 @@ def _step():
                 raise RuntimeError("no first map in 120 s: %s" % p.last_message)
             return 0.005
         print("first map (server start, atmosphere built): %.3f s" % (state["applied"][0][0] - state["t0"]))
-        state["phase"] = "change"
+        state["phase"], state["t0"] = "idle", time.monotonic()
         bpy.app.timers.register(tick, first_interval=0.0)
+        return 0.005
+    if state["phase"] == "idle":
+        t = state["ticks"]
+        if time.monotonic() - state["t0"] < 5.0 or len(t) < 3:
+            return 0.005
+        state["idle"] = statistics.median(b - a for a, b in zip(t, t[1:]))
+        state["ticks"] = []
+        state["phase"] = "change"
     if state["phase"] == "waiting":
         if len(state["applied"]) < state["i"] + 2:
             if time.monotonic() - state["t0"] > 60:
@@ -77,8 +86,8 @@ def _step():
         if state["i"] == N:
             return report(live)
     # one change, as a drag of the slider makes it
-    p.sun_elevation = 5.0 + (state["i"] * 37 % 60)
     state["t0"] = time.monotonic()
+    p.sun_elevation = 5.0 + (state["i"] * 37 % 60)
     state["phase"] = "waiting"
     return 0.001
 
@@ -86,14 +95,15 @@ def _step():
 def report(live):
     rows = state["rows"]
     total = sorted(r[0] for r in rows)
-    print("Blender %s, %d x %d preview map, %d changes of the sun elevation" % (
-        bpy.app.version_string, WIDTH, WIDTH // 2, len(rows)))
+    print("Blender %s, %d x %d preview map, %d changes of the sun elevation; load average %.1f" % (
+        bpy.app.version_string, WIDTH, WIDTH // 2, len(rows), os.getloadavg()[0]))
     print("change -> image reloaded: median %.1f ms, p90 %.1f ms, max %.1f ms" % (
         1e3 * statistics.median(total), 1e3 * total[int(0.9 * (len(total) - 1))], 1e3 * total[-1]))
     for k, name in enumerate(("wait", "server", "pipe", "apply"), start=1):
         print("  %-7s median %.1f ms" % (name, 1e3 * statistics.median(r[k] for r in rows)))
     t = state["ticks"]
-    print("  loop    median %.1f ms" % (1e3 * statistics.median(b - a for a, b in zip(t, t[1:]))))
+    print("  loop    median %.1f ms (idle: %.1f ms)" % (1e3 * statistics.median(b - a for a, b in zip(t, t[1:])),
+                                                        1e3 * state["idle"]))
     live.stop()
     sys.stdout.flush()
     os._exit(0)
