@@ -61,8 +61,13 @@ def live_folder():
 
 
 def server_cache_dir():
-    """Built atmospheres, shared by every Blender session (a new one starts warm)."""
-    path = os.path.join(os.path.dirname(maps.cache_dir()), "atmospheres")
+    """Built atmospheres: `firmament serve`'s default folder, shared by every Blender session and
+    version and the command line (a new session starts warm)."""
+    if os.name == "nt":
+        base = os.environ.get("LOCALAPPDATA") or os.path.expanduser("~")
+    else:
+        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    path = os.path.join(base, "firmament")
     os.makedirs(path, exist_ok=True)
     return path
 

@@ -23,7 +23,7 @@ mkdir -p "$work/out"
 # the test zip: the built one, with the executable bundled as bin/firmament when the build did not
 zip=$("$here/bundle-zip.sh" "$zip" "$exe" "$work/firmament_sky.zip") || exit 1
 BLENDER_USER_RESOURCES="$work/user" BLENDER_USER_SCRIPTS="$work/scripts" BLENDER_USER_CONFIG="$work/config" \
-    BLENDER_USER_DATAFILES="$work/datafiles" HOME="$work" TMPDIR="$work" FIRMAMENT_BLENDER="$version" \
+    BLENDER_USER_DATAFILES="$work/datafiles" HOME="$work" XDG_CACHE_HOME="$work/cache" TMPDIR="$work" FIRMAMENT_BLENDER="$version" \
     FIRMAMENT_TEST_KEEP="${FIRMAMENT_TEST_KEEP:-}" FIRMAMENT_EXECUTABLE= \
     "${run[@]}" "$zip" "$exe" "$work/out"
 rc=$?

@@ -13,5 +13,5 @@ trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/scripts" "$work/out"
 zip=$("$(dirname "$0")/bundle-zip.sh" "$zip" "$exe" "$work/firmament_sky.zip") || exit 1
 BLENDER_USER_SCRIPTS="$work/scripts" BLENDER_USER_CONFIG="$work/config" BLENDER_USER_DATAFILES="$work/datafiles" \
-    HOME="$work" FIRMAMENT_EXECUTABLE= timeout 300 xvfb-run -a -s "-screen 0 1280x800x24" \
+    HOME="$work" XDG_CACHE_HOME="$work/cache" FIRMAMENT_EXECUTABLE= timeout 300 xvfb-run -a -s "-screen 0 1280x800x24" \
     blender --factory-startup --enable-event-simulate --python-exit-code 1 -P "$script" -- "$zip" "$exe" "$work/out" "$@"
