@@ -7,6 +7,7 @@ what the timers call (live.settle: live.send_pending, then live.poll until the r
   upper hemisphere integrated) is the sidecar's within 3%, and its zenith luminance is that of a
   direct `firmament render` of the same request within 3% (preview noise, and the live path's
   interpolation over sun elevations: within 1% of the final path).
+- Changes while a map is awaited: only the newest is sent, once.
 - The elevation keyframed over 5 frames, frame_set on each: lamp and map follow every frame.
 - A killed server is restarted once; killed again, the error is reported and Live turns off.
 - Toggle off: the server process is gone (reaped: no zombie).
@@ -144,6 +145,17 @@ lamp = h.sun_lamps()[0]
 h.close(lamp.data.energy, max(side["sun"]["direct_normal_irradiance_rgb"]), 1e-3 * lamp.data.energy,
         "lamp strength from the reply")
 h.check(srv.pid == pid, "the same server")
+
+# changes while a map is awaited are coalesced: the newest is sent, once
+first = live._state["next_id"]
+for e in (30.0, 31.0, 32.0, 33.0):
+    p.sun_elevation = e
+settled("four quick changes")
+h.check(live._state["next_id"] - first == 2, "four quick changes: %d requests (the first, then the newest)"
+        % (live._state["next_id"] - first))
+h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], 33.0, 1e-6, "the newest change's map")
+p.sun_elevation = 35.0
+settled("back to 35")
 
 # keyframed elevation over 5 frames
 p.keyframe_insert("sun_elevation", frame=1)
