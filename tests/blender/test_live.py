@@ -107,8 +107,10 @@ def share(src, dst):
         return
     os.makedirs(dst, exist_ok=True)
     for f in os.listdir(src):
-        if not os.path.exists(os.path.join(dst, f)) and not f.startswith("."):
-            shutil.copyfile(os.path.join(src, f), os.path.join(dst, ".%s.%d" % (f, os.getpid())))
+        d = os.path.join(dst, f)  # a file the server rebuilt (a refused one) replaces the older copy
+        if not f.startswith(".") and (not os.path.exists(d) or
+                                      os.path.getmtime(os.path.join(src, f)) > os.path.getmtime(d)):
+            shutil.copy2(os.path.join(src, f), os.path.join(dst, ".%s.%d" % (f, os.getpid())))  # its mtime too
             os.replace(os.path.join(dst, ".%s.%d" % (f, os.getpid())), os.path.join(dst, f))
 
 
