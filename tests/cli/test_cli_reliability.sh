@@ -101,6 +101,9 @@ expect_usage_error "planet radius 1e-300 km" render --atmosphere "$work/tiny.jso
 grep -qF 'planet_radius_km: must be in [100, 1e+06]' "$work/stderr" && ok || fail "radius message: $(cat "$work/stderr")"
 atm huge_profile 6360 60 '{"type": "tabulated", "altitudes_km": [-1e306, 1e306], "values": [1, 1]}'
 expect_usage_error "profile over +-1e306 km" render --atmosphere "$work/huge_profile.json" --wavelength 550 --width 8
+# the bound: ten times the highest top the files allow (10000 km)
+grep -qF 'profile.altitudes_km[0]: must be in [-100000, 100000], not -1e+306' "$work/stderr" && ok ||
+    fail "profile altitude message: $(cat "$work/stderr")"
 # the corners of the ranges render finite maps
 atm small 100 10000 "$exp8"
 atm large 1e6 1 '{"type": "exponential", "scale_height_km": 0.1}'
