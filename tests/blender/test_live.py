@@ -8,6 +8,7 @@ what the timers call (live.settle: live.send_pending, then live.poll until the r
   direct `firmament render` of the same request within 3% (preview noise, and the live path's
   interpolation over sun elevations: within 1% of the final path).
 - Changes while a map is awaited: only the newest is sent, once.
+- The server's error reply is reported in one sentence; the next change works.
 - The elevation keyframed over 5 frames, frame_set on each: lamp and map follow every frame.
 - A killed server is restarted once; killed again, the error is reported and Live turns off.
 - Toggle off: the server process is gone (reaped: no zombie).
@@ -158,6 +159,19 @@ h.check(live._state["next_id"] - first == 2, "four quick changes: %d requests (t
 h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], 33.0, 1e-6, "the newest change's map")
 p.sun_elevation = 35.0
 settled("back to 35")
+
+# the server's error reply: one sentence in the panel's line, Live stays on, the next change works
+request_of = live.request_of
+live.request_of = lambda settings: dict(request_of(settings), width=3)  # refused by the server
+p.sun_elevation = 36.0
+settled_ok = live.settle(60.0)
+live.request_of = request_of
+h.check(settled_ok and p.last_message == "Error: live sky: --width: 3 is outside [8, 16384] pixels" and p.live,
+        "the server's error reported: %s" % p.last_message)
+p.last_message = ""
+p.sun_elevation = 35.0
+settled("after an error")
+h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], 35.0, 1e-6, "after an error: the map follows again")
 
 # keyframed elevation over 5 frames
 p.keyframe_insert("sun_elevation", frame=1)
