@@ -300,6 +300,14 @@ def on_load_pre(*_args):
 
 
 @bpy.app.handlers.persistent
+def on_load_post(*_args):
+    """A file saved with Live on resumes it: its scenes ask for their maps."""
+    for scene in bpy.data.scenes:
+        if scene.firmament_sky.live:
+            request_update(scene)
+
+
+@bpy.app.handlers.persistent
 def on_render_init(*_args):
     _state["rendering"] = True
 
@@ -356,7 +364,7 @@ class FIRMAMENT_OT_live_report(bpy.types.Operator):
 
 classes = (FIRMAMENT_OT_live_report,)
 
-_HANDLERS = (("frame_change_post", on_frame_change), ("load_pre", on_load_pre), ("render_init", on_render_init),
+_HANDLERS = (("frame_change_post", on_frame_change), ("load_pre", on_load_pre), ("load_post", on_load_post), ("render_init", on_render_init),
              ("render_complete", on_render_end), ("render_cancel", on_render_end), ("render_pre", on_render_pre))
 
 

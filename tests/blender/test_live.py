@@ -15,7 +15,7 @@ what the timers call (live.settle: live.send_pending, then live.poll until the r
 - The sun from a clock time: the lamp at once toward `firmament sun`'s sun, the map's sun the same.
 - F12 with Live on renders with a final-quality map of the settings, not the preview, once (a second
   F12 makes none); in 3.4 an animation of keyframed settings renders each frame with its own.
-- Opening a file ends the server."""
+- Opening a file ends the server; a file saved with Live on resumes it."""
 
 import json
 import math
@@ -257,10 +257,21 @@ if h.LEGACY:  # (one version: each final map costs seconds) an animation: each f
     bpy.ops.render.render(animation=True)
     h.check(elevations == [20.0, 40.0], "animation: each frame rendered with its own final map: %s" % elevations)
 
-# opening a file ends the server
+# opening a file ends the server; a file saved with Live on resumes it
 p.live = True
+p.sun_elevation = 27.0
 settled("Live on before a file is opened")
 pid = live._state["server"].pid
+blend = os.path.join(h.OUT, "live.blend")
+bpy.ops.wm.save_as_mainfile(filepath=blend)
 bpy.ops.wm.read_homefile()
 h.check(live._state["server"] is None and not os.path.exists("/proc/%d" % pid), "a file opened: the server is gone")
+bpy.ops.wm.open_mainfile(filepath=blend)
+scene = bpy.context.scene
+p = scene.firmament_sky
+settled("the file saved with Live on, opened")
+h.check(p.live and live._state["server"] is not None and live._state["server"].pid != pid,
+        "the file saved with Live on: a new server")
+h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], 27.0, 1e-6, "the file saved with Live on: its map")
+p.live = False
 h.finish()
