@@ -109,7 +109,8 @@ def report(scene, message):
 
 
 def request_update(scene):
-    """A sky setting of scene changed: the lamp turns now; the map is asked for after DEBOUNCE_S."""
+    """A sky setting of scene changed: the lamp turns now; the map is asked for now, or when one is
+    awaited, by a DEBOUNCE_S timer that sends the newest."""
     p = scene.firmament_sky
     if not p.live or _state["rendering"]:
         return
