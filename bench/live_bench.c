@@ -245,12 +245,14 @@ static int sweep(const char *biome, double from, double to, double step)
 {
     double build_s;
     fm_sky_live *live = build(biome, &build_s);
-    double prev = zenith(live, from), across = 0.0, elsewhere = 0.0, worst_at = from;
-    for (double e = from + step; e <= to + 1e-9; e += step) {
-        double y = zenith(live, e), d = fabs(log(y / prev));
+    /* suns half a step off the grid's elevations, so that each of them lies inside one step */
+    const int n = (int)floor((to - from) / step);
+    double prev = zenith(live, from + 0.5 * step), across = 0.0, elsewhere = 0.0, worst_at = from;
+    for (int k = 1; k < n; k++) {
+        double e = from + (k + 0.5) * step, y = zenith(live, e), d = fabs(log(y / prev));
         int crosses = 0;
         for (int i = 0; i < live->count; i++)
-            crosses |= live->nodes[i].sun_elevation_deg > e - step + 1e-9 && live->nodes[i].sun_elevation_deg <= e;
+            crosses |= live->nodes[i].sun_elevation_deg > e - step && live->nodes[i].sun_elevation_deg < e;
         printf("%7.2f %12.6g %s\n", e, y, crosses ? "grid" : "");
         if (crosses && d > across)
             across = d, worst_at = e;

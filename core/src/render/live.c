@@ -210,18 +210,19 @@ static double hermite(const grid_place *g, const double y[4])
 }
 
 /* One value on the monotone cubic through the four nodes' values v[0..3] (of g): in their
- * logarithms where all that it reads are positive, else in the values (light that one node's sun
- * does not reach, 0 there, as a shadowed direction in deep twilight, or a fit's dip to 0). */
+ * logarithms where the interval's two values are positive, else in the values (light that one
+ * node's sun does not reach, 0 there, as a shadowed direction in deep twilight, or a fit's dip to
+ * 0).  An outer value that is not positive counts as absent in the logarithms, so that the slope at
+ * a node, and the curve, depend on that node's two intervals alone and meet smoothly there. */
 static double interpolate_value(const grid_place *g, const double v[4])
 {
-    double y[4];
-    int positive = 1;
-    for (int k = 0; k < 4; k++)
-        positive &= v[k] > 0.0 || (k == 0 && !g->lo) || (k == 3 && !g->hi);
-    for (int k = 0; k < 4; k++)
-        y[k] = positive ? (v[k] > 0.0 ? log(v[k]) : 0.0) : v[k];
-    double r = hermite(g, y);
-    return positive ? exp(r) : r;
+    if (!(v[1] > 0.0 && v[2] > 0.0))
+        return hermite(g, v);
+    grid_place h = *g;
+    h.lo = g->lo && v[0] > 0.0;
+    h.hi = g->hi && v[3] > 0.0;
+    const double y[4] = {h.lo ? log(v[0]) : 0.0, log(v[1]), log(v[2]), h.hi ? log(v[3]) : 0.0};
+    return exp(hermite(&h, y));
 }
 
 /* The tables at g's sun elevation, into ss and ms (initialised like the nodes'), value by value
