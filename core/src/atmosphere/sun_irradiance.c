@@ -232,6 +232,53 @@ static void exp_of_depths(const float *v, const double w[4], const size_t idx[4]
     exp_array(out, out, K);
 }
 
+/* Across a cell whose rows' depths differ by more than this (inside a cloud), the depth is not
+ * linear between the rows (it bends at the cloud's edges and with the radius mapping): there
+ * depths_in_thick_cell takes the column to the row above exactly.  Clear air's cells differ by
+ * < 0.02 by day and keep the bilinear lookup. */
+#define THICK_CELL_DEPTH 0.05
+/* Deeper in than this at the row above (sunlight below e^-50), the bilinear depth is as good as any:
+ * the light is nil either way, and most vertices deep in a thick cloud skip the exact piece. */
+#define DIM_DEPTH 50.0
+
+/* At (r, mu_s) in the cell whose corners are (w, idx): if the cell is thick, the depth as the exact
+ * column along the sun's central direction up to the row above plus that row's depth where the ray
+ * meets it (the disk's spread over so short a piece is negligible); returns 0 (nothing written)
+ * for a thin cell or where the row above is dark. */
+static int depths_in_thick_cell(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
+                                double mu_s, const double w[4], const size_t idx[4], double *depth)
+{
+    const int K = table->count;
+    const float *v = table->normal;
+    double w_lo = w[0] + w[1], w_hi = w[2] + w[3];
+    if (!(w_lo > 0.0 && w_hi > 0.0))
+        return 0;
+    int thick = 0, lit = 0;
+    for (int k = 0; k < K; k++) {
+        double lo = (w[0] * v[idx[0] + k] + w[1] * v[idx[1] + k]) / w_lo;
+        double hi = (w[2] * v[idx[2] + k] + w[3] * v[idx[3] + k]) / w_hi;
+        thick |= fabs(lo - hi) > THICK_CELL_DEPTH;
+        lit |= hi < DIM_DEPTH;
+    }
+    if (!thick || !lit)
+        return 0;
+    int row_up = (int)(idx[2] / ((size_t)table->n_mu * (size_t)K));
+    double r_up = table_rows_radius(&table->rows, atm, row_up);
+    if (!(r_up > r))
+        return 0;
+    double t = -r * mu_s + sqrt(fmax(0.0, r * r * (mu_s * mu_s - 1.0) + r_up * r_up));
+    double mu_up = clamp_cosine((r * mu_s + t) / r_up), w_up[4], col[FM_MAX_SPECIES], piece[FM_MAX_WAVELENGTHS];
+    size_t idx_up[4];
+    if (locate(table, atm, sun, r_up, mu_up, w_up, idx_up))
+        return 0;
+    interpolate_depths(v, w_up, idx_up, K, depth);
+    column_exact(atm, r, mu_s, t, col);
+    atmosphere_optical_depths(atm, col, piece);
+    for (int k = 0; k < K; k++)
+        depth[k] += piece[k];
+    return 1;
+}
+
 void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
                            double mu_s, double *normal)
 {
@@ -242,7 +289,13 @@ void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, c
         spectral_fill(normal, 0.0, K);
         return;
     }
-    exp_of_depths(table->normal, w, idx, K, normal);
+    if (!depths_in_thick_cell(table, atm, sun, r, mu_s, w, idx, normal)) {
+        exp_of_depths(table->normal, w, idx, K, normal);
+        return;
+    }
+    for (int k = 0; k < K; k++)
+        normal[k] = -depth_or_dark(normal[k]);
+    exp_array(normal, normal, K);
 }
 
 void sun_irradiance_lookup_ground(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
@@ -273,7 +326,8 @@ int sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *a
         spectral_fill(depth, INFINITY, K);
         return 0;
     }
-    interpolate_depths(table->normal, w, idx, K, depth);
+    if (!depths_in_thick_cell(table, atm, sun, r, mu_s, w, idx, depth))
+        interpolate_depths(table->normal, w, idx, K, depth);
     for (int k = 0; k < K; k++)
         depth[k] = depth_or_dark(depth[k]);
     return 1;

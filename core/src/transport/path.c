@@ -42,12 +42,12 @@ static double path_weight(double W, const double *q, const double *w, int K)
 
 /* Russian roulette on the path's weight times lift (1, or the light-led roulette's light_lift);
  * returns 0 if the path dies, else scales W by 1 / survival.  At least min_survive of the paths
- * live on; past order 8 at most 95% (every order is included, and the longest paths end). */
-static int roulette(double *W, const double *q, const double *w, int K, int order, double lift, double min_survive,
+ * live on, at most cap (survival_cap). */
+static int roulette(double *W, const double *q, const double *w, int K, double cap, double lift, double min_survive,
                     rng *r)
 {
     double m = spectral_max_product(q, w, K) * (*W / spectral_mean(q, K) * lift);
-    double survive = fmin(m / FM_ROULETTE_THRESHOLD, order > 8 ? 0.95 : 1.0);
+    double survive = fmin(m / FM_ROULETTE_THRESHOLD, cap);
     survive = survive > min_survive ? survive : min_survive;
     if (survive >= 1.0)
         return 1;
@@ -135,6 +135,7 @@ typedef struct tracer {
     double *L, *L_later;
     int light_led;      /* deep twilight's roulette at the new vertex (path_context.light_led_roulette) */
     double min_survive; /* the roulette's floor: LIGHT_LED_MIN_SURVIVAL when light-led, else 0 */
+    int placed;         /* deep twilight's shadow flights place every collision: no path leaves */
     int waiting;
     waiting_path stack[PATH_STACK];
 } tracer;
@@ -156,6 +157,18 @@ static int pop_path(tracer *tr, path_state *p)
     if (--top->copies == 0)
         tr->waiting--;
     return 1;
+}
+
+/* The roulette's largest survival probability at a path's order.  Where flights can leave through
+ * the top, paths end by themselves (thin segments' forced collisions take weight, thick ones let
+ * the path out), and a thick cloud's light needs hundreds of orders: all survive that the weight
+ * lets live, up to order CAP_ORDER_ESCAPING (a guard).  Shadow flights never let a path out, so past
+ * order 8 at most 95% survive there. */
+#define CAP_ORDER_PLACED 8
+#define CAP_ORDER_ESCAPING 100000
+static double survival_cap(const tracer *tr, const path_state *p)
+{
+    return p->order > (tr->placed ? CAP_ORDER_PLACED : CAP_ORDER_ESCAPING) ? 0.95 : 1.0;
 }
 
 /* The path's throughput is W / mean(q) q_k w_k: its scale here. */
@@ -215,9 +228,15 @@ static collision collide(tracer *tr, path_state *p, const ray_segment *seg, doub
     return path_weight(p->W, p->q, p->w, K) > OPAQUE_WEIGHT ? COLLISION_NULL : COLLISION_OPAQUE;
 }
 
+/* Segments that would leave through the top are forced to collide only below this majorant optical
+ * depth: beyond it 1 - e^-depth is nearly 1 and forcing gains nothing, and inside a thick cloud
+ * a path that may never leave would end only by roulette (survival_cap). */
+#define FORCE_MAX_DEPTH 4.0
+
 /* A forced collision on a segment that would leave through the top: the first tentative collision
  * is drawn inside it.  Each wavelength's technique would do the same with its own probability F_k
  * = 1 - exp(-majorant depth_k) of colliding: weight f/p = F_k, and F_k enters that technique's pdf.
+ * Beyond FORCE_MAX_DEPTH a technique does not force (F_k taken as 1): the flight may leave.
  * Returns 0 when the segment's majorant depth is nil (nothing to collide with), else the optical
  * depth to the first tentative collision in *tau. */
 static int force_collision(tracer *tr, path_state *p, const ray_segment *seg, double *tau)
@@ -230,6 +249,9 @@ static int force_collision(tracer *tr, path_state *p, const ray_segment *seg, do
     spectral_negate(force, depth, K);
     expm1_array(force, force, K);
     spectral_negate(force, force, K);
+    for (int k = 0; k < K; k++) /* a wavelength that would not force: an ordinary flight, F_k = 1 */
+        if (depth[k] > FORCE_MAX_DEPTH)
+            force[k] = 1.0;
     spectral_mul(p->w, force, K);
     for (int k = 0; k < K; k++) /* a wavelength the medium does not touch cannot make this path */
         p->q[k] = force[k] > 0.0 ? p->q[k] * force[h] / force[k] : 0.0;
@@ -363,7 +385,7 @@ static int scatter_vertex(tracer *tr, path_state *p, vec3 x, int along, int late
     if (ctx->max_order > 0 && p->order >= ctx->max_order)
         return 0;
     const double lift = light_lift(ctx, x, p->start_light); /* 1 unless light-led */
-    if (late && !roulette(&p->W, p->q, p->w, tr->K, p->order, lift, tr->min_survive, tr->r))
+    if (late && !roulette(&p->W, p->q, p->w, tr->K, survival_cap(tr, p), lift, tr->min_survive, tr->r))
         return 0;
     p->counted = 0;
     p->pos = x;
@@ -420,7 +442,7 @@ static int ground_vertex(tracer *tr, path_state *p, vec3 x, int along, int late)
         add_ground_sunlight(tr, p, normal);
     if (ctx->max_order > 0 && p->order >= ctx->max_order)
         return 0;
-    if (late && !roulette(&p->W, p->q, p->w, tr->K, p->order, light_lift(ctx, x, p->start_light), tr->min_survive,
+    if (late && !roulette(&p->W, p->q, p->w, tr->K, survival_cap(tr, p), light_lift(ctx, x, p->start_light), tr->min_survive,
                           tr->r))
         return 0;
     if (!(spectral_dot(p->w, atm->ground_albedo, tr->K) > 0.0) ||
@@ -471,7 +493,7 @@ static int fly_segment(tracer *tr, path_state *p)
     if (along < 0)
         return 0;
     int late = p->vertices_done && (tr->light_led || !along);
-    if (p->vertices_done && !late && !roulette(&p->W, p->q, p->w, tr->K, p->order, 1.0, 0.0, tr->r))
+    if (p->vertices_done && !late && !roulette(&p->W, p->q, p->w, tr->K, survival_cap(tr, p), 1.0, 0.0, tr->r))
         return 0;
     double t;
     flight end = free_flight(tr, p, &seg, collide, &t);
@@ -529,6 +551,7 @@ static void trace_from(const path_context *ctx, vec3 origin, vec3 dir, const dou
     tr.L_later = L_later;
     tr.light_led = ctx->shadow_flights && ctx->light_led_roulette;
     tr.min_survive = tr.light_led ? LIGHT_LED_MIN_SURVIVAL : 0.0;
+    tr.placed = ctx->shadow_flights != NULL;
     tr.waiting = 0;
     path_state p;
     p.W = 1.0;

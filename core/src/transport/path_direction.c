@@ -48,6 +48,25 @@ static vec3 sun_guide_direction(const path_context *ctx, int h, rng *r)
     return rotate_direction(ctx->sun_dir, cos_sun, 2.0 * FM_PI * rng_uniform(r));
 }
 
+/* The sun guide's share of the directions at x: sun_guide_fraction where the sun's transmittance
+ * there is at least e^-GUIDE_FULL_DEPTH (or x lies in the Earth's shadow: twilight's guide aims at
+ * the sunlit air), falling as the transmittance below that.  The guide finds the next vertex's
+ * sunlight through the forward peak; deep in a thick cloud there is none to find, and a guided
+ * direction's small weight, paid at each of a path's hundreds of vertices there, would leave its
+ * weight to the roulette (docs/decisions/2026-12-06-thick-media.md). */
+#define GUIDE_FULL_DEPTH 2.3
+static double sun_guide_share(const path_context *ctx, vec3 x, int h)
+{
+    if (!ctx->sun_guide)
+        return 0.0;
+    double r = v3_length(x), depth;
+    if (!sun_irradiance_lookup_some_depths(ctx->sun_table, ctx->atm, ctx->sun, r, v3_dot(x, ctx->sun_dir) / r, 1, &h,
+                                           &depth) ||
+        depth <= GUIDE_FULL_DEPTH)
+        return ctx->sun_guide_fraction;
+    return ctx->sun_guide_fraction * exp(GUIDE_FULL_DEPTH - depth);
+}
+
 /* One-sample MIS over the techniques of a direction, balance heuristic: with f[k] the directional
  * factor and pdf[k] the mixture's density for wavelength k, w[k] *= f / pdf and q[k] *= pdf / pdf_h. */
 static void mis_weigh(int K, int h, const double *f, const double *pdf, double *q, double *w)
@@ -69,7 +88,7 @@ vec3 scatter_direction(const path_context *ctx, vec3 x, const double *n, const d
 {
     const atmosphere *atm = ctx->atm;
     const int K = atm->grid.count;
-    const double a = ctx->sun_guide ? ctx->sun_guide_fraction : 0.0;
+    const double a = sun_guide_share(ctx, x, h);
     const double b = ctx->sky_guide ? ctx->sky_guide_fraction : 0.0;
     assert(is_probability(a) && is_probability(b) && is_probability(a + b) && is_unit(d));
     double cos_theta, phase[FM_MAX_WAVELENGTHS];
@@ -125,8 +144,9 @@ int ground_direction(const path_context *ctx, vec3 normal, int h, rng *r, double
 {
     const atmosphere *atm = ctx->atm;
     const int K = atm->grid.count;
-    const double a =
-        ctx->sun_guide && v3_dot(normal, ctx->sun_dir) > GROUND_GUIDE_MIN_SINE ? ctx->sun_guide_fraction : 0.0;
+    const double a = v3_dot(normal, ctx->sun_dir) > GROUND_GUIDE_MIN_SINE
+                         ? sun_guide_share(ctx, v3_scale(normal, ctx->atm->bottom_radius_m), h)
+                         : 0.0;
     assert(is_probability(a) && is_unit(normal));
     vec3 d;
     if (a > 0.0 && rng_uniform(r) < a) {
