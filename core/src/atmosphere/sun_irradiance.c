@@ -240,6 +240,10 @@ static void exp_of_depths(const float *v, const double w[4], const size_t idx[4]
 /* Deeper in than this at the row above (sunlight below e^-50), the bilinear depth is as good as any:
  * the light is nil either way, and most vertices deep in a thick cloud skip the exact piece. */
 #define DIM_DEPTH 50.0
+/* Only with the sun more than 5.7 degrees above the local horizontal: lower, the chord to the row
+ * above runs for up to tens of km (at twilight every vertex's), far too long to sum at every lookup;
+ * the bilinear lookup stays there, as for clear air. */
+#define THICK_CELL_MIN_MU 0.1
 
 /* At (r, mu_s) in the cell whose corners are (w, idx): if the cell is thick, the depth as the exact
  * column along the sun's central direction up to the row above plus that row's depth where the ray
@@ -251,7 +255,7 @@ static int depths_in_thick_cell(const sun_irradiance *table, const atmosphere *a
     const int K = table->count;
     const float *v = table->normal;
     double w_lo = w[0] + w[1], w_hi = w[2] + w[3];
-    if (!(w_lo > 0.0 && w_hi > 0.0))
+    if (!(w_lo > 0.0 && w_hi > 0.0) || !(mu_s > THICK_CELL_MIN_MU))
         return 0;
     int thick = 0, lit = 0;
     for (int k = 0; k < K; k++) {

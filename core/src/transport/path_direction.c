@@ -55,10 +55,15 @@ static vec3 sun_guide_direction(const path_context *ctx, int h, rng *r)
  * direction's small weight, paid at each of a path's hundreds of vertices there, would leave its
  * weight to the roulette (docs/decisions/2026-12-06-thick-media.md). */
 #define GUIDE_FULL_DEPTH 2.3
-static double sun_guide_share(const path_context *ctx, vec3 x, int h)
+/* Air thinner than this (m^-1: an optical depth of 1 per km; haze, not cloud or fog) keeps the full
+ * share without the lookup: no path there takes enough vertices for the guide's weights to matter. */
+#define GUIDE_DENSE_SIGMA 1e-3
+static double sun_guide_share(const path_context *ctx, vec3 x, int h, double sigma_s)
 {
     if (!ctx->sun_guide)
         return 0.0;
+    if (sigma_s < GUIDE_DENSE_SIGMA)
+        return ctx->sun_guide_fraction;
     double r = v3_length(x), depth;
     if (!sun_irradiance_lookup_some_depths(ctx->sun_table, ctx->atm, ctx->sun, r, v3_dot(x, ctx->sun_dir) / r, 1, &h,
                                            &depth) ||
@@ -88,7 +93,7 @@ vec3 scatter_direction(const path_context *ctx, vec3 x, const double *n, const d
 {
     const atmosphere *atm = ctx->atm;
     const int K = atm->grid.count;
-    const double a = sun_guide_share(ctx, x, h);
+    const double a = sun_guide_share(ctx, x, h, sig_s[h]);
     const double b = ctx->sky_guide ? ctx->sky_guide_fraction : 0.0;
     assert(is_probability(a) && is_probability(b) && is_probability(a + b) && is_unit(d));
     double cos_theta, phase[FM_MAX_WAVELENGTHS];
@@ -145,7 +150,7 @@ int ground_direction(const path_context *ctx, vec3 normal, int h, rng *r, double
     const atmosphere *atm = ctx->atm;
     const int K = atm->grid.count;
     const double a = v3_dot(normal, ctx->sun_dir) > GROUND_GUIDE_MIN_SINE
-                         ? sun_guide_share(ctx, v3_scale(normal, ctx->atm->bottom_radius_m), h)
+                         ? sun_guide_share(ctx, v3_scale(normal, ctx->atm->bottom_radius_m), h, INFINITY)
                          : 0.0;
     assert(is_probability(a) && is_unit(normal));
     vec3 d;
