@@ -159,16 +159,19 @@ static int pop_path(tracer *tr, path_state *p)
     return 1;
 }
 
-/* The roulette's largest survival probability at a path's order.  Where flights can leave through
- * the top, paths end by themselves (thin segments' forced collisions take weight, thick ones let
- * the path out), and a thick cloud's light needs hundreds of orders: all survive that the weight
- * lets live, up to order CAP_ORDER_ESCAPING (a guard).  Shadow flights never let a path out, so past
- * order 8 at most 95% survive there. */
-#define CAP_ORDER_PLACED 8
-#define CAP_ORDER_ESCAPING 100000
+/* The roulette's largest survival probability at a path's order: past order 8 at most 95% survive
+ * (the longest paths end), except in a dense medium (the last vertex's scattering coefficient at
+ * least DENSE_SIGMA, m^-1: cloud or fog, an optical depth of 1 per km) where flights can leave
+ * through the top: there paths end by themselves (thick segments let them out) and a thick cloud's
+ * light needs hundreds of orders, so all survive that the weight lets live, up to order
+ * CAP_ORDER_DENSE (a guard).  Shadow flights never let a path out: the cap holds there. */
+#define CAP_ORDER 8
+#define CAP_ORDER_DENSE 100000
+#define DENSE_SIGMA 1e-3
 static double survival_cap(const tracer *tr, const path_state *p)
 {
-    return p->order > (tr->placed ? CAP_ORDER_PLACED : CAP_ORDER_ESCAPING) ? 0.95 : 1.0;
+    int dense = !tr->placed && p->medium.sig_s[tr->h] >= DENSE_SIGMA;
+    return p->order > (dense ? CAP_ORDER_DENSE : CAP_ORDER) ? 0.95 : 1.0;
 }
 
 /* The path's throughput is W / mean(q) q_k w_k: its scale here. */
@@ -562,6 +565,7 @@ static void trace_from(const path_context *ctx, vec3 origin, vec3 dir, const dou
     p.pos = origin;
     p.d = dir;
     spectral_fill(p.q, 1.0, K);
+    spectral_fill(p.medium.sig_s, 0.0, K); /* survival_cap's medium until the first collision */
     if (weight)
         spectral_copy(p.w, weight, K);
     else
