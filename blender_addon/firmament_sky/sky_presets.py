@@ -86,6 +86,19 @@ def read(path, opts):
     return d
 
 
+# A preset's number that also chooses how its quantity is given: key -> (the mode's property, value);
+# in the order that settles a preset giving both (aod550 over turbidity).
+_MODE_OF = {
+    "turbidity": ("aerosol_amount", "TURBIDITY"),
+    "aod550": ("aerosol_amount", "AOD"),
+    "humidity": ("use_humidity", True),
+    "cloud_tau": ("cloud_amount", "TAU"),
+    "cloud_lwp": ("cloud_amount", "LWP"),
+    "fog_visibility": ("use_fog", True),
+    "ozone_du": ("ozone_mode", "MANUAL"),
+}
+
+
 def to_settings(d, defaults):
     """Settings (the add-on's property values) from a preset: defaults, then the preset's values."""
     s = dict(defaults)
@@ -104,30 +117,17 @@ def to_settings(d, defaults):
     for key in ("latitude", "longitude", "sun_elevation", "sun_azimuth", "albedo", "altitude"):
         if key in d:
             s[key] = float(d[key])
-    if "biome" in d:
-        s["biome"] = d["biome"]
-    if "turbidity" in d:
-        s["aerosol_amount"], s["turbidity"] = "TURBIDITY", float(d["turbidity"])
-    if "aod550" in d:
-        s["aerosol_amount"], s["aod550"] = "AOD", float(d["aod550"])
-    if "humidity" in d:
-        s["use_humidity"], s["humidity"] = True, float(d["humidity"])
-    if "cloud" in d:
-        s["cloud"] = d["cloud"]
-    if "cloud_tau" in d:
-        s["cloud_amount"], s["cloud_tau"] = "TAU", float(d["cloud_tau"])
-    if "cloud_lwp" in d:
-        s["cloud_amount"], s["cloud_lwp"] = "LWP", float(d["cloud_lwp"])
+    for key in ("biome", "cloud"):
+        if key in d:
+            s[key] = d[key]
+    s["ozone_mode"] = "AUTO"
+    for key, (mode, value) in _MODE_OF.items():
+        if key in d:
+            s[mode], s[key] = value, float(d[key])
     if "cloud_base" in d or "cloud_thickness" in d:
         s["use_cloud_height"] = True
         s["cloud_base"] = float(d.get("cloud_base", s["cloud_base"]))
         s["cloud_thickness"] = float(d.get("cloud_thickness", s["cloud_thickness"]))
-    if "fog_visibility" in d:
-        s["use_fog"], s["fog_visibility"] = True, float(d["fog_visibility"])
-    if "ozone_du" in d:
-        s["ozone_mode"], s["ozone_du"] = "MANUAL", float(d["ozone_du"])
-    else:
-        s["ozone_mode"] = "AUTO"
     return s
 
 
