@@ -1,7 +1,7 @@
 /* The EXR's pixel format: half-float output within half precision of the float output, the
  * half range refused (the sun disk), the lossless compression methods and DWAA (lossless for
  * float, lossy but close for half, every attribute kept), read back through OpenEXR. */
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE /* memmem */
 #include "check.h"
 #include "exr_read.h"
 
@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -245,6 +246,67 @@ static void dwaa(void **state)
     fm_sky_destroy(sky);
 }
 
+/* A header that claims far more pixels than its file can hold (a corrupt or hostile file) is
+ * refused before anything is allocated for it, in a DWA file (read through the C++ library) as in
+ * a ZIP one; a DWA map taller than one 256-line strip of the recoding reads back whole. */
+static void claim_window(const char *name, int32_t width, int32_t height)
+{
+    char exr[300];
+    snprintf(exr, sizeof exr, "%s/%s.exr", dir, name);
+    FILE *f = fopen(exr, "r+b");
+    assert_non_null(f);
+    char head[4096];
+    size_t n = fread(head, 1, sizeof head, f);
+    static const char key[] = "dataWindow\0box2i";
+    char *at = memmem(head, n, key, sizeof key);
+    assert_non_null(at);
+    int32_t box[4] = {0, 0, width - 1, height - 1};
+    fseek(f, (long)(at - head) + (long)sizeof key + 4, SEEK_SET);
+    assert_int_equal(fwrite(box, sizeof box, 1, f), 1);
+    fclose(f);
+}
+
+static void corrupt_window_refused(void **state)
+{
+    fm_sky_params p = test_params(30.0, 0.0);
+    fm_sky *sky = test_sky(&p);
+    fm_image *img = test_render(sky, 1200, FM_QUALITY_PREVIEW, 2, 1, 0, 0.05, 0);
+    fm_sky_destroy(sky);
+    fm_error err = {0};
+    assert_int_equal(fm_image_to_rec709(img, &err), FM_OK);
+    size_t n = (size_t)img->width * img->height * 3;
+    if (write_map(img, "tall-dwaa", 1, FM_EXR_DWAA, &err))
+        fail_msg("%s", err.message);
+    fm_image *back = read_dwa("tall-dwaa");
+    assert_int_equal(back->height, 600);
+    double worst = 0.0;
+    for (size_t i = 0; i < n; i++)
+        worst = fmax(worst, fabs(back->pixels[i] - img->pixels[i]) / fmax(fabs(img->pixels[i]), 1e-6));
+    assert_true(worst < DWAA_WORST_BOUND);
+    fm_image_destroy(back);
+    assert_int_equal(write_map(img, "claims-zip", 1, FM_EXR_ZIP, &err), FM_OK);
+    fm_image_destroy(img);
+    /* the ZIP file cannot hold 16384 x 12288 pixels: refused from its header; DWA can compress a
+     * flat image that far, so its chunks are read strip by strip until the first corrupt one, in a
+     * strip's memory, never the 1.2 GB the header claims */
+    claim_window("claims-zip", 16384, 12288);
+    claim_window("tall-dwaa", 16384, 12288);
+    char exr[300];
+    fm_image *none = NULL;
+    snprintf(exr, sizeof exr, "%s/claims-zip.exr", dir);
+    assert_int_equal(fm_image_read_exr(exr, &none, &err), FM_ERR_IO);
+    print_message("zip: %s\n", err.message);
+    assert_non_null(strstr(err.message, "bytes can hold"));
+    struct rusage before, after;
+    getrusage(RUSAGE_SELF, &before);
+    snprintf(exr, sizeof exr, "%s/tall-dwaa.exr", dir);
+    assert_int_equal(fm_image_read_exr(exr, &none, &err), FM_ERR_IO);
+    getrusage(RUSAGE_SELF, &after);
+    print_message("dwa: %s; peak memory +%ld MiB\n", err.message, (after.ru_maxrss - before.ru_maxrss) / 1024);
+    assert_true(after.ru_maxrss - before.ru_maxrss < 256 * 1024); /* KiB */
+    assert_null(none);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -252,6 +314,7 @@ int main(void)
         cmocka_unit_test(half_refuses_the_sun_disk),
         cmocka_unit_test(compression_methods),
         cmocka_unit_test(dwaa),
+        cmocka_unit_test(corrupt_window_refused),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

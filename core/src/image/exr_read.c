@@ -14,8 +14,9 @@
 #include <string.h>
 #include <sys/stat.h>
 
-/* 2^28: a 16384 x 16384 map */
+/* 2^28: a 16384 x 16384 map; a side of at most 2^16 bounds one scanline's buffers */
 #define MAX_READ_PIXELS ((int64_t)1 << 28)
+#define MAX_READ_SIDE ((int64_t)1 << 16)
 
 static _Thread_local char read_message[256];
 
@@ -56,16 +57,70 @@ static void read_camera(exr_context_t c, fm_image *img)
 
 static fm_status read_exr(const char *path, fm_image **out, fm_error *err);
 
-static int is_dwa(const char *path)
+/* The most a codec expands its stored bytes: deflate (ZIP, ZIPS) about 1032:1, times 4/3 for
+ * PXR24's 24-bit floats; PIZ's Huffman run codes about 400:1; RLE 64:1; B44A about 11:1; DWA keeps
+ * one DCT coefficient of 64 in a flat block before deflating it. */
+static double max_expansion(exr_compression_t method)
 {
+    switch (method) {
+    case EXR_COMPRESSION_NONE: return 1.0;
+    case EXR_COMPRESSION_RLE: return 64.0;
+    case EXR_COMPRESSION_B44:
+    case EXR_COMPRESSION_B44A: return 16.0;
+    case EXR_COMPRESSION_DWAA:
+    case EXR_COMPRESSION_DWAB: return 64.0 * 2048.0;
+    default: return 2048.0;
+    }
+}
+
+/* What a header claims, checked before anything is allocated for it: a scanline image of at most
+ * MAX_READ_PIXELS and four channels, whose decoded size its file could hold after compression
+ * (a corrupt header of a few bytes can ask for gigabytes). */
+static fm_status check_header(exr_context_t c, const char *path, int64_t file_bytes, fm_error *err)
+{
+    exr_storage_t storage;
+    exr_attr_box2i_t dw;
+    const exr_attr_chlist_t *cl;
+    exr_compression_t method;
+    if (exr_get_storage(c, 0, &storage) || storage != EXR_STORAGE_SCANLINE || exr_get_data_window(c, 0, &dw) ||
+        exr_get_channels(c, 0, &cl) || exr_get_compression(c, 0, &method))
+        return fm_fail(err, FM_ERR_IO, "cannot read '%s': not a scanline image", path);
+    int64_t W = (int64_t)dw.max.x - dw.min.x + 1, H = (int64_t)dw.max.y - dw.min.y + 1;
+    if (W < 1 || H < 1 || W > MAX_READ_SIDE || H > MAX_READ_SIDE || W * H > MAX_READ_PIXELS)
+        return fm_fail(err, FM_ERR_IO, "cannot read '%s': its data window is %lld x %lld pixels (at most %lld a side "
+                       "and %lld in all are read)", path, (long long)W, (long long)H, (long long)MAX_READ_SIDE,
+                       (long long)MAX_READ_PIXELS);
+    if (cl->num_channels > 4)
+        return fm_fail(err, FM_ERR_IO, "cannot read '%s': expected R, G, B or Y channels, found %d channels", path,
+                       cl->num_channels);
+    double decoded = 0.0;
+    for (int i = 0; i < cl->num_channels; i++) {
+        const exr_attr_chlist_entry_t *e = &cl->entries[i];
+        int xs = e->x_sampling > 0 ? e->x_sampling : 1, ys = e->y_sampling > 0 ? e->y_sampling : 1;
+        decoded += (double)(W / xs) * (double)(H / ys) * (e->pixel_type == EXR_PIXEL_HALF ? 2.0 : 4.0);
+    }
+    if (decoded > (double)file_bytes * max_expansion(method))
+        return fm_fail(err, FM_ERR_IO, "cannot read '%s': its header claims %lld x %lld pixels, more than its %lld "
+                       "bytes can hold", path, (long long)W, (long long)H, (long long)file_bytes);
+    return FM_OK;
+}
+
+/* Opens an EXR for reading, its header checked (check_header); on failure nothing stays open. */
+static fm_status open_exr(const char *path, exr_context_t *c, fm_error *err)
+{
+    read_message[0] = '\0';
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     init.error_handler_fn = capture;
-    exr_context_t c = NULL;
-    exr_compression_t method = EXR_COMPRESSION_NONE;
-    int dwa = exr_start_read(&c, path, &init) == EXR_ERR_SUCCESS && exr_get_compression(c, 0, &method) == 0 &&
-              (method == EXR_COMPRESSION_DWAA || method == EXR_COMPRESSION_DWAB);
-    exr_finish(&c);
-    return dwa;
+    *c = NULL;
+    struct stat st;
+    fm_status s = exr_start_read(c, path, &init) != EXR_ERR_SUCCESS
+                      ? fm_fail(err, FM_ERR_IO, "cannot read '%s': %s", path,
+                                read_message[0] ? read_message : "not an EXR")
+                  : stat(path, &st) != 0 ? fm_fail(err, FM_ERR_IO, "cannot read '%s': %s", path, strerror(errno))
+                                         : check_header(*c, path, (int64_t)st.st_size, err);
+    if (s)
+        exr_finish(c);
+    return s;
 }
 
 /* DWA files (firmament's --compression dwaa, or other tools') are re-encoded losslessly as ZIP in
@@ -84,7 +139,14 @@ fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
     fm_status regular = image_check_regular(path, err);
     if (regular)
         return regular;
-    if (!is_dwa(path))
+    exr_context_t c = NULL;
+    fm_status s = open_exr(path, &c, err);
+    if (s)
+        return s;
+    exr_compression_t method = EXR_COMPRESSION_NONE;
+    exr_get_compression(c, 0, &method);
+    exr_finish(&c);
+    if (method != EXR_COMPRESSION_DWAA && method != EXR_COMPRESSION_DWAB)
         return read_exr(path, out, err);
     char tmp[4096];
     snprintf(tmp, sizeof tmp, "%s/firmament-read-XXXXXX", platform_temp_dir());
@@ -92,7 +154,7 @@ fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
         return fm_fail(err, FM_ERR_IO, "cannot read '%s': no temporary file for decoding DWA (%s)", path,
                        strerror(errno));
     char msg[256];
-    fm_status s = recode_exr(path, tmp, RECODE_ZIP, 0.0f, msg, sizeof msg) != 0
+    s = recode_exr(path, tmp, RECODE_ZIP, 0.0f, msg, sizeof msg) != 0
                       ? fm_fail(err, FM_ERR_IO, "cannot read '%s': %s", path, msg)
                       : read_exr(tmp, out, err);
     platform_remove(tmp);
@@ -101,37 +163,20 @@ fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
 
 static fm_status read_exr(const char *path, fm_image **out, fm_error *err)
 {
-    read_message[0] = '\0';
-    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-    init.error_handler_fn = capture;
     exr_context_t c = NULL;
-    if (exr_start_read(&c, path, &init) != EXR_ERR_SUCCESS)
-        return fm_fail(err, FM_ERR_IO, "cannot read '%s': %s", path, read_message[0] ? read_message : "not an EXR");
-    fm_status s = FM_OK;
+    fm_status s = open_exr(path, &c, err);
+    if (s)
+        return s;
     fm_image *img = NULL;
     exr_attr_box2i_t dw;
     const exr_attr_chlist_t *cl;
     int32_t lines = 1;
-    exr_storage_t storage;
-    if (exr_get_storage(c, 0, &storage) || storage != EXR_STORAGE_SCANLINE || exr_get_data_window(c, 0, &dw) ||
-        exr_get_channels(c, 0, &cl) || exr_get_scanlines_per_chunk(c, 0, &lines)) {
+    if (exr_get_data_window(c, 0, &dw) || exr_get_channels(c, 0, &cl) || exr_get_scanlines_per_chunk(c, 0, &lines)) {
         s = fm_fail(err, FM_ERR_IO, "cannot read '%s': not a scanline image", path);
         goto done;
     }
-    /* the window's size from a corrupt header can overflow an int or ask for terabytes */
-    int64_t W64 = (int64_t)dw.max.x - dw.min.x + 1, H64 = (int64_t)dw.max.y - dw.min.y + 1;
-    if (W64 < 1 || H64 < 1 || W64 * H64 > MAX_READ_PIXELS) {
-        s = fm_fail(err, FM_ERR_IO, "cannot read '%s': its data window is %lld x %lld pixels (at most %lld are read)",
-                    path, (long long)W64, (long long)H64, (long long)MAX_READ_PIXELS);
-        goto done;
-    }
-    int W = (int)W64, H = (int)H64;
+    int W = dw.max.x - dw.min.x + 1, H = dw.max.y - dw.min.y + 1; /* bounded by check_header */
     int offsets[4] = {-1, -1, -1, -1}, C = 0;
-    if (cl->num_channels > 4) {
-        s = fm_fail(err, FM_ERR_IO, "cannot read '%s': expected R, G, B or Y channels, found %d channels", path,
-                    cl->num_channels);
-        goto done;
-    }
     /* R, G and B together, or Y alone: a file with B only is not a colour image with R = G = 0 */
     unsigned found = 0;
     for (int i = 0; i < cl->num_channels; i++) {
