@@ -15,8 +15,11 @@
 
 void options_set_defaults(options *opt)
 {
+    static char cache_dir[4096]; /* the same for every render of the process */
     memset(opt, 0, sizeof *opt);
     opt->sky = fm_sky_params_default();
+    if (cache_dir[0] || fm_default_cache_dir(cache_dir, sizeof cache_dir) == 0)
+        opt->sky.cache_dir = cache_dir;
     opt->render = fm_render_params_default();
     opt->output = "sky.exr";
     opt->colorspace = "Linear Rec.709";

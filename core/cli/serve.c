@@ -319,7 +319,7 @@ static int parse_serve_options(int argc, char **argv, serve_options *so)
 {
     so->keep = 2;
     so->threads = 0;
-    so->cache_dir = live_cache_default_dir(so->default_dir, sizeof so->default_dir) == 0 ? so->default_dir : NULL;
+    so->cache_dir = fm_default_cache_dir(so->default_dir, sizeof so->default_dir) == 0 ? so->default_dir : NULL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {

@@ -3,6 +3,7 @@
 #include "report.h"
 
 #include "base/platform.h"
+#include "base/sealed_file.h"
 #include "base/text.h"
 
 #include <errno.h>
@@ -28,39 +29,6 @@ const char *live_source_name(live_source s)
     return s == LIVE_FROM_MEMORY ? "memory" : s == LIVE_FROM_DISK ? "disk" : "built";
 }
 
-int live_cache_default_dir(char *out, size_t size)
-{
-#ifdef _WIN32
-    const char *base = getenv("LOCALAPPDATA"), *below = "";
-#else
-    const char *base = getenv("XDG_CACHE_HOME"), *below = "";
-    if (!base || !base[0]) { /* the XDG base directory default */
-        base = getenv("HOME");
-        below = "/.cache";
-    }
-#endif
-    if (!base || !base[0])
-        return -1;
-    snprintf(out, size, "%s%s/firmament", base, below);
-    return 0;
-}
-
-/* Creates dir and the folders above it that are missing: 0, or -1 with errno set. */
-static int make_dirs(char *dir)
-{
-    for (char *c = dir + 1; *c; c++) {
-        if (*c != '/' && *c != '\\')
-            continue;
-        char sep = *c;
-        *c = '\0';
-        int failed = platform_path_kind(dir) != PLATFORM_DIRECTORY && platform_make_dir(dir) != 0;
-        *c = sep;
-        if (failed)
-            return -1;
-    }
-    return platform_make_dir(dir);
-}
-
 live_cache *live_cache_open(const char *dir, int keep)
 {
     live_cache *c = calloc(1, sizeof *c);
@@ -73,7 +41,7 @@ live_cache *live_cache_open(const char *dir, int keep)
         live_cache_close(c);
         return NULL;
     }
-    if (c->dir && make_dirs(c->dir) != 0) { /* the server still runs, cold at every start */
+    if (c->dir && sealed_file_make_dirs(c->dir) != 0) { /* the server still runs, cold at every start */
         report_error("serve: cannot create the cache folder '%s' (%s); atmospheres are kept in memory only", c->dir,
                      strerror(errno));
         free(c->dir);
@@ -125,6 +93,9 @@ fm_status live_cache_get(live_cache *c, const fm_sky_params *params, const atomi
 {
     char key[33];
     fm_sky_live_key(params, key);
+    fm_sky_params p = *params; /* the cloud optics go to the server's cache folder too, or nowhere */
+    p.cache_dir = c->dir;
+    params = &p;
     c->clock++;
     for (int i = 0; i < c->keep; i++)
         if (c->slots[i].live && strcmp(c->slots[i].key, key) == 0) {

@@ -26,8 +26,4 @@ fm_status live_cache_get(live_cache *c, const fm_sky_params *params, const atomi
 /* "memory", "disk", "built" */
 const char *live_source_name(live_source s);
 
-/* The default cache folder: $XDG_CACHE_HOME/firmament, else ~/.cache/firmament (Windows:
- * %LOCALAPPDATA%\firmament); 0, or -1 when none of those variables is set. */
-int live_cache_default_dir(char *out, size_t size);
-
 #endif

@@ -4,6 +4,7 @@
 #include "atmosphere/atmosphere_file.h"
 #include "aerosol/aerosol.h"
 #include "aerosol/cloud_file.h"
+#include "aerosol/cloud_layer.h"
 #include "atmosphere/ozone.h"
 #include "atmosphere/ozone_climatology.h"
 #include "atmosphere/ozone_profile.h"
@@ -52,6 +53,7 @@ fm_sky_params fm_sky_params_default(void)
         .cloud_base_km = FM_CLOUD_BASE_FROM_FILE,
         .atmosphere_file = NULL,
         .presets_dir = NULL,
+        .cache_dir = NULL,
         .hour = FM_NO_TIME,
         .minute = 0,
         .second = 0.0,
@@ -262,7 +264,7 @@ static fm_status add_clouds(fm_sky *sky, const fm_sky_params *p, fm_error *err)
     fm_composition *c = &sky->composition;
     for (int i = 0; i < count && !s; i++) {
         const cloud_layer *l = &layers[i];
-        s = cloud_add_layer(&sky->atm, l->type, l->base_m, l->thickness_m, l->tau550, p->threads, err);
+        s = cloud_add_layer(&sky->atm, l->type, l->base_m, l->thickness_m, l->tau550, p->threads, p->cache_dir, err);
         if (s == FM_ERR_INVALID_ARGUMENT && err && !err->parameter[0]) { /* a layer outside the atmosphere */
             char what[sizeof err->message];
             snprintf(what, sizeof what, "%s", err->message);

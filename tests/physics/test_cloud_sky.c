@@ -12,7 +12,7 @@
  * function), not part of the sun's irradiance. */
 #include "check.h"
 
-#include "aerosol/cloud.h"
+#include "aerosol/cloud_layer.h"
 #include "base/units.h"
 #include "firmament/firmament.h"
 

@@ -150,9 +150,18 @@ typedef struct fm_sky_params {
     /* Where biome names are looked up; NULL = $FIRMAMENT_PRESETS, else the presets/ shipped beside the
      * executable, else the source tree's (docs/packaging.md). */
     const char *presets_dir;
+    /* Where computed cloud optics are kept between builds (docs/clouds.md, "Optics"): the folder
+     * (created when missing) of files keyed by everything they depend on; NULL or "": computed at
+     * every build.  The executable gives $XDG_CACHE_HOME/firmament, as `serve` does. */
+    const char *cache_dir;
 } fm_sky_params;
 
 fm_sky_params fm_sky_params_default(void);
+
+/* The usual cache folder (cache_dir above; `firmament serve`'s atmospheres): $XDG_CACHE_HOME/firmament,
+ * else ~/.cache/firmament (Windows: %LOCALAPPDATA%\firmament); 0, or -1 when none of those variables
+ * is set. */
+int fm_default_cache_dir(char *out, size_t size);
 
 /* A ready-made sky (README, "Sky presets"): presets/skies/NAME.json, or a file, a flat JSON
  * object of render options (the keys of fm_sky_preset_keys) plus "name" and an optional

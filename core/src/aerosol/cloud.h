@@ -56,16 +56,4 @@ double cloud_ice_asymmetry(void);
 /* Optical depth at 550 nm of a liquid water path (g m^-2) of a water type. */
 fm_status cloud_tau_from_lwp(const cloud_type *t, double lwp_gm2, double *tau550, fm_error *err);
 
-/* Adds one layer (type, base and thickness in m above the ground, optical depth at 550 nm) as a
- * scattering species whose vertical optical depth at 550 nm is exactly tau550 for the profile the
- * estimators see.  threads: for the per-wavelength Mie integrals (0 = all cores).  Call
- * atmosphere_update_majorants afterwards. */
-fm_status cloud_add_layer(atmosphere *atm, const cloud_type *t, double base_m, double thickness_m, double tau550,
-                          int threads, fm_error *err);
-
-/* Length (m) inside the spherical shell [r_base, r_top] of the straight line from radius r (m)
- * outward with direction cosine mu > 0 (toward the sun): times a layer's extinction, the optical
- * depth in front of the sun's disk. */
-double cloud_shell_chord_m(double r, double mu, double r_base, double r_top);
-
 #endif

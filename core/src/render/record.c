@@ -11,7 +11,7 @@ void render_record_fill(fm_render_record *r, const fm_sky *sky, const fm_render_
     if (r->sky.atmosphere_file)
         snprintf(r->atmosphere_file, sizeof r->atmosphere_file, "%s", r->sky.atmosphere_file);
     /* the image may outlive the strings the parameters point to */
-    r->sky.atmosphere_file = r->sky.biome = r->sky.presets_dir = r->sky.clouds = NULL;
+    r->sky.atmosphere_file = r->sky.biome = r->sky.presets_dir = r->sky.clouds = r->sky.cache_dir = NULL;
     fm_sky_composition(sky, &r->composition);
     fm_sky_sun_light(sky, &r->sun);
     r->has_solar = fm_sky_solar_position(sky, &r->solar, &r->sun_computed);
