@@ -16,6 +16,8 @@
  * to a fraction of a percent.  Seen from the observer, the optical depth toward a point of the disk
  * depends only on its elevation: it is tabulated across the disk first. */
 #define DISK_DEPTH_SAMPLES 257
+#define LD_TERMS 6 /* the limb darkening polynomial's terms (sun_disk.h) */
+_Static_assert(sizeof(((sun_disk *)0)->ld[0]) == LD_TERMS * sizeof(double), "the limb darkening's terms");
 
 /* Angular size (rad) of the camera's pixels around direction d: the smaller of the angles spanned by
  * one pixel across and down at d's position; 0 when the camera cannot place d. */
@@ -100,17 +102,40 @@ fm_status sun_disk_rasterise(const fm_sky *sky, const camera *cam, fm_image *img
             depth[i * K + k] = blocked ? INFINITY : atmosphere_optical_depth(atm, col, k);
     }
 
-    /* limb-darkening weights per wavelength, normalised to sum to 1 over the disk's points */
-    double norm[FM_MAX_WAVELENGTHS] = {0};
+    /* limb-darkening normalisation per wavelength, to sum to 1 over the disk's points: the limb
+     * darkening is a polynomial in mu2 (sun_disk.h), so its sum is the coefficients times the sums of
+     * the powers of mu2 over the points */
+    double power_sum[LD_TERMS] = {0};
     for (int j = 0; j < n; j++)
         for (int i = 0; i < n; i++) {
             double x = (i + 0.5) / n * 2.0 - 1.0, y = (j + 0.5) / n * 2.0 - 1.0, rr = x * x + y * y;
-            if (rr < 1.0)
-                for (int k = 0; k < K; k++)
-                    norm[k] += sun_limb_darkening(sun, k, sqrt(1.0 - rr));
+            if (rr >= 1.0)
+                continue;
+            double mu2 = sqrt(1.0 - rr), m = 1.0;
+            for (int p = 0; p < LD_TERMS; p++, m *= mu2)
+                power_sum[p] += m;
+        }
+    /* per depth sample and power of mu2, the channels of the disk's light: a point's is the sum over
+     * the powers of mu2^p times the samples' (linear between them), so each point costs a few
+     * multiplications instead of an exponential per wavelength */
+    float *light = malloc(sizeof(float) * DISK_DEPTH_SAMPLES * LD_TERMS * (size_t)C);
+    if (!light) {
+        free(depth);
+        free(cache);
+        return FM_ERR_OUT_OF_MEMORY;
+    }
+    for (int i = 0; i < DISK_DEPTH_SAMPLES; i++)
+        for (int p = 0; p < LD_TERMS; p++) {
+            double L[FM_MAX_WAVELENGTHS];
+            for (int k = 0; k < K; k++) {
+                double norm = 0.0;
+                for (int q = 0; q < LD_TERMS; q++)
+                    norm += sun->ld[k][q] * power_sum[q];
+                L[k] = atm->grid.solar_irradiance[k] * sun->ld[k][p] / norm * exp(-depth[i * K + k]);
+            }
+            render_channels(atm, C, L, &light[((size_t)i * LD_TERMS + p) * C]);
         }
     frame f = frame_from_normal(sky->sun_dir);
-    double L[FM_MAX_WAVELENGTHS];
     for (int j = 0; j < n; j++)
         for (int i = 0; i < n; i++) {
             double x = (i + 0.5) / n * 2.0 - 1.0, y = (j + 0.5) / n * 2.0 - 1.0, rr = x * x + y * y;
@@ -127,21 +152,22 @@ fm_status sun_disk_rasterise(const fm_sky *sky, const camera *cam, fm_image *img
             int id = (int)fd;
             id = id < 0 ? 0 : (id > DISK_DEPTH_SAMPLES - 2 ? DISK_DEPTH_SAMPLES - 2 : id);
             double td = fd - id;
-            double inv_omega = inverse_pixel_solid_angle(cam, cache, px, py);
-            double mu2 = sqrt(1.0 - rr);
-            for (int k = 0; k < K; k++) {
-                double d0 = depth[id * K + k], d1 = depth[(id + 1) * K + k];
-                /* next to the horizon one sample may be blocked: use the visible neighbour */
-                double dk = isinf(d0) ? d1 : (isinf(d1) ? d0 : d0 + (d1 - d0) * td);
-                L[k] = atm->grid.solar_irradiance[k] * sun_limb_darkening(sun, k, mu2) / norm[k] * exp(-dk) *
-                       inv_omega;
-            }
-            float v[FM_MAX_WAVELENGTHS];
-            render_channels(atm, C, L, v);
+            /* next to the horizon one sample may be blocked: use the visible neighbour */
+            if (isinf(depth[id * K]))
+                td = 1.0;
+            else if (isinf(depth[(id + 1) * K]))
+                td = 0.0;
+            const float *l0 = &light[(size_t)id * LD_TERMS * C], *l1 = l0 + LD_TERMS * C;
+            double inv_omega = inverse_pixel_solid_angle(cam, cache, px, py), mu2 = sqrt(1.0 - rr);
             size_t idx = ((size_t)py * W + px) * C;
-            for (int c = 0; c < C; c++)
-                img->sun_disk[idx + c] += v[c];
+            for (int c = 0; c < C; c++) {
+                double v = 0.0;
+                for (int p = LD_TERMS - 1; p >= 0; p--)
+                    v = v * mu2 + (1.0 - td) * l0[p * C + c] + td * l1[p * C + c];
+                img->sun_disk[idx + c] += (float)(v * inv_omega);
+            }
         }
+    free(light);
     free(depth);
     free(cache);
     size_t total = (size_t)W * H * C;
