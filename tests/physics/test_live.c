@@ -1,10 +1,12 @@
 /* The live sky (firmament.h, "The live sky"; docs/rendering.md "Live sky"): its key; its maps against
  * the final quality path at the same sun (a few of the accuracy table's suns, from the tables of the
  * neighbouring grid elevations only: bench/bench.sh --live measures the whole table); the zenith
- * luminance across a grid elevation; its file (saved, loaded, and refused when it is another
+ * luminance across a grid elevation; the deep twilight light its nodes share; its file (saved, loaded, and refused when it is another
  * atmosphere's, truncated or corrupt). */
 #include "check.h"
 #include "render/live.h"
+#include "transport/shadow_flight_build.h"
+#include "transport/sky_path.h"
 
 #include <math.h>
 
@@ -252,6 +254,48 @@ static void no_jump_across_grid_elevations(void **state)
     fm_sky_live_destroy(live);
 }
 
+/* The guided flights' light (shadow_flight_build.h) of one deep twilight sun: built for it alone, or
+ * from columns shared with a lower sun (NULL: none). */
+static void flights_at(double sun_deg, const shadow_flight_columns *shared, shadow_flight_table *t)
+{
+    fm_sky_params p = test_params(sun_deg, 0.0);
+    fm_sky *sky = test_sky(&p);
+    path_context single = sky_path_context(sky, 1, 1);
+    assert_int_equal(shadow_flight_build(t, &single, sky->observer, shared, 2, NULL), FM_OK);
+    fm_sky_destroy(sky);
+}
+
+/* The live sky builds its deep twilight nodes' flights from columns shared by all of them: a point's
+ * light depends only on its altitude and local sun elevation.  Columns built from sun -16 (two more
+ * than sun -15 needs) give sun -15 (a whole degree on) the table it builds for itself, within
+ * rounding; a sun the columns do not reach (-17) builds its own. */
+static void shared_flights_match_a_table_of_its_own(void **state)
+{
+    fm_sky_params p = test_params(-16.0, 0.0);
+    fm_sky *sky = test_sky(&p);
+    path_context single = sky_path_context(sky, 1, 1);
+    shadow_flight_columns columns;
+    assert_int_equal(shadow_flight_columns_build(&columns, &single, sky->observer,
+                                                 (-15.0 + SHADOW_FLIGHT_SUNS + 1) * FM_DEG, 2, NULL),
+                     FM_OK);
+    fm_sky_destroy(sky);
+    static shadow_flight_table own, shared;
+    double worst = 0.0;
+    flights_at(-15.0, NULL, &own);
+    flights_at(-15.0, &columns, &shared);
+    for (int i = 0; i < SHADOW_FLIGHT_LEVELS; i++)
+        for (int j = 0; j < SHADOW_FLIGHT_SUNS; j++) {
+            assert_true(own.value[i][j] >= 0.0);
+            worst = fmax(worst, fabs(shared.value[i][j] - own.value[i][j]) / fmax(own.value[i][j], 1e-300));
+        }
+    print_message("shared flights at sun -15: largest relative difference %.3g\n", worst);
+    check_abs(worst, 0.0, 1e-6, "the shared columns' light vs a table of its own");
+    flights_at(-17.0, &columns, &shared);
+    flights_at(-17.0, NULL, &own);
+    assert_memory_equal(shared.value, own.value, sizeof own.value);
+    shadow_flight_columns_free(&columns);
+}
+
 /* A file beside the test's temporary folder; the caller frees it. */
 static char *temp_path(const char *name)
 {
@@ -343,6 +387,7 @@ int main(void)
         cmocka_unit_test(bad_sun_is_refused),
         cmocka_unit_test(maps_match_final_quality),
         cmocka_unit_test(no_jump_across_grid_elevations),
+        cmocka_unit_test(shared_flights_match_a_table_of_its_own),
         cmocka_unit_test(file_round_trip_and_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

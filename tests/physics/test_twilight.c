@@ -157,7 +157,7 @@ static void zenith_falls_monotonically(void **state)
         p.sun_elevation_deg = e;
         fm_sky *sky = test_sky(&p);
         twilight_sampling *guide;
-        assert_int_equal(twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, NULL, &guide), FM_OK);
+        assert_int_equal(twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, NULL, 2, NULL, &guide), FM_OK);
         assert_true((guide != NULL) == (e < 0));
         path_context one = sky_path_context(sky, 1, 1), many = twilight_path_context(sky, guide, 2, 0);
         many.skip_ground_first = 1;
@@ -192,7 +192,7 @@ static void along_segment_matches_point_estimate(void **state)
     p.sun_elevation_deg = -3.0;
     fm_sky *sky = test_sky(&p);
     twilight_sampling *guide;
-    assert_int_equal(twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, 2, NULL, &guide), FM_OK);
+    assert_int_equal(twilight_sampling_create(sky, SKY_GUIDE_MAX_OFFSETS, NULL, 2, NULL, &guide), FM_OK);
     assert_non_null(guide);
     const vec3 zenith = v3(0.0, 0.0, 1.0);
     path_context point = sky_path_context(sky, 2, 0), along = point, twilight = twilight_path_context(sky, guide, 2, 0);
@@ -260,7 +260,7 @@ static twilight_sampling *deep_twilight(double sun_deg, fm_sky **sky)
     p.sun_azimuth_deg = 0.0;
     *sky = test_sky(&p);
     twilight_sampling *tw;
-    assert_int_equal(twilight_sampling_create(*sky, SKY_GUIDE_MAX_OFFSETS, 2, NULL, &tw), FM_OK);
+    assert_int_equal(twilight_sampling_create(*sky, SKY_GUIDE_MAX_OFFSETS, NULL, 2, NULL, &tw), FM_OK);
     assert_non_null(tw);
     assert_true(tw->deep);
     return tw;

@@ -9,6 +9,8 @@
 #include "base/units.h"
 #include "render/ms_table.h"
 #include "render/render.h"
+#include "transport/shadow_flight_build.h"
+#include "transport/twilight.h"
 #include "sky.h"
 
 #include <math.h>
@@ -101,8 +103,10 @@ static fm_sky *sky_with_sun(const fm_sky_live *live, double elevation_deg, doubl
     return sky;
 }
 
-/* The tables of one node: the fast path's, for a sun at the node's elevation. */
-static fm_status build_node(fm_sky_live *live, live_node *node, const atomic_int *cancel, fm_error *err)
+/* The tables of one node: the fast path's, for a sun at the node's elevation; in deep twilight its
+ * guided flights' light from the columns shared by every node (shadow_flight_build.h). */
+static fm_status build_node(fm_sky_live *live, live_node *node, const shadow_flight_columns *flights,
+                            const atomic_int *cancel, fm_error *err)
 {
     fm_sky *sky = sky_with_sun(live, node->sun_elevation_deg, 180.0, err);
     if (!sky)
@@ -113,7 +117,7 @@ static fm_status build_node(fm_sky_live *live, live_node *node, const atomic_int
     rp.threads = live->params.threads;
     rp.cancel = cancel;
     ms_table ms = {0};
-    render_job job = {.sky = sky, .params = &rp, .ms = &ms, .channels = live->channels};
+    render_job job = {.sky = sky, .params = &rp, .ms = &ms, .channels = live->channels, .shared_flights = flights};
     job.q = live->q;
     if (node->sun_elevation_deg < 0.0) {
         job.q.ms_paths = (int)fmax(1.0, round(job.q.ms_paths * TWILIGHT_PATH_SCALE));
@@ -139,13 +143,42 @@ static fm_status build_node(fm_sky_live *live, live_node *node, const atomic_int
     return s;
 }
 
+/* The guided flights' light (shadow_flight_build.h) for the deep twilight nodes from from_deg to
+ * to_deg, once: from the lowest one's local sun elevation to the highest one's table's last column
+ * (c->value NULL when there is none). */
+static fm_status shared_flights(const fm_sky_live *live, double from_deg, double to_deg, const atomic_int *cancel,
+                                shadow_flight_columns *c, fm_error *err)
+{
+    double lo = INFINITY, hi = -INFINITY;
+    *c = (shadow_flight_columns){0};
+    for (int i = 0; i < live->count; i++) {
+        double e = live->nodes[i].sun_elevation_deg;
+        if (e >= from_deg && e <= to_deg && twilight_deep(e)) {
+            lo = fmin(lo, e);
+            hi = fmax(hi, e);
+        }
+    }
+    if (!(lo <= hi))
+        return FM_OK;
+    fm_sky *sky = sky_with_sun(live, lo, 180.0, err);
+    if (!sky)
+        return err->status;
+    path_context single = sky_path_context(sky, 1, 1);
+    double up_to = (hi + (SHADOW_FLIGHT_SUNS - 1)) * FM_DEG;
+    fm_status s = shadow_flight_columns_build(c, &single, sky->observer, up_to, live->params.threads, cancel);
+    free(sky);
+    return s && s != FM_ERR_CANCELLED ? fm_fail(err, s, "the twilight guide: %s", fm_status_name(s)) : s;
+}
+
 fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, const atomic_int *cancel,
                            fm_error *err)
 {
-    fm_status s = FM_OK;
+    shadow_flight_columns flights;
+    fm_status s = shared_flights(live, from_deg, to_deg, cancel, &flights, err);
     for (int i = 0; i < live->count && !s; i++)
         if (live->nodes[i].sun_elevation_deg >= from_deg && live->nodes[i].sun_elevation_deg <= to_deg)
-            s = build_node(live, &live->nodes[i], cancel, err);
+            s = build_node(live, &live->nodes[i], &flights, cancel, err);
+    shadow_flight_columns_free(&flights);
     return s == FM_ERR_CANCELLED ? fm_fail(err, s, "live sky cancelled") : s;
 }
 

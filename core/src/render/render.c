@@ -212,9 +212,9 @@ static uint64_t render_seed(const atmosphere *atm, uint64_t seed)
 /* The twilight sampling when the sun is below the observer's horizon plane (NULL otherwise, and for
  * a black sky). */
 static fm_status make_twilight(const fm_sky *sky, const quality_settings *q, const fm_render_params *params,
-                               twilight_sampling **tw, fm_error *err)
+                               const shadow_flight_columns *shared, twilight_sampling **tw, fm_error *err)
 {
-    fm_status s = twilight_sampling_create(sky, q->guide_offsets, params->threads, params->cancel, tw);
+    fm_status s = twilight_sampling_create(sky, q->guide_offsets, shared, params->threads, params->cancel, tw);
     if (s == FM_ERR_CANCELLED || (params->cancel && atomic_load(params->cancel)))
         return fm_fail(err, FM_ERR_CANCELLED, "render cancelled");
     return s ? fm_fail(err, s, "the twilight guide: %s", fm_status_name(s)) : FM_OK;
@@ -342,7 +342,7 @@ fm_status render_twilight(render_job *job, twilight_sampling **tw, fm_error *err
     *tw = NULL;
     if (v3_dot(job->sky->sun_dir, job->sky->observer) < 0.0)
         report(job->params, 0.0, "twilight guide");
-    return make_twilight(job->sky, &job->q, job->params, tw, err);
+    return make_twilight(job->sky, &job->q, job->params, job->shared_flights, tw, err);
 }
 
 fm_status render_finish(render_job *job, fm_status s, fm_image **out, fm_error *err)
@@ -427,7 +427,7 @@ fm_status fm_render_pixels(const fm_sky *sky, const fm_render_params *params, in
     job->channels = atm->grid.colour ? 3 : 1;
     job->seed = render_seed(atm, params->seed);
     twilight_sampling *twilight = NULL;
-    if ((s = make_twilight(sky, &job->q, params, &twilight, err)))
+    if ((s = make_twilight(sky, &job->q, params, NULL, &twilight, err)))
         return s;
     job->twilight = twilight;
     parallel_progress pr = {params->progress, params->progress_user, "path tracing", 0.0, 1.0};

@@ -28,6 +28,7 @@ typedef struct render_job {
     int channels;
     camera cam;
     const twilight_sampling *twilight; /* below the horizon only (twilight.h) */
+    const shadow_flight_columns *shared_flights; /* the live sky's, for its deep twilight nodes; else NULL */
     sky_grid ss;                       /* the single-scattering table */
     struct ms_table *ms;               /* the multiple-scattering table (ms_table.h) */
     const sky_grid *ms_grid;           /* the pixels' multiple-scattering radiance (ms->grid, or the live

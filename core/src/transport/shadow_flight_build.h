@@ -7,10 +7,25 @@
 
 #include <stdatomic.h>
 
+/* I over local sun elevations 1 degree apart from the observer's up to up_to (rad), at every level:
+ * a point's I depends on its altitude and its local sun elevation alone (a horizontally homogeneous
+ * atmosphere), so one set of columns serves the tables of every sun below (the live sky's nodes). */
+typedef struct shadow_flight_columns {
+    double sun0, sun_step; /* rad: column 0's local sun elevation, and the step */
+    int suns;
+    double *value;         /* [level][sun] */
+} shadow_flight_columns;
+
+fm_status shadow_flight_columns_build(shadow_flight_columns *c, const path_context *single, vec3 observer,
+                                      double up_to, int threads, const atomic_int *cancel);
+void shadow_flight_columns_free(shadow_flight_columns *c);
+
 /* Builds I from single_scatter_radiance with `single` (orders 1..1) at points above and toward the
- * sun from `observer`, on `threads` threads.  FM_ERR_OUT_OF_MEMORY, FM_ERR_CANCELLED (*cancel set) or
+ * sun from `observer`, on `threads` threads; from `shared` (interpolated between its columns) when it is
+ * not NULL and covers the table's local sun elevations: I only places samples (shadow_flight.h), so
+ * the estimator stays unbiased.  FM_ERR_OUT_OF_MEMORY, FM_ERR_CANCELLED (*cancel set) or
  * FM_ERR_INTERNAL (its threads could not run), else FM_OK. */
-fm_status shadow_flight_build(shadow_flight_table *t, const path_context *single, vec3 observer, int threads,
-                              const atomic_int *cancel);
+fm_status shadow_flight_build(shadow_flight_table *t, const path_context *single, vec3 observer,
+                              const shadow_flight_columns *shared, int threads, const atomic_int *cancel);
 
 #endif

@@ -25,8 +25,10 @@
  * noisy (docs/decisions/2026-12-06-twilight-thresholds.md). */
 #define FIRST_VERTEX_LIGHT_SHARE 0.5
 
-fm_status twilight_sampling_create(const fm_sky *sky, int guide_offsets, int threads, const atomic_int *cancel,
-                                   twilight_sampling **out)
+int twilight_deep(double sun_elevation_deg) { return sun_elevation_deg < DEEP_TWILIGHT_DEG; }
+
+fm_status twilight_sampling_create(const fm_sky *sky, int guide_offsets, const shadow_flight_columns *shared,
+                                   int threads, const atomic_int *cancel, twilight_sampling **out)
 {
     *out = NULL;
     if (!(v3_dot(sky->sun_dir, sky->observer) < 0.0))
@@ -36,10 +38,10 @@ fm_status twilight_sampling_create(const fm_sky *sky, int guide_offsets, int thr
         return FM_ERR_OUT_OF_MEMORY;
     path_context single = sky_path_context(sky, 1, 1);
     double sun_elevation = asin(clamp_cosine(v3_dot(v3_normalize(sky->observer), sky->sun_dir)));
-    tw->deep = sun_elevation < DEEP_TWILIGHT_DEG * FM_DEG;
+    tw->deep = twilight_deep(sun_elevation / FM_DEG);
     /* the flights' table first: in deep twilight the sky guide adds the light of order 2 from it */
     int usable = 0;
-    fm_status s = tw->deep ? shadow_flight_build(&tw->flights, &single, sky->observer, threads, cancel) : FM_OK;
+    fm_status s = tw->deep ? shadow_flight_build(&tw->flights, &single, sky->observer, shared, threads, cancel) : FM_OK;
     if (!s)
         s = sky_guide_build(&tw->guide, &single, sky->observer, tw->deep ? guide_offsets : 1, threads,
                             tw->deep ? &tw->flights : NULL, cancel, &usable);

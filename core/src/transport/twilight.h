@@ -14,6 +14,7 @@
 
 #include "transport/sky_path.h"
 #include "transport/shadow_flight.h"
+#include "transport/shadow_flight_build.h"
 #include "transport/sky_guide.h"
 
 typedef struct twilight_sampling {
@@ -22,13 +23,18 @@ typedef struct twilight_sampling {
     shadow_flight_table flights;
 } twilight_sampling;
 
+/* Whether a sun this far below the observer's horizontal plane (its elevation, degrees) is in deep
+ * twilight, where the guided flights are used. */
+int twilight_deep(double sun_elevation_deg);
+
 /* *out: the sampling for a sky whose sun is below the horizon (malloc'ed, free() it); NULL by day
  * and for a black sky.  guide_offsets: in deep twilight, the sky guide's levels toward the sun
  * (sky_guide.h; 1 = none, as at preview quality, where their 0.5 s of tables would be a third of
- * the render).  FM_ERR_OUT_OF_MEMORY, FM_ERR_CANCELLED (*cancel set) or FM_ERR_INTERNAL, *out NULL;
+ * the render).  shared: the flights' light already built for a lower sun (shadow_flight_build.h), or
+ * NULL.  FM_ERR_OUT_OF_MEMORY, FM_ERR_CANCELLED (*cancel set) or FM_ERR_INTERNAL, *out NULL;
  * else FM_OK. */
-fm_status twilight_sampling_create(const fm_sky *sky, int guide_offsets, int threads, const atomic_int *cancel,
-                                   twilight_sampling **out);
+fm_status twilight_sampling_create(const fm_sky *sky, int guide_offsets, const shadow_flight_columns *shared,
+                                   int threads, const atomic_int *cancel, twilight_sampling **out);
 
 /* sky_path_context (sky_path.h) with, when tw is not NULL, the twilight sampling. */
 path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *tw, int min_order, int max_order);
