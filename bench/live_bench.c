@@ -4,9 +4,11 @@
  *                                       default sky otherwise) on every core, prints its build time and
  *                                       table memory, then renders SUNS (default 40) suns spread over
  *                                       -20..90 degrees and every azimuth to 512 x 256 maps written as
- *                                       EXR + sidecar (/tmp), and prints the median and 90th percentile
- *                                       of the time per map, its render and write parts, and the
- *                                       process's peak memory
+ *                                       EXR + sidecar (/tmp), twice: in half floats without the sun
+ *                                       disk (the add-on's live maps), then in floats with it; prints
+ *                                       the median and 90th percentile of the time per map, its
+ *                                       render and write parts, their CPU times, and the process's
+ *                                       peak memory
  *   live-bench accuracy BIOME WIDTH E... the live map at each sun elevation E against the final quality
  *                                       path at the same sun (sun disk left out, aureole kept; the
  *                                       azimuth 180): luminance RMS of the relative error, its mean
@@ -90,28 +92,27 @@ static double percentile(double *v, int n, double q)
     return v[(int)fmin(n - 1, floor(q * n))];
 }
 
-static int speed(const char *biome, int suns)
+/* Maps of SUNS suns spread over -20..90 degrees and every azimuth, written as `half` (half floats,
+ * ZIP, no sun disk: the add-on's live maps) or as the default (32-bit floats, ZIP, the disk): the
+ * median and 90th percentile of the wall time per map, its render and write parts, and the median
+ * CPU time of each part. */
+static int maps(fm_sky_live *live, const char *biome, int suns, int half)
 {
-    double build_s;
-    double m0 = platform_peak_memory_mib();
-    fm_sky_live *live = build(biome, &build_s);
-    printf("%-8s build %6.2f s wall, %6.2f s CPU  nodes %d  tables %6.2f MiB  peak after build %6.1f MiB (before "
-           "%5.1f)\n",
-           biome, build_s, build_cpu_s, live->count, table_bytes(live) / 1048576.0, platform_peak_memory_mib(), m0);
-    double *total = malloc(sizeof(double) * suns * 4), *render = total + suns, *write = total + 2 * suns,
-           *cpu = total + 3 * suns;
+    double *v = malloc(sizeof(double) * suns * 6), *total = v, *render = v + suns, *write = v + 2 * suns,
+           *cpu = v + 3 * suns, *cpu_render = v + 4 * suns, *cpu_write = v + 5 * suns;
     for (int i = 0; i < suns; i++) {
         double e = -20.0 + 110.0 * (i + 0.5) / suns, a = fmod(137.5 * i, 360.0);
         fm_render_params rp = fm_render_params_default();
         rp.width = 512;
+        rp.sun_disk = !half;
         fm_image *img;
         fm_output *out;
         fm_error err;
         double t0 = now(), c0 = cpu_now();
         if (fm_sky_live_render(live, e, a, &rp, &img, &err) ||
-            (render[i] = now() - t0, fm_image_to_rec709(img, &err)) ||
+            (render[i] = now() - t0, cpu_render[i] = cpu_now() - c0, fm_image_to_rec709(img, &err)) ||
             fm_output_open("/tmp/live_bench.exr", "/tmp/live_bench.json", &out, &err) ||
-            fm_output_commit(out, img, NULL, &err)) {
+            fm_output_set_format(out, half, FM_EXR_ZIP, &err) || fm_output_commit(out, img, NULL, &err)) {
             fprintf(stderr, "live-bench: %s\n", err.message);
             return 1;
         }
@@ -120,15 +121,30 @@ static int speed(const char *biome, int suns)
         total[i] = now() - t0;
         write[i] = total[i] - render[i];
         cpu[i] = cpu_now() - c0;
+        cpu_write[i] = cpu[i] - cpu_render[i];
     }
-    printf("%-8s 512 x 256 map per sun (%d suns): median %5.1f ms (render %5.1f, write %5.1f), p90 %5.1f ms, CPU "
-           "%5.1f ms; peak %6.1f MiB\n",
-           biome, suns, 1e3 * percentile(total, suns, 0.5), 1e3 * percentile(render, suns, 0.5),
-           1e3 * percentile(write, suns, 0.5), 1e3 * percentile(total, suns, 0.9), 1e3 * percentile(cpu, suns, 0.5),
-           platform_peak_memory_mib());
-    free(total);
-    fm_sky_live_destroy(live);
+    printf("%-8s 512 x 256 map per sun (%d suns, %s): median %5.1f ms (render %5.1f, write %5.1f), p90 %5.1f ms; "
+           "CPU median %5.1f ms (render %5.1f, write %5.1f)\n",
+           biome, suns, half ? "half, no disk" : "float, disk", 1e3 * percentile(total, suns, 0.5),
+           1e3 * percentile(render, suns, 0.5), 1e3 * percentile(write, suns, 0.5), 1e3 * percentile(total, suns, 0.9),
+           1e3 * percentile(cpu, suns, 0.5), 1e3 * percentile(cpu_render, suns, 0.5),
+           1e3 * percentile(cpu_write, suns, 0.5));
+    free(v);
     return 0;
+}
+
+static int speed(const char *biome, int suns)
+{
+    double build_s;
+    double m0 = platform_peak_memory_mib();
+    fm_sky_live *live = build(biome, &build_s);
+    printf("%-8s build %6.2f s wall, %6.2f s CPU  nodes %d  tables %6.2f MiB  peak after build %6.1f MiB (before "
+           "%5.1f)\n",
+           biome, build_s, build_cpu_s, live->count, table_bytes(live) / 1048576.0, platform_peak_memory_mib(), m0);
+    int s = maps(live, biome, suns, 1) || maps(live, biome, suns, 0);
+    printf("%-8s peak %6.1f MiB\n", biome, platform_peak_memory_mib());
+    fm_sky_live_destroy(live);
+    return s;
 }
 
 static fm_image *final_map(const char *biome, double e, int width, uint64_t seed)
