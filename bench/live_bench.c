@@ -76,7 +76,8 @@ static size_t table_bytes(const fm_sky_live *live)
     size_t n = 0;
     for (int i = 0; i < live->count; i++)
         n += sizeof(float) * (size_t)live->channels *
-             (size_t)(sky_grid_nodes(&live->nodes[i].ss) + sky_grid_nodes(&live->nodes[i].ms));
+             (size_t)(sky_grid_nodes(&live->nodes[i].ss) + sky_grid_nodes(&live->nodes[i].ms)) +
+             sizeof(float) * aureole_floats(&live->nodes[i].aureole);
     return n;
 }
 

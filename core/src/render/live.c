@@ -75,7 +75,8 @@ fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *e
         live_node *n = &live->nodes[i];
         n->sun_elevation_deg = SUN_DEG[i];
         if (sky_grid_init(&n->ss, horizon, q.ss_rows_sky, q.ss_rows_ground, q.ss_cols, live->channels, 1) ||
-            sky_grid_init(&n->ms, horizon, q.ms_rows_sky, q.ms_rows_ground, q.ms_cols, live->channels, 0))
+            sky_grid_init(&n->ms, horizon, q.ms_rows_sky, q.ms_rows_ground, q.ms_cols, live->channels, 0) ||
+            aureole_init(&n->aureole, live->channels))
             s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
     }
     if (s) {
@@ -130,6 +131,8 @@ static fm_status build_node(fm_sky_live *live, live_node *node, const shadow_fli
         job.twilight = twilight;
         s = render_fast_tables(&job, node->sun_elevation_deg * FM_DEG, err);
     }
+    if (!s && (s = aureole_fill(&node->aureole, &job, asin(clamp_cosine(sky->sun_dir.z)))))
+        s = s == FM_ERR_CANCELLED ? s : fm_fail(err, s, "the live sky's aureole: %s", fm_status_name(s));
     if (!s) {
         memcpy(node->ss.values, job.ss.values, sizeof(float) * (size_t)sky_grid_nodes(&node->ss) * live->channels);
         memcpy(node->ms.values, ms.grid.values, sizeof(float) * (size_t)sky_grid_nodes(&node->ms) * live->channels);
@@ -258,24 +261,38 @@ static double interpolate_value(const grid_place *g, const double v[4])
     return exp(hermite(&h, y));
 }
 
-/* The tables at g's sun elevation, into ss and ms (initialised like the nodes'), value by value
+/* n values stored as logarithms (log(max(v, FM_GRID_FLOOR))) at the four nodes of g, interpolated
+ * (interpolate_value) into out, also as logarithms. */
+static void interpolate_logs(const grid_place *g, const float *const logs[4], size_t n, float *out)
+{
+    const double floor_log = log(FM_GRID_FLOOR) + 1.0; /* at or below: a 0 stored as the grid's floor */
+    double v[4];
+    for (size_t i = 0; i < n; i++) {
+        for (int k = 0; k < 4; k++)
+            v[k] = logs[k][i] > floor_log ? exp(logs[k][i]) : 0.0;
+        double r = interpolate_value(g, v);
+        out[i] = r > 0.0 ? logf((float)fmax(r, FM_GRID_FLOOR)) : logf(FM_GRID_FLOOR);
+    }
+}
+
+/* The tables at g's sun elevation, into ss, ms and au (initialised like the nodes'), value by value
  * (interpolate_value).  The sky's brightness is neither linear nor exponential in the sun's
  * elevation (it follows the sine by day and falls by decades in twilight); a cubic in the logarithm
  * follows both. */
-static void interpolate_tables(const fm_sky_live *live, const grid_place *g, sky_grid *ss, sky_grid *ms)
+static void interpolate_tables(const fm_sky_live *live, const grid_place *g, sky_grid *ss, sky_grid *ms, aureole *au)
 {
     const live_node *n[4];
     for (int k = 0; k < 4; k++)
         n[k] = &live->nodes[g->i - 1 + k < 0 ? 0 : (g->i - 1 + k >= live->count ? live->count - 1 : g->i - 1 + k)];
     const size_t nss = (size_t)sky_grid_nodes(ss) * live->channels, nms = (size_t)sky_grid_nodes(ms) * live->channels;
-    const double floor_log = log(FM_GRID_FLOOR) + 1.0; /* at or below: a 0 stored as the grid's floor */
-    double v[4];
-    for (size_t i = 0; i < nss; i++) {
-        for (int k = 0; k < 4; k++)
-            v[k] = n[k]->ss.values[i] > floor_log ? exp(n[k]->ss.values[i]) : 0.0;
-        double r = interpolate_value(g, v);
-        ss->values[i] = r > 0.0 ? logf((float)fmax(r, FM_GRID_FLOOR)) : logf(FM_GRID_FLOOR);
+    const float *logs[4], *aureoles[4];
+    for (int k = 0; k < 4; k++) {
+        logs[k] = n[k]->ss.values;
+        aureoles[k] = n[k]->aureole.values;
     }
+    interpolate_logs(g, logs, nss, ss->values);
+    interpolate_logs(g, aureoles, aureole_floats(au), au->values);
+    double v[4];
     for (size_t i = 0; i < nms; i++) {
         for (int k = 0; k < 4; k++)
             v[k] = n[k]->ms.values[i];
@@ -317,17 +334,22 @@ fm_status fm_sky_live_render(const fm_sky_live *live, double sun_elevation_deg, 
     const grid_place g = place_on_grid(live, sun_elevation_deg);
     const live_node *a = &live->nodes[g.i], *b = &live->nodes[g.i + 1];
     sky_grid ms = {0};
+    aureole au = {0};
     if (sky_grid_init(&job.ss, a->ss.horizon_elevation, a->ss.rows_sky, a->ss.rows_ground, a->ss.cols,
                       live->channels, 1) ||
-        sky_grid_init(&ms, a->ms.horizon_elevation, a->ms.rows_sky, a->ms.rows_ground, a->ms.cols, live->channels, 0))
+        sky_grid_init(&ms, a->ms.horizon_elevation, a->ms.rows_sky, a->ms.rows_ground, a->ms.cols, live->channels, 0) ||
+        aureole_init(&au, live->channels))
         s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
     if (!s) {
-        interpolate_tables(live, &g, &job.ss, &ms);
+        interpolate_tables(live, &g, &job.ss, &ms, &au);
+        job.aureole = &au;
+        job.aureole_frame = aureole_frame_of(asin(clamp_cosine(sky->sun_dir.z)));
         job.img->paths_per_node = g.t < 0.5 ? a->paths_per_node : b->paths_per_node;
         s = render_fast_pixels(&job, &ms, err);
     }
     sky_grid_free(&job.ss);
     sky_grid_free(&ms);
+    aureole_free(&au);
     s = render_finish(&job, s, out, err);
     free(sky);
     return s;
@@ -396,6 +418,7 @@ void fm_sky_live_destroy(fm_sky_live *live)
     for (int i = 0; i < live->count && live->nodes; i++) {
         sky_grid_free(&live->nodes[i].ss);
         sky_grid_free(&live->nodes[i].ms);
+        aureole_free(&live->nodes[i].aureole);
     }
     free(live->nodes);
     fm_sky_destroy(live->sky);

@@ -7,6 +7,7 @@
 #define FM_RENDER_LIVE_H
 
 #include "firmament/firmament.h"
+#include "render/aureole.h"
 #include "render/quality.h"
 #include "transport/sky_grid.h"
 
@@ -15,7 +16,7 @@
 
 /* Part of every key: a change of what the tables hold or how they are laid out makes old files
  * another atmosphere's. */
-#define LIVE_TABLE_VERSION 2
+#define LIVE_TABLE_VERSION 3
 
 /* The tables of one sun elevation. */
 typedef struct live_node {
@@ -23,6 +24,7 @@ typedef struct live_node {
     int paths_per_node; /* the multiple-scattering table's */
     sky_grid ss;        /* single scattering, logarithmic */
     sky_grid ms;        /* multiple scattering, fitted, linear */
+    aureole aureole;    /* single scattering around the sun (aureole.h) */
 } live_node;
 
 struct fm_sky_live {

@@ -1,7 +1,7 @@
 /* The live sky's file: a sealed file (base/sealed_file.h: magic, version, byte order, the
  * atmosphere's key, the tables' size and checksum) of the tables: their layout (nodes, channels,
- * quality, the grids' sizes), then per node its sun elevation, paths and the two tables' values
- * (native floats).  Checked before anything in it is used. */
+ * quality, the grids' sizes), then per node its sun elevation, paths and the three tables' values
+ * (single scattering, multiple scattering, the aureole; native floats).  Checked before anything in it is used. */
 #include "base/sealed_file.h"
 #include "base/status.h"
 #include "render/live.h"
@@ -11,13 +11,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FILE_VERSION 1u
+#define FILE_VERSION 2u
 #define CHECKSUM_SEED 0x6c697665ull /* "live" */
 
 /* ---- the tables ------------------------------------------------------------------------------ */
 
 typedef struct layout {
-    int32_t count, channels, quality, dims[6];
+    int32_t count, channels, quality, dims[8];
     double sample_scale;
 } layout;
 
@@ -29,7 +29,8 @@ static layout layout_of(const fm_sky_live *live)
     l.count = live->count;
     l.channels = live->channels;
     l.quality = (int32_t)live->quality;
-    const int32_t dims[6] = {ss->rows_sky, ss->rows_ground, ss->cols, ms->rows_sky, ms->rows_ground, ms->cols};
+    const int32_t dims[8] = {ss->rows_sky, ss->rows_ground, ss->cols, ms->rows_sky, ms->rows_ground, ms->cols,
+                             AUREOLE_ROWS, AUREOLE_COLS};
     memcpy(l.dims, dims, sizeof dims);
     l.sample_scale = live->sample_scale;
     return l;
@@ -45,7 +46,8 @@ static size_t payload_size(const fm_sky_live *live)
     size_t n = sizeof(layout);
     for (int i = 0; i < live->count; i++)
         n += sizeof(double) + sizeof(int32_t) +
-             sizeof(float) * (table_floats(live, &live->nodes[i].ss) + table_floats(live, &live->nodes[i].ms));
+             sizeof(float) * (table_floats(live, &live->nodes[i].ss) + table_floats(live, &live->nodes[i].ms) +
+                              aureole_floats(&live->nodes[i].aureole));
     return n;
 }
 
@@ -66,6 +68,7 @@ static void payload_write(const fm_sky_live *live, unsigned char *out)
         out = put(out, &paths, sizeof paths);
         out = put(out, n->ss.values, sizeof(float) * table_floats(live, &n->ss));
         out = put(out, n->ms.values, sizeof(float) * table_floats(live, &n->ms));
+        out = put(out, n->aureole.values, sizeof(float) * aureole_floats(&n->aureole));
     }
 }
 
@@ -103,8 +106,10 @@ static const char *payload_read(fm_sky_live *live, const unsigned char *in, size
         n->paths_per_node = paths;
         in = get(in, n->ss.values, sizeof(float) * table_floats(live, &n->ss));
         in = get(in, n->ms.values, sizeof(float) * table_floats(live, &n->ms));
+        in = get(in, n->aureole.values, sizeof(float) * aureole_floats(&n->aureole));
         if (!all_finite(n->ss.values, table_floats(live, &n->ss)) ||
-            !all_finite(n->ms.values, table_floats(live, &n->ms)))
+            !all_finite(n->ms.values, table_floats(live, &n->ms)) ||
+            !all_finite(n->aureole.values, aureole_floats(&n->aureole)))
             return "a value that is not a number";
     }
     return NULL;

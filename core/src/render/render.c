@@ -110,6 +110,8 @@ static void fast_rows(void *ctx, int64_t begin, int64_t end, int thread)
                     equirect_angles(W, H, x + (sx + 0.5) / n, (double)y, &e, &a);
                     double phi = render_relative_azimuth(job->sky, a), w = weight[sy] / n;
                     sky_grid_lookup(&job->ss, elevation[sy], phi, v);
+                    if (job->aureole)
+                        aureole_blend(job->aureole, &job->aureole_frame, elevation[sy], phi, job->ss.horizon_elevation, v);
                     for (int c = 0; c < C; c++)
                         acc[c] += w * v[c];
                     sky_grid_lookup(job->ms_grid, elevation[sy], phi, v);
@@ -131,6 +133,8 @@ static void table_radiance(void *ctx, vec3 d, double elevation, float *out)
     double phi = render_relative_azimuth(job->sky, atan2(d.x, d.y));
     float ss[3], ms[3];
     sky_grid_lookup(&job->ss, elevation, phi, ss);
+    if (job->aureole)
+        aureole_blend(job->aureole, &job->aureole_frame, elevation, phi, job->ss.horizon_elevation, ss);
     sky_grid_lookup(job->ms_grid, elevation, phi, ms);
     for (int c = 0; c < job->channels; c++)
         out[c] = (float)((double)ss[c] + ms[c]);

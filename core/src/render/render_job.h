@@ -5,6 +5,7 @@
 
 #include "base/units.h"
 #include "camera/camera.h"
+#include "render/aureole.h"
 #include "render/channels.h"
 #include "render/quality.h"
 #include "transport/ground_irradiance.h"
@@ -31,6 +32,8 @@ typedef struct render_job {
     const shadow_flight_columns *shared_flights; /* the live sky's, for its deep twilight nodes; else NULL */
     sky_grid ss;                       /* the single-scattering table */
     struct ms_table *ms;               /* the multiple-scattering table (ms_table.h) */
+    const aureole *aureole;            /* the live sky's around the sun (aureole.h), else NULL */
+    aureole_frame aureole_frame;       /* its sun's */
     const sky_grid *ms_grid;           /* the pixels' multiple-scattering radiance (ms->grid, or the live
                                         * sky's, live.c) */
     int paths_per_node;                /* the multiple-scattering table's, once filled */
