@@ -49,13 +49,16 @@
 #                                   time series (bench/seed_noise.h) (issue "Sun and sky geometry":
 #                                   noise-free at -18)
 #   bench/bench.sh --live           the live sky (docs/rendering.md, "Live sky"; bench/live_bench.c):
-#                                   per biome (none, rural, urban) the build time, the tables' memory,
-#                                   the time from a new sun to a written 512 x 256 map (median of 40
-#                                   suns) and the process's peak memory; then the accuracy table: the
+#                                   per biome (none, rural, urban) the build time (wall and CPU), the
+#                                   tables' memory, the time from a new sun to a written 512 x 256 map
+#                                   (median of 40 suns; in half floats without the sun disk, as the
+#                                   add-on's live maps, and in floats with it; wall and CPU, render and
+#                                   write) and the process's peak memory; then the accuracy table: the
 #                                   live map against the final quality path at the same sun (128 x 64,
 #                                   no sun disk) at suns -18 to 90, luminance RMS, bias and 99th
-#                                   percentile, mean and largest u'v' distance, and the final path's own
-#                                   noise (a second seed); and the zenith luminance swept in 0.1 degree
+#                                   percentile, mean and largest u'v' distance (the final path's own
+#                                   noise: live-bench accuracy ... noise, not run here: it doubles the
+#                                   run); and the zenith luminance swept in 0.1 degree
 #                                   steps across the grid (the largest step across a grid elevation
 #                                   against the largest elsewhere); and `firmament serve` as a client
 #                                   sees it (bench/serve_latency.py, 512 x 256 maps of the default
@@ -214,7 +217,7 @@ if [ "${1:-}" = "--live" ]; then
     LB="$ROOT/build/tools/live-bench"
     for b in none rural urban; do "$LB" speed "$b" 40; done
     for b in none rural urban; do
-        "$LB" accuracy "$b" 128 noise -18 -12 -6 -2 0 2 5 10 20 30 45 60 90 | { [ "$b" = none ] && cat || tail -n +2; }
+        "$LB" accuracy "$b" 128 -18 -12 -6 -2 0 2 5 10 20 30 45 60 90 | { [ "$b" = none ] && cat || tail -n +2; }
     done
     for b in none urban; do "$LB" sweep "$b" -20 90 0.1 | tail -n 1; done
     python3 "$ROOT/bench/serve_latency.py" "$FM" --requests 40
