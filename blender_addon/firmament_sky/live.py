@@ -1,5 +1,6 @@
 """The live sky.  While a scene's Live toggle is on, every change of its sky settings (an edit: the
-properties' update callbacks; a keyframed value: the frame-change handler) turns the lamp at once
+properties' update callbacks; a keyframed value: the frame-change handler; a driven value: the
+depsgraph-update handler; undo and redo: their handlers) turns the lamp at once
 and asks one `firmament serve` per Blender session for a small preview map: at once when no map is
 awaited, else the changes are coalesced by a DEBOUNCE_S timer (the newest wins; the server also
 drops a waiting request for a newer one),
@@ -30,7 +31,7 @@ FINAL_KEY = "firmament_final_sky"  # the world's custom property: the request of
 
 # the session's one server and what it was last asked
 _state = {"server": None, "restarted": False, "scene": None, "pending": False, "last": None,
-          "sent": None, "next_id": 1, "rendering": False}
+          "sent": None, "next_id": 1, "rendering": False, "refused": None}
 
 
 def live_settings(s):
@@ -109,21 +110,24 @@ def report(scene, message):
 
 
 def request_update(scene):
-    """A sky setting of scene changed: the lamp turns now; the map is asked for now, or when one is
-    awaited, by a DEBOUNCE_S timer that sends the newest."""
+    """A sky setting of scene may have changed: if the map depends on it, the lamp turns now and the
+    map is asked for now, or when one is awaited, by a DEBOUNCE_S timer that sends the newest.
+    Cheap when nothing changed (every depsgraph update asks)."""
     p = scene.firmament_sky
     if not p.live or _state["rendering"]:
         return
     s = live_settings(properties.to_dict(p))
+    req = None
     try:
+        req = request_of(s)
+        if (req == _state["last"] and scene.name == _state["scene"]) or (scene.name, req) == _state["refused"]:
+            return  # nothing the map depends on changed (e.g. a frame without keyframes), or said already
         exe, opts = preferences.executable_and_options()
         command.validate(s, opts)
-        req = request_of(s)
-        if req == _state["last"] and scene.name == _state["scene"]:
-            return  # nothing the map depends on changed (e.g. a frame without keyframes)
         direction, elevation = sun_direction(s)
     except (preferences.NotFound, options.OptionsError, command.SettingsError, OSError, ValueError,
             subprocess.TimeoutExpired) as e:
+        _state["refused"] = (scene.name, req)
         report(scene, e)
         return
     if s["sun_mode"] != "DISK":
@@ -270,7 +274,7 @@ def stop(*_args):
 def _stop_server():
     """Also at Python's exit (atexit), when bpy may be gone: nothing of bpy here."""
     srv = _state["server"]
-    _state.update(server=None, restarted=False, pending=False, last=None, sent=None)
+    _state.update(server=None, restarted=False, pending=False, last=None, sent=None, refused=None)
     if srv is not None:
         srv.stop()
 
@@ -282,7 +286,7 @@ def on_setting_changed(self, context):
 
 def on_live_toggled(self, context):
     if self.live:
-        _state["last"] = None
+        _state.update(last=None, refused=None)
         request_update(self.id_data)
     else:
         stop()
@@ -292,6 +296,27 @@ def on_live_toggled(self, context):
 def on_frame_change(scene, _depsgraph=None):
     """Keyframed settings: the sky follows each frame (scrubbing, playing, frame_set)."""
     if scene.firmament_sky.live:
+        request_update(scene)
+
+
+@bpy.app.handlers.persistent
+def on_depsgraph_update(scene, _depsgraph=None):
+    """Drivers set settings without their update callbacks (the driven value is flushed to the
+    scene's own settings before this runs): each update compares the request with the last."""
+    if scene.firmament_sky.live:
+        request_update(scene)
+
+
+@bpy.app.handlers.persistent
+def on_undo_redo(scene, *_args):
+    """Undo and redo restore settings without their update callbacks, and the world's image from a
+    step whose file may hold another map since: the map is asked for again; a restored Live off
+    ends the server."""
+    live_scene = bpy.data.scenes.get(_state["scene"] or "")
+    if _state["server"] is not None and (live_scene is None or not live_scene.firmament_sky.live):
+        stop()
+    _state["last"] = None
+    if scene is not None and scene.firmament_sky.live:
         request_update(scene)
 
 
@@ -365,8 +390,10 @@ class FIRMAMENT_OT_live_report(bpy.types.Operator):
 
 classes = (FIRMAMENT_OT_live_report,)
 
-_HANDLERS = (("frame_change_post", on_frame_change), ("load_pre", on_load_pre), ("load_post", on_load_post), ("render_init", on_render_init),
-             ("render_complete", on_render_end), ("render_cancel", on_render_end), ("render_pre", on_render_pre))
+_HANDLERS = (("frame_change_post", on_frame_change), ("depsgraph_update_post", on_depsgraph_update),
+             ("undo_post", on_undo_redo), ("redo_post", on_undo_redo), ("load_pre", on_load_pre),
+             ("load_post", on_load_post), ("render_init", on_render_init), ("render_complete", on_render_end),
+             ("render_cancel", on_render_end), ("render_pre", on_render_pre))
 
 
 def register():

@@ -8,8 +8,13 @@ what the timers call (live.settle: live.send_pending, then live.poll until the r
   direct `firmament render` of the same request within 3% (preview noise, and the live path's
   interpolation over sun elevations: within 1% of the final path).
 - Changes while a map is awaited: only the newest is sent, once.
+- A setting the executable refuses is reported once, not at every depsgraph update.
 - The server's error reply is reported in one sentence; the next change works.
+- Undo and redo (steps pushed right after each edit, as the interface does): the map (its sidecar
+  and pixels) and the lamp are those of the restored settings, also when the restored step's
+  settings are the current ones; an undone Live off restarts the server, a redone one ends it.
 - The elevation keyframed over 5 frames, frame_set on each: lamp and map follow every frame.
+- The elevation driven by a frame expression and by an empty's height: lamp and map follow.
 - A killed server is restarted once; killed again, the error is reported and Live turns off.
 - Toggle off: the server process is gone (reaped: no zombie).
 - The sun from a clock time: the lamp at once toward `firmament sun`'s sun, the map's sun the same.
@@ -173,6 +178,51 @@ p.sun_elevation = 35.0
 settled("after an error")
 h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], 35.0, 1e-6, "after an error: the map follows again")
 
+# a setting the executable refuses: said once, not again at each depsgraph update (which compares)
+p.biome = "no-such-biome"
+h.check(p.last_message.startswith("Error: live sky:") and "no-such-biome" in p.last_message,
+        "a refused biome reported: %s" % p.last_message)
+p.last_message = ""
+bpy.context.view_layer.update()
+h.check(p.last_message == "", "the refused biome not reported again at a depsgraph update: %s" % p.last_message)
+p.biome = "rural"
+
+# undo and redo, with steps pushed as the interface pushes them: right after an edit, before its map
+# is in (a step holds the new settings and lamp, and the image of the map before)
+zenith_at = {}
+for e in (44.0, 50.0):
+    p.sun_elevation = e
+    bpy.ops.ed.undo_push(message="elevation %g" % e)
+    settled("elevation %g" % e)
+    zenith_at[e] = rows(live_image())[0]
+p.resolution = 256  # a setting the live map does not use: a step whose live request is the current one
+bpy.ops.ed.undo_push(message="width")
+for what, op, e in (("undo", bpy.ops.ed.undo, 50.0), ("undo", bpy.ops.ed.undo, 44.0), ("redo", bpy.ops.ed.redo, 50.0)):
+    h.check(op() == {"FINISHED"}, what)
+    scene = bpy.context.scene  # memfile undo may give the scene a new address
+    p = scene.firmament_sky
+    h.close(p.sun_elevation, e, 1e-6, "%s: the elevation restored" % what)
+    settled("%s to %g" % (what, e))
+    side = h.sidecar_of(live_image())
+    h.close(side["sun"]["elevation_deg"], e, 1e-6, "%s to %g: the map's sun elevation" % (what, e))
+    h.close(rows(live_image())[0] / zenith_at[e], 1.0, 1e-3, "%s to %g: the image is that map (zenith)" % (what, e))
+    h.close(angle_deg(lamp_direction(), Vector(side["sun"]["direction"])), 0.0, 0.1, "%s to %g: the lamp (deg)" % (what, e))
+pid = live._state["server"].pid
+p.live = False
+bpy.ops.ed.undo_push(message="Live off")
+bpy.ops.ed.undo()
+scene, p = bpy.context.scene, bpy.context.scene.firmament_sky
+settled("undo of Live off")
+h.check(p.live and live._state["server"] is not None and live._state["server"].pid != pid,
+        "undo of Live off: a server again")
+bpy.ops.ed.redo()
+scene, p = bpy.context.scene, bpy.context.scene.firmament_sky
+h.check(not p.live and live._state["server"] is None, "redo of Live off: the server is gone")
+p.live = True
+p.sun_elevation = 35.0
+settled("Live on after undo")
+pid = live._state["server"].pid
+
 # keyframed elevation over 5 frames
 p.keyframe_insert("sun_elevation", frame=1)
 p.sun_elevation = 55.0
@@ -188,6 +238,28 @@ for f in range(1, 6):
     seen.append(rows(live_image())[0])
 h.check(len(set(seen)) == 5, "a new map each frame: zenith %s" % ["%.5g" % z for z in seen])
 scene.animation_data_clear()
+
+# drivers set the elevation without its update callback: from a frame, and from an empty's height
+# (a change the depsgraph update carries)
+fc = scene.driver_add("firmament_sky.sun_elevation")
+fc.driver.type = "SCRIPTED"
+var = fc.driver.variables.new()
+var.name, var.type = "z", "SINGLE_PROP"
+empty = bpy.data.objects.new("Sun Height", None)
+scene.collection.objects.link(empty)
+var.targets[0].id, var.targets[0].data_path = empty, "location.z"
+fc.driver.expression = "20 + frame + 10 * z"
+for what, change, e in (("a frame", lambda: scene.frame_set(7), 27.0),
+                        ("an empty's height", lambda: setattr(empty.location, "z", 1.5), 42.0)):
+    change()
+    bpy.context.view_layer.update()  # what the interface does after an edit
+    h.close(p.sun_elevation, e, 1e-4, "driven by %s: the elevation" % what)
+    h.close(angle_deg(lamp_direction(), requested_direction()), 0.0, 0.1, "driven by %s: the lamp at once (deg)" % what)
+    settled("driven by %s" % what)
+    h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], e, 1e-4, "driven by %s: the map's sun elevation" % what)
+scene.animation_data_clear()
+bpy.data.objects.remove(empty)
+scene.frame_set(1)
 
 # a server that dies is restarted once, then reported
 os.kill(pid, signal.SIGKILL)
