@@ -131,7 +131,8 @@ def request_update(scene):
         report(scene, e)
         return
     if s["sun_mode"] != "DISK":
-        world.point_lamp(scene, direction, s["north_offset"], elevation + 0.27 < 0.0)  # the disk's radius
+        world.point_lamp(scene, direction, s["north_offset"], elevation + 0.27 < 0.0,  # the disk's radius
+                         cloudless=s["cloud"] == "none" and not s["use_fog"])
     _state.update(scene=scene.name, last=req, pending=True)
     if bpy.app.timers.is_registered(send_pending):
         return  # coalesced: the timer sends the newest

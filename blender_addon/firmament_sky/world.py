@@ -323,6 +323,7 @@ def _scene_bounds(scene):
 # Clouds that leave less than this of the direct beam (at 550 nm) switch the lamp off: its strength
 # is already nothing (a millionth of the sun's, 0.1 lux at most) and the sky carries the light.
 HIDDEN_BY_CLOUDS = 1e-6
+CLOUD_KEY = "firmament_cloud_transmittance"  # the lamp's custom property: its last sidecar's, at 550 nm
 
 
 def setup_lamp(scene, sun, north_offset, strength=1.0):
@@ -339,22 +340,25 @@ def setup_lamp(scene, sun, north_offset, strength=1.0):
     light.energy = max(peak, 0.0) * sun.get("strength", 1.0)
     light.color = [c / peak for c in rgb] if peak > 0.0 else (1.0, 1.0, 1.0)
     light.angle = math.radians(sun["angular_diameter_deg"])
-    clouded = sun.get("cloud_transmittance", 1.0) < HIDDEN_BY_CLOUDS
+    obj[CLOUD_KEY] = sun.get("cloud_transmittance", 1.0)
     point_lamp(scene, sun["direction"], north_offset,
-               sun["elevation_deg"] + sun["angular_diameter_deg"] / 2 < 0.0 or peak <= 0.0 or clouded)
+               sun["elevation_deg"] + sun["angular_diameter_deg"] / 2 < 0.0 or peak <= 0.0)
     return obj
 
 
-def point_lamp(scene, direction, north_offset, below):
-    """Turns the add-on's lamp toward the sky direction (+X east, +Y north, +Z up); below: the sun's
-    disk is under the horizon (the lamp is hidden: no light up through the ground)."""
+def point_lamp(scene, direction, north_offset, below, cloudless=False):
+    """Turns the add-on's lamp toward the sky direction (+X east, +Y north, +Z up) and hides it when
+    below (the sun's disk is under the horizon: no light up through the ground) or when the clouds
+    of its last sidecar hid the sun, unless cloudless (no cloud layer, no fog): a sun moved before
+    its map arrives keeps its deck's verdict instead of flashing on until the map hides it."""
     obj = _ensure_lamp(scene)
     d = scene_direction(direction, north_offset)
     obj.rotation_mode = "XYZ"
     obj.rotation_euler = d.to_track_quat("Z", "Y").to_euler()  # the lamp shines along its -Z
     centre, radius = _scene_bounds(scene)
     obj.location = centre + d * (radius + 2.0)  # only for the viewport: outside the scene, toward the sun
-    obj.hide_render = obj.hide_viewport = below
+    clouded = not cloudless and obj.get(CLOUD_KEY, 1.0) < HIDDEN_BY_CLOUDS
+    obj.hide_render = obj.hide_viewport = below or clouded
     return obj
 
 

@@ -3,10 +3,12 @@ the executable, and the Sun lamp is dimmed exactly as the sidecar says.  High ci
 0.5): the lamp's irradiance over the same sky without the veil is the sidecar's cloud transmittance
 (the crystals' extinction does not depend on wavelength, so every channel falls alike); Overcast
 (stratus, tau 30): the disk is hidden, the lamp's strength is nothing and it is switched off (the sky
-carries the light).
+carries the light).  In Live under the deck, a moved sun or a thicker deck keeps the lamp off until
+its map comes; with the clouds removed it shines at once.
 Maps 32 pixels wide, preview quality."""
 
 import json
+import math
 import os
 import sys
 
@@ -58,4 +60,25 @@ h.check(side["sun"]["cloud_direct_transmittance_550nm"] < 1e-12, "overcast: the 
 h.check(max(hidden) < 1e-9 * max(clear), "overcast: the lamp's strength is nothing (%.3g)" % max(hidden))
 h.check(lamp.hide_render and lamp.hide_viewport, "overcast: the lamp is off")
 h.check(side["sky"]["diffuse_horizontal_illuminance_lux"] > 0.0, "overcast: the sky carries the light")
+
+# Live under the deck: each change turns the lamp at once and keeps the deck's verdict (the lamp's
+# last sidecar) until its map comes, unless the settings have no cloud.  (A cloudy live atmosphere
+# takes minutes to build: only the lamp before any map is checked, and Live is turned off.)
+live = h.submodule("live")
+p.live = True
+h.check(lamp.hide_render and lamp.hide_viewport, "Live on under the deck: the lamp stays off")
+pid = live._state["server"].pid
+for what, key, value in (("the sun moved", "sun_elevation", 50.0), ("the deck thickened", "cloud_tau", 40.0)):
+    if key == "sun_elevation":
+        p.sun_source = "ANGLES"
+    else:
+        p.cloud_amount = "TAU"
+    setattr(p, key, value)
+    h.check(lamp.hide_render and lamp.hide_viewport, "Live, %s: the lamp stays off until the map" % what)
+p.cloud = "none"
+h.check(not lamp.hide_render and not lamp.hide_viewport, "Live, the clouds removed: the lamp on at once")
+h.check(abs(lamp.rotation_euler.to_matrix().col[2].z - math.sin(math.radians(50.0))) < 1e-6,
+        "Live: the lamp toward the 50 degree sun")
+p.live = False
+h.check(live._state["server"] is None and not os.path.exists("/proc/%d" % pid), "Live off: the server is gone")
 h.finish()
