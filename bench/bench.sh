@@ -48,6 +48,9 @@
 #                                   suggested exposure (mean, 99th percentile), and the flicker of a
 #                                   time series (bench/seed_noise.h) (issue "Sun and sky geometry":
 #                                   noise-free at -18)
+#   bench/bench.sh --clouds         issue 48's speed target: the Overcast preset and a fog around the
+#                                   observer as 4096 x 2048 final maps, wall and CPU time, memory and
+#                                   one map's noise from two seeds (about 10 minutes on 2 cores today)
 #   bench/bench.sh --live           the live sky (docs/rendering.md, "Live sky"; bench/live_bench.c):
 #                                   per biome (none, rural, urban) the build time (wall and CPU), the
 #                                   tables' memory, the time from a new sun to a written 512 x 256 map
@@ -221,6 +224,30 @@ if [ "${1:-}" = "--live" ]; then
     done
     for b in none urban; do "$LB" sweep "$b" -20 90 0.1 | tail -n 1; done
     python3 "$ROOT/bench/serve_latency.py" "$FM" --requests 40
+    exit 0
+fi
+
+if [ "${1:-}" = "--clouds" ]; then
+    # issue 48's target: an overcast (the Overcast preset: stratus, optical depth 30) and a fog with the
+    # observer inside it (0-200 m, visibility 200 m, optical depth 3.9) as 4096 x 2048 colour maps at
+    # final quality: wall and CPU seconds (user + system; on a loaded machine compare CPU), peak memory,
+    # and one map's noise: the RMS relative luminance difference of two seeds' maps over sqrt(2)
+    printf '%-34s %-10s %7s %7s %9s %9s %6s\n' sky size "wall s" "CPU s" "peak MiB" "noise %" paths
+    for job in "overcast --preset overcast" "fog --fog-visibility 200 --sun-elevation 30"; do
+        read -r name extra <<<"$job"
+        read -r -a extra <<<"$extra"
+        for seed in 1 2; do
+            /usr/bin/time -f '%e %U %S %M' -o "$out/$name-$seed.time" "$FM" render --no-sun-disk --progress none \
+                -o "$out/$name-$seed.exr" --width 4096 --quality final --seed "$seed" "${extra[@]}" >/dev/null
+        done
+        noise=$("$FM" compare "$out/$name-1.exr" "$out/$name-2.exr" --json | field rms |
+            awk '{ printf "%.3f", 100 * $1 / sqrt(2) }')
+        paths=$(sed -n 's/.*"paths_per_node":[[:space:]]*\([0-9]*\).*/\1/p' "$out/$name-1.json" | head -n 1)
+        read -r wall user sys kib <"$out/$name-1.time"
+        printf '%-34s %-10s %7.1f %7.1f %9.0f %9s %6s\n' "$name (${extra[*]})" 4096x2048 "$wall" \
+            "$(awk -v u="$user" -v s="$sys" 'BEGIN { print u + s }')" "$(awk -v k="$kib" 'BEGIN { print k / 1024 }')" \
+            "$noise" "$paths"
+    done
     exit 0
 fi
 
