@@ -264,7 +264,8 @@ static fm_status add_clouds(fm_sky *sky, const fm_sky_params *p, fm_error *err)
     fm_composition *c = &sky->composition;
     for (int i = 0; i < count && !s; i++) {
         const cloud_layer *l = &layers[i];
-        s = cloud_add_layer(&sky->atm, l->type, l->base_m, l->thickness_m, l->tau550, p->threads, p->cache_dir, err);
+        s = cloud_add_layer(&sky->atm, l->type, l->base_m, l->thickness_m, l->tau550, p->threads, p->cache_dir,
+                            sky->truncate_peaks && l->tau550 >= SKY_TRUNCATE_TAU, err);
         if (s == FM_ERR_INVALID_ARGUMENT && err && !err->parameter[0]) { /* a layer outside the atmosphere */
             char what[sizeof err->message];
             snprintf(what, sizeof what, "%s", err->message);
@@ -344,11 +345,26 @@ static fm_status new_sky(const fm_sky_params *params, fm_sky **out, fm_error *er
     return FM_OK;
 }
 
+/* Whether the sky has a layer that its truncated copy (sky.h) cuts. */
+static int has_deck(const fm_sky *sky)
+{
+    for (int i = 0; i < sky->composition.cloud_count; i++)
+        if (sky->composition.cloud[i].tau550 >= SKY_TRUNCATE_TAU)
+            return 1;
+    return 0;
+}
+
 fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err)
 {
     fm_sky *sky;
     fm_status s = new_sky(params, &sky, err);
-    if (!s && (s = build_sky(sky, &sky->params, err))) {
+    if (!s)
+        s = build_sky(sky, &sky->params, err);
+    if (!s && has_deck(sky) && !(s = new_sky(params, &sky->truncated, err))) {
+        sky->truncated->truncate_peaks = 1;
+        s = build_sky(sky->truncated, &sky->truncated->params, err);
+    }
+    if (s) {
         fm_sky_destroy(sky);
         return s;
     }
@@ -372,6 +388,7 @@ void fm_sky_destroy(fm_sky *sky)
 {
     if (!sky)
         return;
+    fm_sky_destroy(sky->truncated);
     sun_irradiance_free(&sky->sun_table);
     depth_table_free(&sky->mid_depth);
     column_table_free(&sky->columns);

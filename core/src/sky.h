@@ -25,7 +25,26 @@ struct fm_sky {
     int has_solar;
     unsigned sun_computed; /* FM_SUN_COMPUTED_* bits: which sun parameters came from `solar` */
     fm_solar_position solar;
+    /* Under a deck the sun does not pierce (a layer of optical depth SKY_TRUNCATE_TAU or more at 550
+     * nm), the same sky with those layers' forward peaks truncated (delta-M, cloud_layer.h), built
+     * with it: the fast path's multiple-scattering paths (orders >= 2, and the ground's diffuse light)
+     * trace its media, seen with this sky's sun and observer (sky_scattering_media), while single
+     * scattering, the sun's disk and direct light and the reference mode keep the full phase function
+     * (delta-M with exact single scattering: Nakajima & Tanaka 1988).  NULL otherwise. */
+    struct fm_sky *truncated;
+    int truncate_peaks; /* this sky is such a copy */
 };
+
+/* Layers from this optical depth at 550 nm up are truncated in the copy: with the droplets' peak
+ * fraction below 0.45, even the truncated layer's vertical transmittance stays below e^-13.8 = 1e-6,
+ * where the add-on turns the sun lamp off, so the light the copy counts as unscattered is nil. */
+#define SKY_TRUNCATE_TAU 25.0
+
+/* The sky whose media the fast path's multiple scattering traces (above). */
+static inline const struct fm_sky *sky_scattering_media(const struct fm_sky *sky)
+{
+    return sky->truncated ? sky->truncated : sky;
+}
 
 /* Resolves the FM_SUN_FROM_TIME fields of `in` into `out` (a copy of in) from the solar position
  * of its date, time and place, which also goes to *solar, *computed and *has_solar. */

@@ -183,18 +183,18 @@ static void layer_optical_depth_and_fog_visibility(void **state)
     fm_error err;
     atmosphere atm;
     assert_int_equal(atmosphere_init_clear_sky(&atm, &grid, 0.0, OZONE_PROFILE_US_STANDARD, 0.2, &err), FM_OK);
-    assert_int_equal(cloud_add_layer(&atm, cloud_type_find("stratus"), 520.0, 730.0, 25.0, 1, NULL, &err), FM_OK);
+    assert_int_equal(cloud_add_layer(&atm, cloud_type_find("stratus"), 520.0, 730.0, 25.0, 1, NULL, 0, &err), FM_OK);
     check_rel(species_tau(&atm), 25.0, 1e-12, "stratus layer's optical depth");
     /* fog of visibility 150 m, 100 m deep: beta = 3.912 / 150 m inside the layer */
     const double visibility = 150.0, depth = 100.0;
     assert_int_equal(
-        cloud_add_layer(&atm, cloud_type_find("fog"), 0.0, depth, CLOUD_KOSCHMIEDER / visibility * depth, 1, NULL, &err),
+        cloud_add_layer(&atm, cloud_type_find("fog"), 0.0, depth, CLOUD_KOSCHMIEDER / visibility * depth, 1, NULL, 0, &err),
         FM_OK);
     const species *fog = &atm.species[atm.species_count - 1];
     double beta_ground = (fog->sigma_s[0] + fog->sigma_a[0]) * profile_density(&fog->profile, 0.0);
     check_rel(beta_ground * visibility, 3.912, 1e-9, "fog: extinction times visibility at the ground");
     check_rel(species_tau(&atm), 3.912 / visibility * depth, 1e-12, "fog layer's optical depth");
-    assert_int_equal(cloud_add_layer(&atm, cloud_type_find("fog"), 0.0, 1e6, 1.0, 1, NULL, &err), FM_ERR_INVALID_ARGUMENT);
+    assert_int_equal(cloud_add_layer(&atm, cloud_type_find("fog"), 0.0, 1e6, 1.0, 1, NULL, 0, &err), FM_ERR_INVALID_ARGUMENT);
     atmosphere_free(&atm);
 }
 
@@ -231,7 +231,7 @@ static void phase_table_resolves_the_diffraction_peak(void **state)
     atmosphere atm;
     assert_int_equal(atmosphere_init_clear_sky(&atm, &grid, 0.0, OZONE_PROFILE_US_STANDARD, 0.2, &err), FM_OK);
     const cloud_type *t = cloud_type_find("stratocumulus"); /* the larger droplets: the narrower peak */
-    assert_int_equal(cloud_add_layer(&atm, t, 1000.0, 500.0, 10.0, 1, NULL, &err), FM_OK);
+    assert_int_equal(cloud_add_layer(&atm, t, 1000.0, 500.0, 10.0, 1, NULL, 0, &err), FM_OK);
     const phase_function *p = &atm.species[atm.species_count - 1].phase;
     assert_int_equal(p->kind, PHASE_TABULATED);
     const int nodes[] = {8, 15, 30, 60, 120};
