@@ -495,6 +495,22 @@ static void split_paths_match_whole_ones(void **state)
     fm_sky_destroy(sky);
 }
 
+/* Night (sun below -21 degrees, twilight.c): heavy paths are not split.  There the light at a path's
+ * first point is so small that nearly every vertex passes the split weight, and the copies, each
+ * inheriting what is left of the budget, made an 8-pixel preview take 85 s CPU at sun -31.5 for a
+ * sky of 2e-11 lux (docs/decisions/2026-12-06-night-paths.md).  Deep twilight above it splits. */
+static void night_paths_are_not_split(void **state)
+{
+    const double suns[] = {-18.0, -20.5, -21.5, -31.5, -45.0};
+    for (int i = 0; i < 5; i++) {
+        fm_sky *sky;
+        twilight_sampling *tw = deep_twilight(suns[i], &sky);
+        assert_int_equal(node_context(sky, tw).split_heavy_paths, suns[i] > -21.0);
+        free(tw);
+        fm_sky_destroy(sky);
+    }
+}
+
 /* Sun 14 degrees down, rural: orders >= 2 with half the first vertices placed along the view ray by
  * the light there (view_ray_vertices.h, as rendered) against all of them by scattering x
  * transmittance alone (everything else equal), in the three directions above: within four combined
@@ -628,6 +644,7 @@ int main(void)
         cmocka_unit_test(aligned_guide_matches_unaligned),
         cmocka_unit_test(light_led_roulette_matches_the_plain_one),
         cmocka_unit_test(split_paths_match_whole_ones),
+        cmocka_unit_test(night_paths_are_not_split),
         cmocka_unit_test(light_led_first_vertices_match_plain_ones),
         cmocka_unit_test(zenith_falls_monotonically),
         cmocka_unit_test(illuminance_against_the_ams_glossary),

@@ -25,6 +25,13 @@
  * noisy (docs/decisions/2026-12-06-twilight-thresholds.md). */
 #define FIRST_VERTEX_LIGHT_SHARE 0.5
 
+/* From this sun elevation down heavy paths are not split (path.c).  There the air near the observer
+ * lies deep in the Earth's shadow, the light at a path's first point is tiny, and the roulette's
+ * lift passes the split weight at nearly every vertex; as copies inherit what is left of the
+ * budget, a path grew into 30 copies at sun -28 and thousands at -35, for a sky darker than
+ * starlight by five decades (docs/decisions/2026-12-06-night-paths.md). */
+#define SPLIT_UNTIL_DEG -21.0
+
 int twilight_deep(double sun_elevation_deg) { return sun_elevation_deg < DEEP_TWILIGHT_DEG; }
 
 fm_status twilight_sampling_create(const fm_sky *sky, int guide_offsets, const shadow_flight_columns *shared,
@@ -39,6 +46,7 @@ fm_status twilight_sampling_create(const fm_sky *sky, int guide_offsets, const s
     path_context single = sky_path_context(sky, 1, 1);
     double sun_elevation = asin(clamp_cosine(v3_dot(v3_normalize(sky->observer), sky->sun_dir)));
     tw->deep = twilight_deep(sun_elevation / FM_DEG);
+    tw->split = tw->deep && sun_elevation > SPLIT_UNTIL_DEG * FM_DEG;
     /* the flights' table first: in deep twilight the sky guide adds the light of order 2 from it */
     int usable = 0;
     fm_status s = tw->deep ? shadow_flight_build(&tw->flights, &single, sky->observer, shared, threads, cancel) : FM_OK;
@@ -60,7 +68,7 @@ path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *t
         pc.sky_guide = &tw->guide;
         pc.shadow_flights = tw->deep ? &tw->flights : NULL;
         pc.light_led_roulette = tw->deep;
-        pc.split_heavy_paths = tw->deep;
+        pc.split_heavy_paths = tw->split;
         pc.first_vertex_light_share = tw->deep ? FIRST_VERTEX_LIGHT_SHARE : 0.0;
         pc.sky_guide_fraction = SKY_GUIDE_FRACTION;
         /* every segment along its length: with guided directions of small weight, a point estimate

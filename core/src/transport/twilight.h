@@ -19,7 +19,8 @@
 
 typedef struct twilight_sampling {
     sky_guide guide;
-    int deep; /* the flights below are in use */
+    int deep;  /* the flights below are in use */
+    int split; /* heavy paths split (deep twilight above night, twilight.c) */
     shadow_flight_table flights;
 } twilight_sampling;
 
