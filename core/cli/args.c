@@ -64,7 +64,7 @@ static const struct option *long_options(void)
 typedef struct time_options {
     int time, start, end, step;                          /* given */
     const option_spec *solar_only;                       /* a refraction / Delta T option given */
-    int sun_elevation, sun_azimuth, distance, longitude; /* given, for the overrides and checks */
+    int sun_elevation, sun_azimuth, longitude; /* given, for the overrides and checks */
 } time_options;
 
 static int finish_time_options(options *opt, const time_options *t, int have_latitude, char *msg, size_t msg_size)
@@ -123,8 +123,6 @@ static int finish_time_options(options *opt, const time_options *t, int have_lat
         opt->sky.sun_elevation_deg = FM_SUN_FROM_TIME;
     if (!t->sun_azimuth)
         opt->sky.sun_azimuth_deg = FM_SUN_FROM_TIME;
-    if (!t->distance)
-        opt->sky.earth_sun_distance_au = FM_SUN_FROM_TIME;
     return 1;
 }
 
@@ -430,7 +428,6 @@ parse_result options_parse(int argc, char **argv, options *opt, char *msg, size_
                           .solar_only = g.solar_only,
                           .sun_elevation = was_given(&g, "sun-elevation"),
                           .sun_azimuth = was_given(&g, "sun-azimuth"),
-                          .distance = was_given(&g, "earth-sun-distance"),
                           .longitude = was_given(&g, "longitude")};
     if (!finish_time_options(opt, &times, was_given(&g, "latitude"), msg, msg_size) ||
         !check_together(opt, &g, msg, msg_size))

@@ -43,10 +43,11 @@ const option_spec option_specs[] = {
     {"ozone-du", 0, "X", OPTION_NUMBER, AT(sky.ozone_column_du), "ozone_column_du", NO_RANGE, NULL, 0, NEEDS_BUILTIN,
      SKY, "total ozone column, %R; 0 disables ozone", "from the climatology with --date, else 300"},
     {"earth-sun-distance", 0, "AU", OPTION_NUMBER, AT(sky.earth_sun_distance_au), "earth_sun_distance_au", NO_RANGE,
-     NULL, 0, FROM_TIME, SKY, "%R: solar irradiance scales as 1/d^2, the disk as 1/d", NULL},
+     NULL, 0, 0, SKY, "%R: solar irradiance scales as 1/d^2, the disk as 1/d",
+     "the date's (at 12:00 UT), 1 without --date"},
     {"date", 0, "YYYY-MM-DD", OPTION_DATE, AT(sky.year), "date", NO_RANGE, NULL, 0, 0, SKY,
-     "date (1900-2100) for the ozone climatology and the ozone profile's season, and with --time for the sun; "
-     "needs --latitude",
+     "date (1900-2100) for the ozone climatology, the ozone profile's season and the Earth-Sun distance, and with "
+     "--time for the sun; needs --latitude",
      NULL},
     {"latitude", 0, "DEG", OPTION_NUMBER, AT(sky.latitude_deg), "latitude_deg", NO_RANGE, NULL, 0, 0, SKY,
      "%R, north positive; with --date alone it chooses the ozone column, without --date it is refused", NULL},
@@ -62,8 +63,8 @@ const option_spec option_specs[] = {
      "the built-in Earth"},
 
     {"time", 0, "HH:MM[:SS]", OPTION_TIME, 0, "time", NO_RANGE, NULL, 0, 0, SUN,
-     "local clock time on --date at --latitude, --longitude: sets the sun's apparent elevation and azimuth and the "
-     "Earth-Sun distance of the day, unless --sun-elevation, --sun-azimuth or --earth-sun-distance are given",
+     "local clock time on --date at --latitude, --longitude: sets the sun's apparent elevation and azimuth, unless "
+     "--sun-elevation or --sun-azimuth are given",
      NULL},
     {"utc-offset", 0, "+-HH[:MM]", OPTION_OFFSET, AT(sky.utc_offset_min), "utc_offset_min", NO_RANGE, NULL, 0,
      NEEDS_TIME, SUN, "local time minus UTC, -12:00 to +14:00", "+00:00"},

@@ -37,7 +37,7 @@ fm_sky_params fm_sky_params_default(void)
         .observer_altitude_m = 0.0,
         .ground_albedo = 0.2,
         .ozone_column_du = 300.0,
-        .earth_sun_distance_au = 1.0,
+        .earth_sun_distance_au = FM_SUN_FROM_TIME, /* the date's; 1 AU without a date */
         .wavelength_nm = 0.0,
         .threads = 0,
         .year = 0,

@@ -23,7 +23,8 @@ struct fm_sky {
     fm_composition composition;
     /* The sun from the date, time and place (sky_sun.c), when the sky has a time of day. */
     int has_solar;
-    unsigned sun_computed; /* FM_SUN_COMPUTED_* bits: which sun parameters came from `solar` */
+    unsigned sun_computed; /* FM_SUN_COMPUTED_* bits: which sun parameters came from `solar` (the
+                            * distance: from the date, also without a time); FM_SUN_MEAN_DISTANCE */
     fm_solar_position solar;
     /* Under a deck the sun does not pierce (a layer of optical depth SKY_TRUNCATE_TAU or more at 550
      * nm), the same sky with those layers' forward peaks truncated (delta-M, cloud_layer.h), built
@@ -47,7 +48,8 @@ static inline const struct fm_sky *sky_scattering_media(const struct fm_sky *sky
 }
 
 /* Resolves the FM_SUN_FROM_TIME fields of `in` into `out` (a copy of in) from the solar position
- * of its date, time and place, which also goes to *solar, *computed and *has_solar. */
+ * of its date, time and place, which also goes to *solar, *computed and *has_solar (the distance
+ * from the date alone, or 1 AU without a date: *has_solar 0). */
 fm_status sky_resolve_sun(const fm_sky_params *in, fm_sky_params *out, fm_solar_position *solar,
                           unsigned *computed, int *has_solar, fm_error *err);
 

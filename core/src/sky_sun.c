@@ -5,7 +5,7 @@
  * involve the sun; the column table is per (altitude, view cosine); the sun-transmittance table is
  * tabulated over every sun zenith cosine, so it serves every direction; the sun disk (size, limb
  * darkening) and the solar spectrum depend on the Earth-Sun distance, which a time of day does not
- * change (the distance is the day's).  Everything direction-dependent beyond sun_dir (the adaptive
+ * change (the distance is the date's, with or without a time; 1 AU without a date).  Everything direction-dependent beyond sun_dir (the adaptive
  * direction grid, single scattering, the ground's diffuse irradiance, the disk drawn into the map)
  * is computed per render from sun_dir and params. */
 #include "sky.h"
@@ -41,15 +41,56 @@ static fm_solar_params solar_params_of(const fm_sky_params *p)
     return s;
 }
 
+/* The sun angle that needs a time of day, or NULL (the distance needs only a date). */
 static const char *from_time_field(const fm_sky_params *p)
 {
     if (p->sun_elevation_deg == FM_SUN_FROM_TIME)
         return "sun_elevation_deg";
     if (p->sun_azimuth_deg == FM_SUN_FROM_TIME)
         return "sun_azimuth_deg";
-    if (p->earth_sun_distance_au == FM_SUN_FROM_TIME)
-        return "earth_sun_distance_au";
     return NULL;
+}
+
+/* The Earth-Sun distance of p's date, at 12:00 UT: a function of the date alone (not of the time
+ * of day, the UTC offset or Delta T), so that a sky placed by the clock and one placed by the same
+ * sun's angles get the same light and the same tables (it changes by less than 1.5e-4 AU, 0.03 % of
+ * the irradiance, within a day). */
+static fm_status date_distance(const fm_sky_params *p, double *au, fm_error *err)
+{
+    fm_solar_params sp = fm_solar_params_default();
+    sp.year = p->year;
+    sp.month = p->month;
+    sp.day = p->day;
+    sp.hour = 12;
+    fm_solar_position noon;
+    fm_status s = fm_solar_position_compute(&sp, &noon, err);
+    if (!s)
+        *au = noon.earth_sun_distance_au;
+    return s;
+}
+
+static fm_status check_date(const fm_sky_params *p, fm_error *err)
+{
+    if (!date_is_valid(p->year, p->month, p->day))
+        return fm_fail_parameter(err, "date", "%04d-%02d-%02d is not a valid date between %d and %d", p->year,
+                                 p->month, p->day, FM_DATE_MIN_YEAR, FM_DATE_MAX_YEAR);
+    return FM_OK;
+}
+
+/* out's distance when in's is FM_SUN_FROM_TIME: the date's, or the mean (1 AU) without a date. */
+static fm_status resolve_distance(const fm_sky_params *in, fm_sky_params *out, unsigned *computed, fm_error *err)
+{
+    if (in->earth_sun_distance_au != FM_SUN_FROM_TIME)
+        return FM_OK;
+    if (in->year == 0) {
+        out->earth_sun_distance_au = 1.0;
+        *computed |= FM_SUN_MEAN_DISTANCE;
+        return FM_OK;
+    }
+    fm_status s = check_date(in, err);
+    if (!s && !(s = date_distance(in, &out->earth_sun_distance_au, err)))
+        *computed |= FM_SUN_COMPUTED_DISTANCE;
+    return s;
 }
 
 fm_status sky_resolve_sun(const fm_sky_params *in, fm_sky_params *out, fm_solar_position *solar,
@@ -63,16 +104,13 @@ fm_status sky_resolve_sun(const fm_sky_params *in, fm_sky_params *out, fm_solar_
         if (wanted)
             return fm_fail_parameter(err, wanted, "the sun's position from the time needs a time of day (hour), a "
                                                   "date and a place");
-        return FM_OK;
+        return resolve_distance(in, out, computed, err);
     }
     if (in->year == 0)
         return fm_fail_parameter(err, "hour", "a time of day needs a date (year, month, day) and a place");
-    if (!date_is_valid(in->year, in->month, in->day))
-        return fm_fail_parameter(err, "date", "%04d-%02d-%02d is not a valid date between %d and %d", in->year,
-                                 in->month, in->day, FM_DATE_MIN_YEAR, FM_DATE_MAX_YEAR);
     fm_solar_params sp = solar_params_of(in);
-    fm_status s = fm_solar_position_compute(&sp, solar, err);
-    if (s)
+    fm_status s = check_date(in, err);
+    if (s || (s = fm_solar_position_compute(&sp, solar, err)))
         return s;
     *has_solar = 1;
     if (in->sun_elevation_deg == FM_SUN_FROM_TIME) {
@@ -83,19 +121,7 @@ fm_status sky_resolve_sun(const fm_sky_params *in, fm_sky_params *out, fm_solar_
         out->sun_azimuth_deg = solar->azimuth_deg;
         *computed |= FM_SUN_COMPUTED_AZIMUTH;
     }
-    if (in->earth_sun_distance_au == FM_SUN_FROM_TIME) {
-        /* the day's distance, at 12:00 local time: every time of the date shares it (it changes by
-         * less than 1.5e-4 AU, 0.03 % of the irradiance, in half a day) */
-        fm_solar_position noon;
-        sp.hour = 12;
-        sp.minute = 0;
-        sp.second = 0.0;
-        if ((s = fm_solar_position_compute(&sp, &noon, err)))
-            return s;
-        out->earth_sun_distance_au = noon.earth_sun_distance_au;
-        *computed |= FM_SUN_COMPUTED_DISTANCE;
-    }
-    return FM_OK;
+    return resolve_distance(in, out, computed, err);
 }
 
 static void apply_sun(fm_sky *sky, double elevation_deg, double azimuth_deg)
@@ -142,7 +168,7 @@ fm_status fm_sky_set_time(fm_sky *sky, int hour, int minute, double second, fm_e
 int fm_sky_solar_position(const fm_sky *sky, fm_solar_position *out, unsigned *computed)
 {
     if (computed)
-        *computed = sky->has_solar ? sky->sun_computed : 0;
+        *computed = sky->sun_computed;
     if (!sky->has_solar)
         return 0;
     *out = sky->solar;

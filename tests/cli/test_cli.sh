@@ -220,6 +220,28 @@ PY
     python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["sun"]["elevation_deg"] == 12 and d["sun"]["azimuth_deg"] == 100 and d["solar_position"]["used_for"] == "earth_sun_distance" and d["parameters"]["refraction"] == "off", d' "$work/out/given.json" &&
     ok || fail "--sun-elevation overrides --time"
 
+# the Earth-Sun distance is the date's whether the sun comes from --time or from its angles (the
+# add-on's Live mode switches between them): the map of a --time and the map of the same sun given
+# by the angles its sidecar reports, on that date, are the same; no date gives 1 AU, a given one stays
+dated=(--date 2024-01-03 --latitude 48.8566 --longitude 2.3522)
+"$FM" "${r[@]}" "${dated[@]}" --time 10:00 --utc-offset +01:00 --progress none -o "$work/out/clock.exr" &&
+    read -r elev azim < <(python3 -c 'import json,sys; s=json.load(open(sys.argv[1]))["sun"]; print(repr(s["elevation_deg"]), repr(s["azimuth_deg"]))' "$work/out/clock.json") &&
+    "$FM" "${r[@]}" "${dated[@]}" --sun-elevation "$elev" --sun-azimuth "$azim" --progress none -o "$work/out/angles.exr" &&
+    "$FM" "${r[@]}" --sun-elevation "$elev" --sun-azimuth "$azim" --progress none -o "$work/out/undated.exr" &&
+    "$FM" "${r[@]}" "${dated[@]}" --sun-elevation "$elev" --earth-sun-distance 1.01 --progress none -o "$work/out/given.exr" &&
+    "$FM" compare "$work/out/clock.exr" "$work/out/angles.exr" | grep -q '^max relative  0.0000 %' &&
+    python3 - "$work/out" <<'PY' && ok || fail "the date's Earth-Sun distance with --time and with sun angles"
+import json, sys
+side = {n: json.load(open(f"{sys.argv[1]}/{n}.json")) for n in ("clock", "angles", "undated", "given")}
+p = {n: d["parameters"] for n, d in side.items()}
+# near perihelion (2024-01-03 00:39 UT, 0.98331 AU: JPL Horizons)
+assert abs(p["clock"]["earth_sun_distance_au"] - 0.98331) < 1e-4 and p["clock"]["earth_sun_distance_from"] == "date", p
+assert p["angles"]["earth_sun_distance_au"] == p["clock"]["earth_sun_distance_au"] and p["angles"]["earth_sun_distance_from"] == "date", p
+assert side["angles"]["sky"] == side["clock"]["sky"], side
+assert p["undated"]["earth_sun_distance_au"] == 1 and p["undated"]["earth_sun_distance_from"] == "mean (no date)", p
+assert p["given"]["earth_sun_distance_au"] == 1.01 and p["given"]["earth_sun_distance_from"] == "given", p
+PY
+
 # deep twilight's final maps take more paths per multiple-scattering node (render.c: 1x at sun -11
 # deg, 2x at -18, 1x again by -21), the preview its own; the sidecar and the EXR say how many
 # (2048 x 1/64 = 32; the default sky's table needs no second pass, twilight_extra_paths)

@@ -379,10 +379,9 @@ static void sky_sun_from_date_and_time(void **state)
     /* Paris, 21 June 2023, 09:00 CEST (PyEphem, no refraction: 28.3718, 86.0494) */
     check_abs(o.elevation_true_deg, 28.3718, 3e-4, "Paris 09:00 elevation");
     check_abs(o.azimuth_deg, 86.0494, 3e-4, "Paris 09:00 azimuth");
-    /* the day's Earth-Sun distance: near aphelion, 1.0163 AU, at 12:00 local time */
+    /* the day's Earth-Sun distance: near aphelion, 1.0163 AU, at 12:00 UT */
     fm_solar_params noon = fm_solar_params_default();
-    noon.year = 2023, noon.month = 6, noon.day = 21, noon.hour = 12, noon.utc_offset_min = 120;
-    noon.latitude_deg = p.latitude_deg, noon.longitude_deg = p.longitude_deg;
+    noon.year = 2023, noon.month = 6, noon.day = 21, noon.hour = 12;
     fm_solar_position on;
     fm_error err;
     assert_int_equal(fm_solar_position_compute(&noon, &on, &err), FM_OK);
@@ -409,6 +408,85 @@ static void sky_sun_from_date_and_time(void **state)
     fm_sky_solar_position(sky, &o, NULL);
     check_abs(fm_sky_get_params(sky)->sun_elevation_deg, o.elevation_true_deg, 0.0, "no refraction");
     fm_sky_destroy(sky);
+}
+
+/* The Earth-Sun distance by Spencer's (1971) Fourier series of the eccentricity correction
+ * (r0 / r)^2 = 1.000110 + 0.034221 cos G + 0.001280 sin G + 0.000719 cos 2G + 0.000077 sin 2G,
+ * G = 2 pi (day of year - 1) / 365 (Iqbal 1983, eq. 1.2.1): good to about 5e-4 AU. */
+static double spencer_distance_au(int day_of_year)
+{
+    double g = 2.0 * FM_PI * (day_of_year - 1) / 365.0;
+    return 1.0 / sqrt(1.000110 + 0.034221 * cos(g) + 0.001280 * sin(g) + 0.000719 * cos(2.0 * g) +
+                      0.000077 * sin(2.0 * g));
+}
+
+/* A date with the sun given by its angles (no time of day) gets the date's Earth-Sun distance, the
+ * same as with a time on that date; no date, 1 AU; a given distance stays.  Near perihelion and
+ * aphelion 2024 (3 January, 0.98331 AU, and 5 July, 1.01673 AU: JPL Horizons, above) within 1e-4 AU
+ * (at 12:00 UT the distance is within 1e-5 of its extreme), and Spencer's series within
+ * 6e-4 AU at four dates of the year; the sidecar says where the distance came from. */
+static void date_gives_the_distance_without_a_time(void **state)
+{
+    const struct {
+        int m, d, day_of_year;
+        double published;
+    } t[] = {{1, 3, 3, 0.98331}, {4, 5, 96, 0.0}, {7, 5, 187, 1.01673}, {10, 10, 284, 0.0}};
+    fm_error err;
+    for (int i = 0; i < 4; i++) {
+        fm_sky_params p = fm_sky_params_default(), r, timed;
+        p.year = 2024, p.month = t[i].m, p.day = t[i].d, p.latitude_deg = 45.0, p.longitude_deg = 7.0;
+        p.sun_elevation_deg = 20.0;
+        assert_int_equal(fm_sky_params_resolve_sun(&p, &r, &err), FM_OK);
+        double spencer = spencer_distance_au(t[i].day_of_year);
+        print_message("2024-%02d-%02d, sun by its angles: %.6f AU (Spencer %.6f)\n", t[i].m, t[i].d,
+                      r.earth_sun_distance_au, spencer);
+        check_abs(r.earth_sun_distance_au, spencer, 6e-4, "the date's distance against Spencer's");
+        if (t[i].published > 0.0)
+            check_abs(r.earth_sun_distance_au, t[i].published, 1e-4, "the date's distance near an apsis");
+        check_abs(r.sun_elevation_deg, 20.0, 0.0, "the given elevation stays");
+        /* a time on the same date, in another time zone: the same distance, to the last bit */
+        p.hour = 6;
+        p.utc_offset_min = 120;
+        p.sun_elevation_deg = p.sun_azimuth_deg = FM_SUN_FROM_TIME;
+        assert_int_equal(fm_sky_params_resolve_sun(&p, &timed, &err), FM_OK);
+        check_abs(timed.earth_sun_distance_au, r.earth_sun_distance_au, 0.0, "the same distance with a time");
+        /* so the live sky (fm_sky_live_*) keeps its tables when the add-on's Live mode switches
+         * between the clock and the angles */
+        fm_sky_params angles = p;
+        angles.hour = FM_NO_TIME;
+        angles.utc_offset_min = 0;
+        angles.sun_elevation_deg = 20.0;
+        angles.sun_azimuth_deg = 100.0;
+        char key_timed[33], key_angles[33];
+        fm_sky_live_key(&p, key_timed);
+        fm_sky_live_key(&angles, key_angles);
+        assert_string_equal(key_timed, key_angles);
+    }
+    fm_sky_params p = fm_sky_params_default(), r;
+    p.sun_elevation_deg = 20.0;
+    assert_int_equal(fm_sky_params_resolve_sun(&p, &r, &err), FM_OK);
+    check_abs(r.earth_sun_distance_au, 1.0, 0.0, "no date: 1 AU");
+    p.year = 2024, p.month = 1, p.day = 3;
+    p.earth_sun_distance_au = 1.01;
+    assert_int_equal(fm_sky_params_resolve_sun(&p, &r, &err), FM_OK);
+    check_abs(r.earth_sun_distance_au, 1.01, 0.0, "a given distance stays");
+
+    /* the sky records where its distance came from (the sidecar's earth_sun_distance_from) */
+    const double distance[3] = {FM_SUN_FROM_TIME, FM_SUN_FROM_TIME, 1.01};
+    const int year[3] = {2024, 0, 2024};
+    const unsigned bits[3] = {FM_SUN_COMPUTED_DISTANCE, FM_SUN_MEAN_DISTANCE, 0u};
+    for (int i = 0; i < 3; i++) {
+        p = fm_sky_params_default();
+        p.biome = "none";
+        p.year = year[i], p.month = 7, p.day = 5, p.latitude_deg = 45.0;
+        p.earth_sun_distance_au = distance[i];
+        fm_sky *sky = test_sky(&p);
+        fm_solar_position o;
+        unsigned computed = 99;
+        assert_int_equal(fm_sky_solar_position(sky, &o, &computed), 0); /* no time of day */
+        assert_int_equal(computed, bits[i]);
+        fm_sky_destroy(sky);
+    }
 }
 
 static void sky_time_errors(void **state)
@@ -564,6 +642,7 @@ int main(void)
         cmocka_unit_test(delta_t_estimate),
         cmocka_unit_test(bad_inputs_are_refused),
         cmocka_unit_test(sky_sun_from_date_and_time),
+        cmocka_unit_test(date_gives_the_distance_without_a_time),
         cmocka_unit_test(sky_time_errors),
         cmocka_unit_test(changed_sun_is_bit_identical_to_a_new_sky),
     };

@@ -76,7 +76,8 @@ typedef enum fm_aerosol_phase {
     FM_AEROSOL_PHASE_HG       /* Henyey-Greenstein with the mixture's Mie asymmetry parameter g */
 } fm_aerosol_phase;
 
-/* sun_elevation_deg, sun_azimuth_deg, earth_sun_distance_au: from the date, time and place. */
+/* sun_elevation_deg, sun_azimuth_deg: from the date, time and place; earth_sun_distance_au: the
+ * date's, with or without a time (1 AU without a date). */
 #define FM_SUN_FROM_TIME (-1000.0)
 /* hour: no time of day. */
 #define FM_NO_TIME (-1)
@@ -98,11 +99,14 @@ typedef struct fm_sky_params {
     double ground_albedo;         /* Lambertian reflectance, [0, 1] */
     double ozone_column_du;       /* total ozone column, [0, 1000] Dobson units; 0 disables ozone;
                                    * FM_OZONE_FROM_CLIMATOLOGY: from the date and place below */
-    double earth_sun_distance_au; /* scales solar irradiance (1/d^2) and disk size (1/d), [0.95, 1.05] */
+    double earth_sun_distance_au; /* scales solar irradiance (1/d^2) and disk size (1/d), [0.95, 1.05];
+                                   * default FM_SUN_FROM_TIME: the date's (below), 1 AU without one */
     double wavelength_nm;         /* 0: colour render over 380-780 nm; else one wavelength in [300, 1000] */
     int threads;                  /* for building the sky's tables, [0, 256]; 0 = one per online core */
 
-    /* Date and place (Gregorian calendar; year 0 = no date): the ozone climatology's inputs. */
+    /* Date and place (Gregorian calendar; year 0 = no date): the ozone climatology's inputs; the date
+     * also gives the Earth-Sun distance (at 12:00 UT) when earth_sun_distance_au is
+     * FM_SUN_FROM_TIME, whether the sun is placed by a time or by its angles. */
     int year, month, day;         /* [1900, 2100], [1, 12], [1, days in month] */
     double latitude_deg;          /* [-90, 90], north positive */
     double longitude_deg;         /* [-180, 180], east positive */
@@ -110,8 +114,8 @@ typedef struct fm_sky_params {
     /* Time of day at that date and place (see "Solar position" below).  With a time, every one of
      * sun_elevation_deg, sun_azimuth_deg and earth_sun_distance_au that holds FM_SUN_FROM_TIME is
      * computed: the apparent (refracted, when refraction is on) topocentric elevation and azimuth of
-     * the sun's centre, and the Earth-Sun distance of the day (at 12:00 local time, so that every
-     * time of one date shares it).  A value given instead of FM_SUN_FROM_TIME overrides. */
+     * the sun's centre (the distance is the date's, as without a time).  A value given instead of
+     * FM_SUN_FROM_TIME overrides. */
     int hour;                     /* local clock time [0, 23]; FM_NO_TIME: none */
     int minute;                   /* [0, 59] */
     double second;                /* [0, 60) */
@@ -316,17 +320,19 @@ fm_status fm_sky_set_sun(fm_sky *sky, double elevation_deg, double azimuth_deg, 
 fm_status fm_sky_set_time(fm_sky *sky, int hour, int minute, double second, fm_error *err);
 
 /* params with each of sun_elevation_deg, sun_azimuth_deg and earth_sun_distance_au that holds
- * FM_SUN_FROM_TIME computed from the date, time and place, as fm_sky_create computes them; the
- * rest copied.  For callers that place the sun themselves (fm_sky_live_render). */
+ * FM_SUN_FROM_TIME computed from the date, time and place (the distance from the date alone, 1 AU
+ * without a date), as fm_sky_create computes them; the rest copied.  For callers that place the sun themselves (fm_sky_live_render). */
 fm_status fm_sky_params_resolve_sun(const fm_sky_params *params, fm_sky_params *out, fm_error *err);
 
 /* Which sky parameters came from the solar position. */
 #define FM_SUN_COMPUTED_ELEVATION 1u
 #define FM_SUN_COMPUTED_AZIMUTH 2u
-#define FM_SUN_COMPUTED_DISTANCE 4u
+#define FM_SUN_COMPUTED_DISTANCE 4u /* the date's distance (with or without a time) */
+#define FM_SUN_MEAN_DISTANCE 8u     /* not a bit of the above: 1 AU, for want of a date */
 
-/* The solar position of a sky with a time of day: fills *out, *computed (may be NULL) with the
- * FM_SUN_COMPUTED_* bits, and returns 1; returns 0 for a sky without a time. */
+/* The solar position of a sky with a time of day: fills *out and returns 1; returns 0 for a sky
+ * without a time.  Either way *computed (may be NULL) gets the FM_SUN_COMPUTED_* bits and
+ * FM_SUN_MEAN_DISTANCE (without a time only the distance's can be set). */
 int fm_sky_solar_position(const fm_sky *sky, fm_solar_position *out, unsigned *computed);
 
 /* ---------------------------------------------------------------------------------------------
@@ -409,7 +415,7 @@ typedef struct fm_render_record {
     fm_sun_light sun;            /* direct sunlight at the observer */
     int has_solar;               /* the sky had a time of day: */
     fm_solar_position solar;     /* its solar position, and which of the sun's */
-    unsigned sun_computed;       /* parameters came from it (FM_SUN_COMPUTED_* bits) */
+    unsigned sun_computed;       /* parameters came from it (FM_SUN_COMPUTED_* bits, FM_SUN_MEAN_DISTANCE) */
     fm_quality quality;
     uint64_t seed;
     double sample_scale;

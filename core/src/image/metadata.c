@@ -228,6 +228,10 @@ void metadata_collect(metadata *m, const fm_image *img, const char *exr_path)
     else
         add_double(m, "parameters", "ozone_column_du", sp->ozone_column_du);
     add_double(m, "parameters", "earth_sun_distance_au", sp->earth_sun_distance_au);
+    add_string(m, "parameters", "earth_sun_distance_from",
+               r->sun_computed & FM_SUN_COMPUTED_DISTANCE ? "date"
+               : r->sun_computed & FM_SUN_MEAN_DISTANCE   ? "mean (no date)"
+                                                          : "given");
     if (!colour)
         add_double(m, "parameters", "wavelength_nm", sp->wavelength_nm);
     add_string(m, "parameters", "quality", quality_name(r->quality));

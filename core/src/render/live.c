@@ -33,7 +33,7 @@ static const double SUN_DEG[] = {-20, -17.5, -15, -12.5, -10, -8, -6, -4.5, -3, 
 fm_status live_sky_params(const fm_sky_params *params, fm_sky_params *out, fm_error *err)
 {
     fm_sky_params p = *params;
-    if (p.hour != FM_NO_TIME && p.earth_sun_distance_au == FM_SUN_FROM_TIME) {
+    if (p.earth_sun_distance_au == FM_SUN_FROM_TIME) { /* the date's (with or without a time), or 1 AU */
         fm_solar_position solar;
         unsigned computed;
         int has_solar;
@@ -41,7 +41,9 @@ fm_status live_sky_params(const fm_sky_params *params, fm_sky_params *out, fm_er
         if (s)
             return s;
     }
-    p.hour = FM_NO_TIME;
+    p.hour = FM_NO_TIME; /* and without a time the clock's fields shape nothing in the tables */
+    p.utc_offset_min = 0;
+    p.delta_t_s = FM_DELTA_T_ESTIMATE;
     p.sun_elevation_deg = 45.0;
     p.sun_azimuth_deg = 180.0;
     *out = p;
