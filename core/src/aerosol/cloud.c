@@ -1,4 +1,5 @@
 #include "aerosol/cloud.h"
+#include "aerosol/ice_halo.h"
 
 #include "base/status.h"
 #include "base/units.h"
@@ -57,22 +58,27 @@ double cloud_angle_rad(int j)
     return FM_PI * t * t;
 }
 
-/* Ice: p = f HG(g1) + (1 - f) HG(-g2).  The forward lobe carries the diffraction and the refracted
- * light, the backward one the internal reflections of hexagonal crystals; the total asymmetry
- * f g1 - (1 - f) g2 = 0.77 lies in the 0.74-0.80 of ray-traced habit mixtures and in-situ cirrus
- * (Baum et al. 2005, J. Appl. Meteor. 44, 1896; Garrett et al. 2003, GRL 30, 2132). */
+/* Ice: p = (1 - h) [f HG(g1) + (1 - f) HG(-g2)] + h halo.  The forward lobe carries the diffraction
+ * and the refracted light, the backward one the internal reflections of hexagonal crystals; the
+ * halo (aerosol/ice_halo.h) the light refracted through the crystals' 60-degree prisms, its share h
+ * firmament's choice: a ring 1.3 times as bright as the sky just inside it (smooth crystals make
+ * bright halos, rough and irregular ones none).  The total asymmetry, 0.776, lies in the 0.74-0.80 of
+ * ray-traced habit mixtures and in-situ cirrus (Baum et al. 2005, J. Appl. Meteor. 44, 1896; Garrett
+ * et al. 2003, GRL 30, 2132). */
 #define ICE_F 0.96
 #define ICE_G1 0.823
 #define ICE_G2 0.50
+#define ICE_HALO 0.05
 
 double cloud_ice_phase(double cos_theta)
 {
-    return ICE_F * phase_hg_eval(cos_theta, ICE_G1) + (1.0 - ICE_F) * phase_hg_eval(cos_theta, -ICE_G2);
+    double lobes = ICE_F * phase_hg_eval(cos_theta, ICE_G1) + (1.0 - ICE_F) * phase_hg_eval(cos_theta, -ICE_G2);
+    return (1.0 - ICE_HALO) * lobes + ICE_HALO * ice_halo_phase(cos_theta);
 }
 
 double cloud_ice_asymmetry(void)
 {
-    return ICE_F * ICE_G1 - (1.0 - ICE_F) * ICE_G2;
+    return (1.0 - ICE_HALO) * (ICE_F * ICE_G1 - (1.0 - ICE_F) * ICE_G2) + ICE_HALO * ice_halo_asymmetry();
 }
 
 /* m = n - ik of liquid water at lambda_nm, linear between the table's rows. */

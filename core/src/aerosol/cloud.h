@@ -10,7 +10,8 @@
  *
  * Ice clouds: extinction independent of wavelength (crystals much larger than the wavelength:
  * Q_ext = 2), no absorption in the visible, and a two-term Henyey-Greenstein phase function
- * (Kattawar 1975) p = f HG(g1) + (1 - f) HG(-g2) with the asymmetry parameter of cirrus, no halo.
+ * (Kattawar 1975) p = f HG(g1) + (1 - f) HG(-g2) with the asymmetry parameter of cirrus, and 5 % of
+ * the scattered light in a 22-degree halo (aerosol/ice_halo.h).
  *
  * A layer's amount is its optical depth at 550 nm, given directly, from a liquid water path
  *     tau = LWP * beta_ext / LWC = LWP * C_ext / (rho_w <V>)   (exact Mie; ~ 3 LWP / (2 rho_w r_eff)),
