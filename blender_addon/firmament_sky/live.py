@@ -242,10 +242,9 @@ def apply_reply(scene, reply, settings):
     img = _live_image(reply["output"])
     w = world.set_world(scene, settings, sun, img)
     w.pop(FINAL_KEY, None)
-    w.update_tag()
     for window in bpy.context.window_manager.windows if bpy.context.window_manager else ():
         for area in window.screen.areas:
-            if area.type in ("VIEW_3D", "PROPERTIES"):
+            if area.type == "VIEW_3D":  # the world's nodes and the lamp tag their own updates
                 area.tag_redraw()
 
 

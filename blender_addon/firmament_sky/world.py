@@ -357,8 +357,9 @@ def point_lamp(scene, direction, north_offset, below, cloudless=False):
     obj.rotation_euler = d.to_track_quat("Z", "Y").to_euler()  # the lamp shines along its -Z
     centre, radius = _scene_bounds(scene)
     obj.location = centre + d * (radius + 2.0)  # only for the viewport: outside the scene, toward the sun
-    clouded = not cloudless and obj.get(CLOUD_KEY, 1.0) < HIDDEN_BY_CLOUDS
-    obj.hide_render = obj.hide_viewport = below or clouded
+    hidden = below or (not cloudless and obj.get(CLOUD_KEY, 1.0) < HIDDEN_BY_CLOUDS)
+    if obj.hide_viewport != hidden or obj.hide_render != hidden:  # each set re-syncs the scene's collections
+        obj.hide_render = obj.hide_viewport = hidden
     return obj
 
 
