@@ -70,8 +70,10 @@ int main(int argc, char **argv)
         cloud_optics_source first, second;
         double computed = table_s(t, &grid, dir, &first), cached = table_s(t, &grid, dir, &second);
         double sky_cold = sky_s(t->name, NULL), sky_warm = sky_s(t->name, dir);
-        printf("%-14s %12.3f %12.4f %14.3f %14.3f%s\n", t->name, computed, cached, sky_cold, sky_warm,
-               first == CLOUD_OPTICS_COMPUTED && second == CLOUD_OPTICS_FROM_CACHE ? "" : "   (cache not used!)");
+        const char *note = second != CLOUD_OPTICS_FROM_CACHE ? "   (cache not used!)"
+                           : first == CLOUD_OPTICS_FROM_CACHE ? "   (an earlier type's droplets: its file)"
+                                                              : "";
+        printf("%-14s %12.3f %12.4f %14.3f %14.3f%s\n", t->name, computed, cached, sky_cold, sky_warm, note);
     }
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
