@@ -17,7 +17,8 @@ what the timers call (live.settle: live.send_pending, then live.poll until the r
 - The elevation driven by a frame expression and by an empty's height: lamp and map follow.
 - A killed server is restarted once; killed again, the error is reported and Live turns off.
 - Toggle off: the server process is gone (reaped: no zombie).
-- The sun from a clock time: the lamp at once toward `firmament sun`'s sun, the map's sun the same.
+- The sun from a clock time: the lamp at once toward `firmament sun`'s sun, the map's sun the same,
+  from the atmosphere already built for the angles on that date (one Earth-Sun distance).
 - F12 with Live on renders with a final-quality map of the settings, not the preview, once (a second
   F12 makes none); in 3.4 an animation of keyframed settings renders each frame with its own.
 - Opening a file ends the server; a file saved with Live on resumes it."""
@@ -285,7 +286,10 @@ p.live = False
 h.check(live._state["server"] is None and not os.path.exists("/proc/%d" % pid),
         "Live off: the server (pid %d) is gone" % pid)
 
-# the sun from the date, time and place: the lamp at once from `firmament sun`, then the map's
+# the sun from the date, time and place: the lamp at once from `firmament sun`, then the map's,
+# from the atmosphere of the angles on the same date (one Earth-Sun distance: no rebuild)
+replies, apply_reply = [], live.apply_reply
+live.apply_reply = lambda scene, reply, settings: (replies.append(reply), apply_reply(scene, reply, settings))
 p.last_message = ""
 p.live = True
 p.sun_source, p.hour, p.minute = "TIME", 10, 30
@@ -295,7 +299,9 @@ e, a = math.radians(sun["elevation_deg"]), math.radians(sun["azimuth_deg"])
 expected = Vector((math.cos(e) * math.sin(a), math.cos(e) * math.cos(a), math.sin(e)))
 h.close(angle_deg(lamp_direction(), expected), 0.0, 0.1, "clock time: lamp toward `firmament sun`'s sun at once (deg)")
 settled("clock time")
-share(live.server_cache_dir(), shared)  # another atmosphere: the date's Earth-Sun distance (angles: 1 AU)
+live.apply_reply = apply_reply
+h.check(replies[-1].get("cache") == "memory",  # a new server: its first request, the angles', loaded it
+        "a clock time on the angles' date: their atmosphere, in memory (%s)" % replies[-1].get("cache"))
 side = h.sidecar_of(live_image())
 h.close(angle_deg(Vector(side["sun"]["direction"]), expected), 0.0, 0.1, "clock time: the map's sun is the lamp's (deg)")
 p.sun_source = "ANGLES"
