@@ -68,9 +68,4 @@ void aureole_lookup_log(const aureole *a, const aureole_place *p, float *out);
  * to the sun phi, horizon at `horizon`, rad) blended with the grid's by aureole_weight, in logarithms. */
 void aureole_blend(const aureole *a, const aureole_frame *f, double e, double phi, double horizon, float *v);
 
-struct render_job;
-/* Fills the grid for the job's sky, whose sun stands at sun_elevation (rad), as the job's
- * single-scattering table is filled (render.c): the same estimator, points and ground. */
-fm_status aureole_fill(aureole *a, const struct render_job *job, double sun_elevation);
-
 #endif

@@ -7,6 +7,7 @@
 #include "base/platform.h"
 #include "base/status.h"
 #include "base/units.h"
+#include "render/aureole_fill.h"
 #include "render/ms_table.h"
 #include "render/render.h"
 #include "transport/shadow_flight_build.h"
