@@ -161,6 +161,93 @@ fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
     return s;
 }
 
+/* Where each of the file's channels goes in a pixel (offsets[i], -1: not read) and how many
+ * channels a pixel has: R, G and B together (3), or Y alone (1); 0 for anything else (a file with B
+ * only is not a colour image with R = G = 0). */
+static int channel_offsets(const exr_attr_chlist_t *cl, int offsets[4])
+{
+    unsigned found = 0;
+    for (int i = 0; i < cl->num_channels; i++) {
+        const char *n = cl->entries[i].name.str;
+        const char *names = "RGBY";
+        offsets[i] = -1;
+        for (int k = 0; k < 4; k++)
+            if (n[0] == names[k] && n[1] == '\0' && !(found & (1u << k))) {
+                found |= 1u << k;
+                offsets[i] = k == 3 ? 0 : k;
+            }
+    }
+    return found == 7u ? 3 : found == 8u ? 1 : 0;
+}
+
+/* An RGB file in another colour space (firmament's --colorspace): its matrix to XYZ from its
+ * chromaticities, so that comparisons are of luminance. */
+static void read_colour_space(exr_context_t c, fm_image *img)
+{
+    exr_attr_chromaticities_t chroma;
+    if (img->channels != 3 || exr_attr_get_chromaticities(c, 0, "chromaticities", &chroma) != EXR_ERR_SUCCESS)
+        return;
+    const float v[8] = {chroma.red_x,  chroma.red_y,  chroma.green_x, chroma.green_y,
+                         chroma.blue_x, chroma.blue_y, chroma.white_x, chroma.white_y};
+    double diff = 0.0;
+    for (int i = 0; i < 8; i++)
+        diff = fmax(diff, fabs(v[i] - fm_rec709_chromaticities[i]));
+    if (diff > 1e-5 && colour_matrix_from_chromaticities(v, img->rgb_to_xyz)) {
+        img->content = FM_IMAGE_RGB;
+        memcpy(img->chromaticities, v, sizeof v);
+        int32_t len = 0;
+        const char *name = NULL;
+        if (exr_attr_get_string(c, 0, "firmament.image.colorspace", &len, &name) != EXR_ERR_SUCCESS || !name)
+            name = "from the file's chromaticities";
+        snprintf(img->colorspace, sizeof img->colorspace, "%s", name);
+    }
+}
+
+/* Decodes every chunk into img's float pixels, each channel at its offset. */
+static fm_status decode_chunks(exr_context_t c, const char *path, const exr_attr_box2i_t *window,
+                               const exr_attr_chlist_t *cl, const int offsets[4], int lines, fm_image *img,
+                               fm_error *err)
+{
+    const exr_attr_box2i_t dw = *window;
+    const int W = img->width, H = img->height, C = img->channels;
+    fm_status s = FM_OK;
+    exr_decode_pipeline_t d = EXR_DECODE_PIPELINE_INITIALIZER;
+    int initialised = 0, routines = 0;
+    for (int y = 0; y < H && !s; y += lines) {
+        exr_chunk_info_t ci;
+        if (exr_read_scanline_chunk_info(c, 0, dw.min.y + y, &ci) ||
+            (initialised ? exr_decoding_update(c, 0, &ci, &d) : exr_decoding_initialize(c, 0, &ci, &d))) {
+            s = fm_fail(err, FM_ERR_IO, "cannot read '%s': %s", path, read_message);
+            break;
+        }
+        initialised = 1;
+        for (int k = 0; k < d.channel_count; k++) {
+            exr_coding_channel_info_t *ch = &d.channels[k];
+            int off = -1;
+            for (int i = 0; i < cl->num_channels; i++)
+                if (!strcmp(cl->entries[i].name.str, ch->channel_name))
+                    off = offsets[i];
+            ch->decode_to_ptr = off < 0 ? NULL : (uint8_t *)&img->pixels[((size_t)(ci.start_y - dw.min.y) * W) * C + off];
+            ch->user_pixel_stride = C * 4;
+            ch->user_line_stride = W * C * 4;
+            ch->user_bytes_per_element = 4;
+            ch->user_data_type = EXR_PIXEL_FLOAT;
+        }
+        if (!routines) {
+            if (exr_decoding_choose_default_routines(c, 0, &d)) {
+                s = fm_fail(err, FM_ERR_IO, "cannot read '%s': unsupported layout", path);
+                break;
+            }
+            routines = 1;
+        }
+        if (exr_decoding_run(c, 0, &d))
+            s = fm_fail(err, FM_ERR_IO, "cannot read '%s': %s", path, read_message);
+    }
+    if (initialised)
+        exr_decoding_destroy(c, &d);
+    return s;
+}
+
 static fm_status read_exr(const char *path, fm_image **out, fm_error *err)
 {
     exr_context_t c = NULL;
@@ -175,48 +262,20 @@ static fm_status read_exr(const char *path, fm_image **out, fm_error *err)
         s = fm_fail(err, FM_ERR_IO, "cannot read '%s': not a scanline image", path);
         goto done;
     }
-    int W = dw.max.x - dw.min.x + 1, H = dw.max.y - dw.min.y + 1; /* bounded by check_header */
-    int offsets[4] = {-1, -1, -1, -1}, C = 0;
-    /* R, G and B together, or Y alone: a file with B only is not a colour image with R = G = 0 */
-    unsigned found = 0;
-    for (int i = 0; i < cl->num_channels; i++) {
-        const char *n = cl->entries[i].name.str;
-        const char *names = "RGBY";
-        for (int k = 0; k < 4; k++)
-            if (n[0] == names[k] && n[1] == '\0' && !(found & (1u << k))) {
-                found |= 1u << k;
-                offsets[i] = k == 3 ? 0 : k;
-            }
-    }
-    C = found == 7u ? 3 : found == 8u ? 1 : 0;
+    int offsets[4];
+    const int C = channel_offsets(cl, offsets);
     if (!C) {
         s = fm_fail(err, FM_ERR_IO, "cannot read '%s': expected channels R, G and B, or Y alone", path);
         goto done;
     }
-    img = image_create(W, H, C, C == 3 ? FM_IMAGE_RGB_REC709 : FM_IMAGE_SPECTRAL_RADIANCE, 0, 0);
+    /* the window is bounded by check_header */
+    img = image_create(dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1, C,
+                       C == 3 ? FM_IMAGE_RGB_REC709 : FM_IMAGE_SPECTRAL_RADIANCE, 0, 0);
     if (!img) {
         s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory reading '%s'", path);
         goto done;
     }
-    /* an RGB file in another colour space (firmament's --colorspace): its matrix to XYZ from its
-     * chromaticities, so that comparisons are of luminance */
-    exr_attr_chromaticities_t chroma;
-    if (C == 3 && exr_attr_get_chromaticities(c, 0, "chromaticities", &chroma) == EXR_ERR_SUCCESS) {
-        const float v[8] = {chroma.red_x,  chroma.red_y,  chroma.green_x, chroma.green_y,
-                             chroma.blue_x, chroma.blue_y, chroma.white_x, chroma.white_y};
-        double diff = 0.0;
-        for (int i = 0; i < 8; i++)
-            diff = fmax(diff, fabs(v[i] - fm_rec709_chromaticities[i]));
-        if (diff > 1e-5 && colour_matrix_from_chromaticities(v, img->rgb_to_xyz)) {
-            img->content = FM_IMAGE_RGB;
-            memcpy(img->chromaticities, v, sizeof v);
-            int32_t len = 0;
-            const char *name = NULL;
-            if (exr_attr_get_string(c, 0, "firmament.image.colorspace", &len, &name) != EXR_ERR_SUCCESS || !name)
-                name = "from the file's chromaticities";
-            snprintf(img->colorspace, sizeof img->colorspace, "%s", name);
-        }
-    }
+    read_colour_space(c, img);
     exr_attr_v3d_t sun;
     if (exr_attr_get_v3d(c, 0, "firmament.sun.direction", &sun) == EXR_ERR_SUCCESS) {
         img->sun_direction[0] = sun.x;
@@ -224,39 +283,7 @@ static fm_status read_exr(const char *path, fm_image **out, fm_error *err)
         img->sun_direction[2] = sun.z;
     }
     read_camera(c, img);
-    exr_decode_pipeline_t d = EXR_DECODE_PIPELINE_INITIALIZER;
-    int started = 0;
-    for (int y = 0; y < H && !s; y += lines) {
-        exr_chunk_info_t ci;
-        if (exr_read_scanline_chunk_info(c, 0, dw.min.y + y, &ci) ||
-            (started ? exr_decoding_update(c, 0, &ci, &d) : exr_decoding_initialize(c, 0, &ci, &d))) {
-            s = fm_fail(err, FM_ERR_IO, "cannot read '%s': %s", path, read_message);
-            break;
-        }
-        for (int k = 0; k < d.channel_count; k++) {
-            exr_coding_channel_info_t *ch = &d.channels[k];
-            int off = -1;
-            for (int i = 0; i < cl->num_channels; i++)
-                if (!strcmp(cl->entries[i].name.str, ch->channel_name))
-                    off = offsets[i];
-            ch->decode_to_ptr = off < 0 ? NULL : (uint8_t *)&img->pixels[((size_t)(ci.start_y - dw.min.y) * W) * C + off];
-            ch->user_pixel_stride = C * 4;
-            ch->user_line_stride = W * C * 4;
-            ch->user_bytes_per_element = 4;
-            ch->user_data_type = EXR_PIXEL_FLOAT;
-        }
-        if (!started) {
-            if (exr_decoding_choose_default_routines(c, 0, &d)) {
-                s = fm_fail(err, FM_ERR_IO, "cannot read '%s': unsupported layout", path);
-                break;
-            }
-            started = 1;
-        }
-        if (exr_decoding_run(c, 0, &d))
-            s = fm_fail(err, FM_ERR_IO, "cannot read '%s': %s", path, read_message);
-    }
-    if (started)
-        exr_decoding_destroy(c, &d);
+    s = decode_chunks(c, path, &dw, cl, offsets, lines, img, err);
 done:
     exr_finish(&c);
     if (s) {

@@ -56,55 +56,61 @@ static double inverse_pixel_solid_angle(const camera *cam, omega_cache *cache, i
     return cache->inv_omega[slot];
 }
 
-fm_status sun_disk_rasterise(const fm_sky *sky, const camera *cam, fm_image *img)
+/* Points across the disk's diameter: 8 per pixel, within 256 to 2048; 0 when the sun is behind
+ * the camera. */
+static int disk_points(const fm_sky *sky, const camera *cam, int width)
 {
-    const atmosphere *atm = &sky->atm;
-    const sun_disk *sun = &sky->sun;
-    const int K = atm->grid.count, W = img->width, H = img->height, C = img->channels;
-    const double a = sun->angular_radius;
-    /* points 8 per pixel across the disk (within 256 to 2048 across it) */
+    const double a = sky->sun.angular_radius;
     int n;
     if (cam->type == FM_CAMERA_EQUIRECT) {
-        n = (int)ceil(2.0 * a / (2.0 * FM_PI / W) * 8.0);
+        n = (int)ceil(2.0 * a / (2.0 * FM_PI / width) * 8.0);
     } else {
         double pixel = pixel_angle_at(cam, sky->sun_dir);
         if (!(pixel > 0.0))
-            return FM_OK; /* behind the camera */
+            return 0;
         n = (int)fmin(4096.0, ceil(2.0 * a / pixel * 8.0));
     }
-    n = n < 256 ? 256 : (n > 2048 ? 2048 : n);
-    omega_cache *cache = NULL;
-    if (cam->type != FM_CAMERA_EQUIRECT) {
-        if (!(cache = malloc(sizeof *cache)))
-            return FM_ERR_OUT_OF_MEMORY;
-        for (int i = 0; i < OMEGA_CACHE; i++)
-            cache->pixel[i] = -1;
-    }
+    return n < 256 ? 256 : (n > 2048 ? 2048 : n);
+}
 
-    /* optical depth (every wavelength) versus the cosine of the zenith angle across the disk */
-    double robs = v3_length(sky->observer);
-    assert(robs >= atm->bottom_radius_m && robs < atm->top_radius_m);
+/* The disk's extent in cosines of the zenith angle, and the optical depth (every wavelength) at
+ * DISK_DEPTH_SAMPLES cosines across it: depth[i * K + k], INFINITY where the ground blocks. */
+typedef struct disk_span {
+    double robs, mu_lo, mu_hi;
+} disk_span;
+
+static void disk_depths(const fm_sky *sky, disk_span *span, double *depth)
+{
+    const atmosphere *atm = &sky->atm;
+    const int K = atm->grid.count;
+    const double a = sky->sun.angular_radius;
+    span->robs = v3_length(sky->observer);
+    assert(span->robs >= atm->bottom_radius_m && span->robs < atm->top_radius_m);
     assert(fabs(v3_length(sky->sun_dir) - 1.0) < 1e-12);
     double e0 = asin(clamp_cosine(sky->sun_dir.z));
-    double mu_lo = sin(e0 - 1.01 * a), mu_hi = sin(fmin(e0 + 1.01 * a, 0.5 * FM_PI));
-    double *depth = malloc(sizeof(double) * DISK_DEPTH_SAMPLES * (size_t)K);
-    if (!depth) {
-        free(cache);
-        return FM_ERR_OUT_OF_MEMORY;
-    }
+    span->mu_lo = sin(e0 - 1.01 * a);
+    span->mu_hi = sin(fmin(e0 + 1.01 * a, 0.5 * FM_PI));
     double col[FM_MAX_SPECIES];
     for (int i = 0; i < DISK_DEPTH_SAMPLES; i++) {
-        double mu = mu_lo + (mu_hi - mu_lo) * i / (DISK_DEPTH_SAMPLES - 1);
-        int blocked = ray_hits_ground(atm, robs, mu);
+        double mu = span->mu_lo + (span->mu_hi - span->mu_lo) * i / (DISK_DEPTH_SAMPLES - 1);
+        int blocked = ray_hits_ground(atm, span->robs, mu);
         if (!blocked)
-            column_quadrature(atm, robs, mu, ray_distance_to_top(atm, robs, mu), col);
+            column_quadrature(atm, span->robs, mu, ray_distance_to_top(atm, span->robs, mu), col);
         for (int k = 0; k < K; k++)
             depth[i * K + k] = blocked ? INFINITY : atmosphere_optical_depth(atm, col, k);
     }
+}
 
-    /* limb-darkening normalisation per wavelength, to sum to 1 over the disk's points: the limb
-     * darkening is a polynomial in mu2 (sun_disk.h), so its sum is the coefficients times the sums of
-     * the powers of mu2 over the points */
+/* Per depth sample and power of mu2, the channels of the disk's light (light[(i * LD_TERMS + p) *
+ * C]): a point's light is the sum over the powers of mu2^p times the samples' (linear between
+ * them), so each point costs a few multiplications instead of an exponential per wavelength.  The
+ * limb darkening is a polynomial in mu2 (sun_disk.h), normalised per wavelength to sum to 1 over the
+ * disk's n x n points: its sum is the coefficients times the sums of the powers of mu2. */
+static void disk_light(const fm_sky *sky, int n, int C, const double *depth, float *light)
+{
+    const atmosphere *atm = &sky->atm;
+    const sun_disk *sun = &sky->sun;
+    const int K = atm->grid.count;
     double power_sum[LD_TERMS] = {0};
     for (int j = 0; j < n; j++)
         for (int i = 0; i < n; i++) {
@@ -115,15 +121,6 @@ fm_status sun_disk_rasterise(const fm_sky *sky, const camera *cam, fm_image *img
             for (int p = 0; p < LD_TERMS; p++, m *= mu2)
                 power_sum[p] += m;
         }
-    /* per depth sample and power of mu2, the channels of the disk's light: a point's is the sum over
-     * the powers of mu2^p times the samples' (linear between them), so each point costs a few
-     * multiplications instead of an exponential per wavelength */
-    float *light = malloc(sizeof(float) * DISK_DEPTH_SAMPLES * LD_TERMS * (size_t)C);
-    if (!light) {
-        free(depth);
-        free(cache);
-        return FM_ERR_OUT_OF_MEMORY;
-    }
     for (int i = 0; i < DISK_DEPTH_SAMPLES; i++)
         for (int p = 0; p < LD_TERMS; p++) {
             double L[FM_MAX_WAVELENGTHS];
@@ -135,6 +132,15 @@ fm_status sun_disk_rasterise(const fm_sky *sky, const camera *cam, fm_image *img
             }
             render_channels(atm, C, L, &light[((size_t)i * LD_TERMS + p) * C]);
         }
+}
+
+/* Adds each of the disk's n x n points to the pixel that holds it, in img->sun_disk. */
+static void disk_splat(const fm_sky *sky, const camera *cam, omega_cache *cache, int n, const disk_span *span,
+                       const double *depth, const float *light, fm_image *img)
+{
+    const atmosphere *atm = &sky->atm;
+    const int K = atm->grid.count, W = img->width, C = img->channels;
+    const double a = sky->sun.angular_radius;
     frame f = frame_from_normal(sky->sun_dir);
     for (int j = 0; j < n; j++)
         for (int i = 0; i < n; i++) {
@@ -143,12 +149,12 @@ fm_status sun_disk_rasterise(const fm_sky *sky, const camera *cam, fm_image *img
                 continue;
             vec3 d = v3_normalize(frame_to_world(&f, v3(tan(a) * x, tan(a) * y, 1.0)));
             assert(fabs(v3_length(d) - 1.0) < 1e-12);
-            if (ray_hits_ground(atm, robs, d.z)) /* the observer's zenith is +Z */
+            if (ray_hits_ground(atm, span->robs, d.z)) /* the observer's zenith is +Z */
                 continue;
             int px, py;
             if (!camera_pixel(cam, d, &px, &py))
                 continue;
-            double fd = (d.z - mu_lo) / (mu_hi - mu_lo) * (DISK_DEPTH_SAMPLES - 1);
+            double fd = (d.z - span->mu_lo) / (span->mu_hi - span->mu_lo) * (DISK_DEPTH_SAMPLES - 1);
             int id = (int)fd;
             id = id < 0 ? 0 : (id > DISK_DEPTH_SAMPLES - 2 ? DISK_DEPTH_SAMPLES - 2 : id);
             double td = fd - id;
@@ -167,10 +173,32 @@ fm_status sun_disk_rasterise(const fm_sky *sky, const camera *cam, fm_image *img
                 img->sun_disk[idx + c] += (float)(v * inv_omega);
             }
         }
+}
+
+fm_status sun_disk_rasterise(const fm_sky *sky, const camera *cam, fm_image *img)
+{
+    const int n = disk_points(sky, cam, img->width), C = img->channels;
+    if (!n)
+        return FM_OK; /* behind the camera */
+    omega_cache *cache = cam->type != FM_CAMERA_EQUIRECT ? malloc(sizeof *cache) : NULL;
+    double *depth = malloc(sizeof(double) * DISK_DEPTH_SAMPLES * (size_t)sky->atm.grid.count);
+    float *light = malloc(sizeof(float) * DISK_DEPTH_SAMPLES * LD_TERMS * (size_t)C);
+    if ((cam->type != FM_CAMERA_EQUIRECT && !cache) || !depth || !light) {
+        free(light);
+        free(depth);
+        free(cache);
+        return FM_ERR_OUT_OF_MEMORY;
+    }
+    for (int i = 0; cache && i < OMEGA_CACHE; i++)
+        cache->pixel[i] = -1;
+    disk_span span;
+    disk_depths(sky, &span, depth);
+    disk_light(sky, n, C, depth, light);
+    disk_splat(sky, cam, cache, n, &span, depth, light, img);
     free(light);
     free(depth);
     free(cache);
-    size_t total = (size_t)W * H * C;
+    size_t total = (size_t)img->width * img->height * C;
     for (size_t i = 0; i < total; i++)
         img->pixels[i] += img->sun_disk[i];
     return FM_OK;
