@@ -63,11 +63,11 @@ def build_arguments(executable, opts, s, output, sidecar, disk_map=None):
                  "--utc-offset", format_utc_offset(s["utc_offset"]),
                  "--latitude", repr(float(s["latitude"])), "--longitude", repr(float(s["longitude"]))]
     else:
+        # the date sets the Earth-Sun distance, as with a clock time
         args += ["--sun-elevation", repr(float(s["sun_elevation"])),
-                 "--sun-azimuth", repr(float(s["sun_azimuth"]))]
+                 "--sun-azimuth", repr(float(s["sun_azimuth"])), "--date", date]
         if s["ozone_mode"] == "AUTO":  # the climatology's column depends on the date and the place
-            args += ["--date", date, "--latitude", repr(float(s["latitude"])),
-                     "--longitude", repr(float(s["longitude"]))]
+            args += ["--latitude", repr(float(s["latitude"])), "--longitude", repr(float(s["longitude"]))]
     args += aerosol_options(s) + cloud_options(s)
     if s["ozone_mode"] == "MANUAL":
         args += ["--ozone-du", repr(float(s["ozone_du"]))]

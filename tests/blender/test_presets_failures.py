@@ -150,6 +150,16 @@ side = json.load(open(os.path.join(folder, "a.json"))) if done.returncode == 0 e
 h.check(side.get("parameters", {}).get("longitude_deg") == 151.2,
         "angles + climatology ozone renders at that longitude: %s %s" % (done.stderr, side.get("parameters")))
 
+# --- the sun given by angles with a given ozone column: the date still sets the Earth-Sun distance,
+# as it does for a clock time on that date
+angles.update(ozone_mode="MANUAL", ozone_du=300.0, year=2024, month=1, day=3)
+args = command.build_arguments(h.EXE, options.load(h.EXE), angles, os.path.join(folder, "m.exr"), os.path.join(folder, "m.json"))
+done = subprocess.run(args, capture_output=True, text=True)
+side = json.load(open(os.path.join(folder, "m.json"))) if done.returncode == 0 else {}
+params = side.get("parameters", {})
+h.check(params.get("earth_sun_distance_from") == "date" and abs(params.get("earth_sun_distance_au", 0) - 0.9833) < 2e-4,
+        "angles + given ozone: the date's Earth-Sun distance: %s %s" % (done.stderr, params))
+
 # --- the non-blocking runner, polled as the modal timer does, then cancelled ----------------------
 for line, want in (('{"event": "progress", "fraction": 0.42, "stage": "multiple scattering"}', (0.42, "multiple scattering")),
                    ('{"event": "progress", "fraction": 1.7, "stage": "x"}', (1.0, "x")),
