@@ -1,14 +1,18 @@
 /* Base utilities: Gauss-Legendre exactness, random-number streams, the Sobol points and their
- * scramble, the parallel loop, the spectral arrays' exp and expm1. */
+ * scramble, the parallel loop, the spectral arrays' exp and expm1, new unique files. */
+#define _POSIX_C_SOURCE 200809L
 #include "check.h"
 
 #include "base/exp_array.h"
+#include "base/platform.h"
 #include "base/quadrature.h"
 #include "base/rng.h"
 #include "base/sobol.h"
 #include "base/threads.h"
 
 #include <math.h>
+#include <stdio.h>
+#include <sys/stat.h>
 
 static void gauss_legendre_is_exact_for_polynomials(void **state)
 {
@@ -241,6 +245,28 @@ static void log_array_matches_libm(void **state)
     assert_true(ulps(edge[3], log(2.0)) <= 4.0 && ulps(edge[4], log(1e-87)) <= 4.0);
 }
 
+/* platform_create_unique: a new empty file per call, with a new file's permissions (the umask
+ * applied to 0666, not mkstemp's 0600), and -1 in a folder that does not exist. */
+static void unique_files_have_new_file_permissions(void **state)
+{
+    mode_t mask = umask(022);
+    char a[64], b[64];
+    snprintf(a, sizeof a, "%s/fm-unique-XXXXXX", platform_temp_dir());
+    snprintf(b, sizeof b, "%s/fm-unique-XXXXXX", platform_temp_dir());
+    assert_int_equal(platform_create_unique(a), 0);
+    assert_int_equal(platform_create_unique(b), 0);
+    assert_string_not_equal(a, b);
+    struct stat st;
+    assert_int_equal(stat(a, &st), 0);
+    assert_int_equal(st.st_mode & 0777, 0644);
+    assert_int_equal(st.st_size, 0);
+    remove(a);
+    remove(b);
+    char missing[] = "/nonexistent-fm-folder/x-XXXXXX";
+    assert_int_equal(platform_create_unique(missing), -1);
+    umask(mask);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -253,6 +279,7 @@ int main(void)
         cmocka_unit_test(parallel_for_visits_every_item_once),
         cmocka_unit_test(exp_arrays_match_libm),
         cmocka_unit_test(log_array_matches_libm),
+        cmocka_unit_test(unique_files_have_new_file_permissions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -8,6 +8,8 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <stdint.h>
+#include <sys/random.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <time.h>
@@ -140,17 +142,32 @@ void platform_unlock(platform_lock *l)
     free(l);
 }
 
+/* O_EXCL with mode 0666: the kernel applies the umask as to any new file (mkstemp's 0600 would need
+ * the umask, which only umask() reads, setting it process-wide for a moment). */
 int platform_create_unique(char *name_template)
 {
-    int fd = mkstemp(name_template);
-    if (fd < 0)
+    static const char letters[] = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789";
+    size_t len = strlen(name_template);
+    if (len < 6 || strcmp(name_template + len - 6, "XXXXXX") != 0) {
+        errno = EINVAL;
         return -1;
-    /* mkstemp creates 0600; give the file the usual permissions for a new file */
-    mode_t mask = umask(0);
-    umask(mask);
-    fchmod(fd, 0666 & ~mask);
-    close(fd);
-    return 0;
+    }
+    for (int attempt = 0; attempt < 100; attempt++) {
+        uint64_t r = 0;
+        if (getrandom(&r, sizeof r, 0) != (ssize_t)sizeof r) {
+            struct timespec t;
+            clock_gettime(CLOCK_MONOTONIC, &t);
+            r = ((uint64_t)t.tv_nsec << 20) ^ (uint64_t)getpid() ^ (uint64_t)attempt * 0x9E3779B97F4A7C15u;
+        }
+        for (size_t i = len - 6; i < len; i++, r /= 62)
+            name_template[i] = letters[r % 62];
+        int fd = open(name_template, O_CREAT | O_EXCL | O_WRONLY | O_CLOEXEC, 0666);
+        if (fd >= 0)
+            return close(fd);
+        if (errno != EEXIST)
+            return -1;
+    }
+    return -1;
 }
 
 const char *platform_temp_dir(void)
