@@ -164,14 +164,12 @@ fm_status cloud_water_table_get(const cloud_type *t, const spectral_grid *grid, 
                                 cloud_water_table *out, cloud_optics_source *source, fm_error *err)
 {
     memset(out, 0, sizeof *out);
+    if (t->ice)
+        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "'%s' is an ice cloud", t->name);
     out->count = grid->count;
     out->phase = malloc(sizeof(double) * (size_t)grid->count * CLOUD_ANGLE_COUNT);
     if (!out->phase)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the cloud phase functions");
-    if (t->ice) {
-        cloud_water_table_free(out);
-        return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "'%s' is an ice cloud", t->name);
-    }
     char key[33], path[4096];
     int cached = cache_dir && cache_dir[0];
     if (cached) {

@@ -92,19 +92,19 @@ fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *e
 
 /* A copy of the live sky's fm_sky with the sun at (elevation, azimuth): the tables are shared,
  * read-only (sky_sun.c); free() it. */
-static fm_sky *sky_with_sun(const fm_sky_live *live, double elevation_deg, double azimuth_deg, fm_error *err)
+static fm_status sky_with_sun(const fm_sky_live *live, double elevation_deg, double azimuth_deg, fm_sky **out,
+                              fm_error *err)
 {
-    fm_sky *sky = malloc(sizeof *sky);
-    if (!sky) {
-        fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
-        return NULL;
-    }
+    fm_sky *sky = *out = malloc(sizeof *sky);
+    if (!sky)
+        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
     *sky = *live->sky;
-    if (fm_sky_set_sun(sky, elevation_deg, azimuth_deg, err)) {
+    fm_status s = fm_sky_set_sun(sky, elevation_deg, azimuth_deg, err);
+    if (s) {
         free(sky);
-        return NULL;
+        *out = NULL;
     }
-    return sky;
+    return s;
 }
 
 /* The tables of one node: the fast path's, for a sun at the node's elevation; in deep twilight its
@@ -112,9 +112,10 @@ static fm_sky *sky_with_sun(const fm_sky_live *live, double elevation_deg, doubl
 static fm_status build_node(fm_sky_live *live, live_node *node, const shadow_flight_columns *flights,
                             const atomic_int *cancel, fm_error *err)
 {
-    fm_sky *sky = sky_with_sun(live, node->sun_elevation_deg, 180.0, err);
-    if (!sky)
-        return err->status;
+    fm_sky *sky = NULL;
+    fm_status built = sky_with_sun(live, node->sun_elevation_deg, 180.0, &sky, err);
+    if (built)
+        return built;
     fm_render_params rp = fm_render_params_default();
     rp.quality = live->quality;
     rp.sample_scale = live->sample_scale;
@@ -166,9 +167,10 @@ static fm_status shared_flights(const fm_sky_live *live, double from_deg, double
     }
     if (!(lo <= hi))
         return FM_OK;
-    fm_sky *sky = sky_with_sun(live, lo, 180.0, err);
-    if (!sky)
-        return err->status;
+    fm_sky *sky = NULL;
+    fm_status built = sky_with_sun(live, lo, 180.0, &sky, err);
+    if (built)
+        return built;
     path_context single = sky_path_context(sky, 1, 1);
     double up_to = (hi + (SHADOW_FLIGHT_SUNS - 1)) * FM_DEG;
     fm_status s = shadow_flight_columns_build(c, &single, sky->observer, up_to, live->params.threads, cancel);
@@ -315,9 +317,10 @@ fm_status fm_sky_live_render(const fm_sky_live *live, double sun_elevation_deg, 
     *out = NULL;
     if (render->spectral)
         return fm_fail_parameter(err, "spectral", "a live sky makes colour maps only");
-    fm_sky *sky = sky_with_sun(live, sun_elevation_deg, sun_azimuth_deg, err);
-    if (!sky)
-        return err->status;
+    fm_sky *sky = NULL;
+    fm_status built = sky_with_sun(live, sun_elevation_deg, sun_azimuth_deg, &sky, err);
+    if (built)
+        return built;
     fm_render_params rp = *render;
     rp.quality = live->quality;
     rp.sample_scale = live->sample_scale;

@@ -28,8 +28,8 @@
 /* From this sun elevation down heavy paths are not split (path.c).  There the air near the observer
  * lies deep in the Earth's shadow, the light at a path's first point is tiny, and the roulette's
  * lift passes the split weight at nearly every vertex; as copies inherit what is left of the
- * budget, a path grew into 30 copies at sun -28 and thousands at -35, for a sky darker than
- * starlight by five decades (docs/decisions/2026-12-06-night-paths.md). */
+ * budget, the copies multiply with the depth of the sun, for a sky darker than starlight by five
+ * decades (docs/decisions/2026-12-06-night-paths.md). */
 #define SPLIT_UNTIL_DEG -21.0
 
 int twilight_deep(double sun_elevation_deg) { return sun_elevation_deg < DEEP_TWILIGHT_DEG; }
