@@ -24,6 +24,7 @@ from . import command, maps, operators, options, preferences, properties, runner
 
 LIVE_WIDTH = 512  # px; height 256
 DEBOUNCE_S = 0.03
+RETRY_S = 2.0  # a request refused for want of the executable (or its timing out) is tried again after this
 POLL_S = 0.01
 IMAGE_NAME = "Firmament Live Sky"
 LIVE_TAG = "firmament_live"  # the live image's custom property (not the maps' TAG: never saved or packed)
@@ -109,6 +110,12 @@ def report(scene, message):
         pass  # no window (background mode): the panel's line and the console have it
 
 
+def refused_already(scene, req):
+    """Whether this request of this scene was refused and reported, and is not yet due a retry."""
+    r = _state["refused"]
+    return r is not None and r[:2] == (scene.name, req) and (r[2] is None or time.monotonic() < r[2])
+
+
 def request_update(scene):
     """A sky setting of scene may have changed: if the map depends on it, the lamp turns now and the
     map is asked for now, or when one is awaited, by a DEBOUNCE_S timer that sends the newest.
@@ -120,14 +127,16 @@ def request_update(scene):
     req = None
     try:
         req = request_of(s)
-        if (req == _state["last"] and scene.name == _state["scene"]) or (scene.name, req) == _state["refused"]:
+        if (req == _state["last"] and scene.name == _state["scene"]) or refused_already(scene, req):
             return  # nothing the map depends on changed (e.g. a frame without keyframes), or said already
         exe, opts = preferences.executable_and_options()
         command.validate(s, opts)
         direction, elevation = sun_direction(s)
     except (preferences.NotFound, options.OptionsError, command.SettingsError, OSError, ValueError,
             subprocess.TimeoutExpired) as e:
-        _state["refused"] = (scene.name, req)
+        # a setting stays refused until it changes; the executable or its preference may come back
+        settings_error = isinstance(e, (command.SettingsError, ValueError))
+        _state["refused"] = (scene.name, req, None if settings_error else time.monotonic() + RETRY_S)
         report(scene, e)
         return
     if s["sun_mode"] != "DISK":

@@ -188,6 +188,20 @@ bpy.context.view_layer.update()
 h.check(p.last_message == "", "the refused biome not reported again at a depsgraph update: %s" % p.last_message)
 p.biome = "rural"
 
+# an executable that cannot be found is not a setting: reported once, and once the preference points
+# at one again, the same request is tried again (after live.RETRY_S) with no change of the sky's
+prefs = h.preferences()
+good = prefs.executable
+prefs.executable = "/nonexistent/firmament"
+p.sun_elevation = 37.0
+h.check("executable" in p.last_message, "a missing executable reported: %s" % p.last_message)
+prefs.executable = good
+p.last_message = ""
+time.sleep(live.RETRY_S + 0.1)
+bpy.context.view_layer.update()
+settled("the executable back")
+h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], 37.0, 1e-6, "the executable back: the refused request made")
+
 # undo and redo, with steps pushed as the interface pushes them: right after an edit, before its map
 # is in (a step holds the new settings and lamp, and the image of the map before)
 zenith_at = {}
