@@ -29,7 +29,7 @@ struct fm_sky {
     /* Under a deck the sun does not pierce (a layer of optical depth SKY_TRUNCATE_TAU or more at 550
      * nm), the same sky with those layers' forward peaks truncated (delta-M, cloud_layer.h), built
      * with it: the fast path's multiple-scattering paths (orders >= 2, and the ground's diffuse light)
-     * trace its media, seen with this sky's sun and observer (sky_scattering_media), while single
+     * trace its media, seen with this sky's sun (scattering_path_context, twilight.h), while single
      * scattering, the sun's disk and direct light and the reference mode keep the full phase function
      * (delta-M with exact single scattering: Nakajima & Tanaka 1988).  NULL otherwise. */
     struct fm_sky *truncated;

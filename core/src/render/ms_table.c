@@ -117,8 +117,7 @@ static void node_paths(void *ctx, int64_t begin, int64_t end, int thread)
     ms_table *t = job->ms;
     const fm_sky *sky = job->sky;
     const int K = sky->atm.grid.count;
-    path_context pc = twilight_path_context(sky_scattering_media(sky), job->twilight, 2, 0);
-    pc.sun_dir = sky->sun_dir;
+    path_context pc = scattering_path_context(sky, job->twilight, 2, 0);
     pc.skip_ground_first = 1;
     if (t->rising_segments)
         pc.segment_sunlight = SEGMENT_SUNLIGHT_RISING;

@@ -267,8 +267,7 @@ static fm_status build_ground(render_job *job, int *from_table)
 {
     const fm_sky *sky = job->sky;
     const quality_settings *q = &job->q;
-    path_context all = twilight_path_context(sky_scattering_media(sky), job->twilight, 1, 0);
-    all.sun_dir = sky->sun_dir;
+    path_context all = scattering_path_context(sky, job->twilight, 1, 0);
     all.segment_sunlight = SEGMENT_SUNLIGHT_ALL;
     double r_obs = v3_length(sky->observer);
     double visible = acos(fmin(1.0, sky->atm.bottom_radius_m / r_obs)); /* ground seen up to the horizon */

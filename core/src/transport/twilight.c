@@ -78,6 +78,13 @@ path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *t
     return pc;
 }
 
+path_context scattering_path_context(const fm_sky *sky, const twilight_sampling *tw, int min_order, int max_order)
+{
+    path_context pc = twilight_path_context(sky_scattering_media(sky), tw, min_order, max_order);
+    pc.sun_dir = sky->sun_dir;
+    return pc;
+}
+
 void table_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
                       uint64_t item, int offset, double *L, node_moments *m, double *shape, node_orders *orders)
 {

@@ -40,6 +40,11 @@ fm_status twilight_sampling_create(const fm_sky *sky, int guide_offsets, const s
 /* sky_path_context (sky_path.h) with, when tw is not NULL, the twilight sampling. */
 path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *tw, int min_order, int max_order);
 
+/* twilight_path_context over the media the fast path's multiple scattering traces
+ * (sky_scattering_media, sky.h), with this sky's sun: a truncated copy keeps the sun it was built
+ * with (fm_sky_set_sun and live.c's copies move only the sky's own). */
+path_context scattering_path_context(const fm_sky *sky, const twilight_sampling *tw, int min_order, int max_order);
+
 #define NODE_BATCHES 16
 
 /* What the standard errors of a node's estimate need: the sum over its paths of the squared
