@@ -71,6 +71,8 @@ static int searched_bin(const phase_table *t, double cos_theta)
     return lo;
 }
 
+static void sample_bins(phase_table *t, int k);
+
 fm_status phase_table_create(phase_table **out, int K, int n, const double *theta_rad, const double *values,
                              fm_error *err)
 {
@@ -87,7 +89,8 @@ fm_status phase_table_create(phase_table **out, int K, int n, const double *thet
     t->value = malloc((size_t)K * n * sizeof *t->value);
     t->cdf = malloc((size_t)K * n * sizeof *t->cdf);
     t->first_bin = malloc((size_t)(2 * n - 1) * sizeof *t->first_bin);
-    if (!t->mu || !t->value || !t->cdf || !t->first_bin) {
+    t->sample_bin = malloc((size_t)K * n * sizeof *t->sample_bin);
+    if (!t->mu || !t->value || !t->cdf || !t->first_bin || !t->sample_bin) {
         phase_table_destroy(t);
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for a phase table");
     }
@@ -126,12 +129,28 @@ fm_status phase_table_create(phase_table **out, int K, int n, const double *thet
         for (int j = 1; j < n; j++)
             cdf[j] /= sum;
     }
+    for (int k = 0; k < K; k++)
+        sample_bins(t, k);
     for (int m = 0, steps = 2 * n - 2; m <= steps; m++) {
         double u = (double)m / steps;
         t->first_bin[m] = searched_bin(t, 1.0 - 2.0 * u * u * u * u);
     }
     *out = t;
     return FM_OK;
+}
+
+/* For wavelength k, sample_bin[m] = the largest j <= n-2 with cdf_j <= m / (n - 1). */
+static void sample_bins(phase_table *t, int k)
+{
+    const int n = t->angle_count;
+    const double *cdf = t->cdf + (size_t)k * n;
+    int *bin = t->sample_bin + (size_t)k * n;
+    for (int m = 0, j = 0; m < n; m++) {
+        double u = (double)m / (n - 1);
+        while (j < n - 2 && cdf[j + 1] <= u)
+            j++;
+        bin[m] = j;
+    }
 }
 
 void phase_table_destroy(phase_table *t)
@@ -142,6 +161,7 @@ void phase_table_destroy(phase_table *t)
     free(t->value);
     free(t->cdf);
     free(t->first_bin);
+    free(t->sample_bin);
     free(t);
 }
 
@@ -192,16 +212,13 @@ double phase_table_sample(const phase_table *t, int k, double u)
 {
     const int n = t->angle_count;
     const double *cdf = t->cdf + (size_t)k * n;
-    /* bin: largest j <= n-2 with cdf_j <= u (cdf ascending from 0), which skips empty bins */
-    int lo = 0, hi = n - 1;
-    while (hi - lo > 1) {
-        int mid = lo + (hi - lo) / 2;
-        if (cdf[mid] <= u)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    const int j = lo;
+    /* bin: largest j <= n-2 with cdf_j <= u (cdf ascending from 0), which skips empty bins; from the
+     * bin of u's step, which is at most that (a droplet table's forward peak made a binary search
+     * over its angles the slowest part of a walk through a deck) */
+    double step = u * (n - 1);
+    int j = t->sample_bin[(size_t)k * n + (step > 0.0 ? (step < n - 1 ? (int)step : n - 1) : 0)];
+    while (j < n - 2 && cdf[j + 1] <= u)
+        j++;
     const double v0 = t->value[(size_t)j * t->wavelength_count + k], v1 = t->value[(size_t)(j + 1) * t->wavelength_count + k];
     const double width = t->mu[j] - t->mu[j + 1];
     /* Inside the bin, with x = mu_j - cos_theta in [0, width], the probability of [0, x] is

@@ -22,6 +22,8 @@ typedef struct phase_table {
     double *cdf;          /* [K][n] probability of cos_theta >= mu_j */
     int *first_bin;       /* [2n - 1]: the bin at the start of each of 2n - 2 equal steps of
                            * u = (sin(theta / 2))^(1/2) (phase_table_bin) */
+    int *sample_bin;      /* [K][n]: per wavelength, the bin that phase_table_sample's u of each of
+                           * n - 1 equal steps starts its search from */
 } phase_table;
 
 /* Builds *out from values[k * angle_count + j] at theta_rad[j]; checks the inputs as

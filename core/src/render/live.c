@@ -146,6 +146,7 @@ static fm_status build_node(fm_sky_live *live, live_node *node, const shadow_fli
     sky_grid_free(&job.ss);
     ms_table_free(&ms);
     ground_irradiance_free(&job.ground);
+    deck_base_free(&job.deck);
     free(sky);
     return s;
 }

@@ -119,6 +119,7 @@ static void node_paths(void *ctx, int64_t begin, int64_t end, int thread)
     const int K = sky->atm.grid.count;
     path_context pc = scattering_path_context(sky, job->twilight, 2, 0);
     pc.skip_ground_first = 1;
+    pc.deck = job->under_deck;
     if (t->rising_segments)
         pc.segment_sunlight = SEGMENT_SUNLIGHT_RISING;
     for (int64_t i = begin; i < end; i++) {

@@ -17,6 +17,7 @@ quality_settings render_quality_settings(fm_quality quality, double scale)
             .ground_paths = 4096, .ground_rows = 24, .ground_cols = 32,
             .subpixels = 2, .reference_paths = 64, .ss_points = 3,
             .guide_offsets = 1, /* the offsets' tables would be a third of a preview's time */
+            .deck_photons = 4096,
         };
         break;
     case FM_QUALITY_REFERENCE:
@@ -28,11 +29,13 @@ quality_settings render_quality_settings(fm_quality quality, double scale)
             .ground_paths = 16384, .ground_rows = 32, .ground_cols = 32,
             .subpixels = 3, .reference_paths = 256, .ss_points = 3,
             .guide_offsets = SKY_GUIDE_MAX_OFFSETS,
+            .deck_photons = 32768,
         };
         break;
     }
     q.ms_paths = (int)fmax(1.0, round(q.ms_paths * scale));
     q.ground_paths = (int)fmax(1.0, round(q.ground_paths * scale));
+    q.deck_photons = (int)fmax(1.0, round(q.deck_photons * scale));
     q.reference_paths = (int)fmax(1.0, round(q.reference_paths * scale));
     return q;
 }

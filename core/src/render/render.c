@@ -269,6 +269,7 @@ static fm_status build_ground(render_job *job, int *from_table)
     const quality_settings *q = &job->q;
     path_context all = scattering_path_context(sky, job->twilight, 1, 0);
     all.segment_sunlight = SEGMENT_SUNLIGHT_ALL;
+    all.deck = job->under_deck;
     double r_obs = v3_length(sky->observer);
     double visible = acos(fmin(1.0, sky->atm.bottom_radius_m / r_obs)); /* ground seen up to the horizon */
     ground_quadrature gq = {q->ground_rows, q->ground_cols, q->ss_points};
@@ -279,6 +280,11 @@ static fm_status build_ground(render_job *job, int *from_table)
     return ground_irradiance_build(&job->ground, &all, theta_s, visible, gq, *from_table ? 0 : q->ground_paths,
                                    job->seed, job->params->threads, job->params->cancel);
 }
+
+/* Under a deck, the multiple-scattering table takes 1 / DECK_PATH_SHARE of its paths: the light
+ * from the deck's base reaches each node the same for all its paths (table_node_paths), and the
+ * paths add what the thin air below the base scatters (docs/decisions/2026-12-06-deck-base.md). */
+#define DECK_PATH_SHARE 4
 
 /* The fast path's tables: the multiple-scattering table first (on the ground it completes the
  * ground's irradiance, which the single-scattering table's downward rows reflect), then the
@@ -294,8 +300,14 @@ fm_status render_fast_tables(render_job *job, double sun_elevation, fm_error *er
                       job->twilight && job->channels == 3))
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the radiance tables");
     report(params, 0.0, "ground irradiance");
-    int ground_from_table;
-    fm_status s = build_ground(job, &ground_from_table);
+    int ground_from_table, deck_built;
+    fm_status s = deck_base_for_sky(&job->deck, job->sky, q->deck_photons, job->seed, params->threads, params->cancel,
+                                    &deck_built);
+    job->under_deck = deck_built ? &job->deck : NULL;
+    if (deck_built) /* the paths carry only what the air below the base scatters: the rest is the base's */
+        job->q.ms_paths = (job->q.ms_paths + DECK_PATH_SHARE - 1) / DECK_PATH_SHARE;
+    if (!s)
+        s = build_ground(job, &ground_from_table);
     if (s == FM_ERR_OUT_OF_MEMORY)
         return fm_fail(err, s, "out of memory for the ground irradiance");
     parallel_progress pss = {params->progress, params->progress_user, "single scattering", 0.80, 0.10};
@@ -388,6 +400,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
     sky_grid_free(&job.ss);
     ms_table_free(&ms);
     ground_irradiance_free(&job.ground);
+    deck_base_free(&job.deck);
     return render_finish(&job, s, out, err);
 }
 

@@ -8,6 +8,7 @@
 #include "render/aureole.h"
 #include "render/channels.h"
 #include "render/quality.h"
+#include "transport/deck_base.h"
 #include "transport/ground_irradiance.h"
 #include "transport/sky_grid.h"
 #include "transport/twilight.h"
@@ -38,6 +39,8 @@ typedef struct render_job {
                                         * sky's, live.c) */
     int paths_per_node;                /* the multiple-scattering table's, once filled */
     ground_irradiance ground;
+    deck_base deck;                    /* under a deck (deck_base_for_sky), else zeroed */
+    const deck_base *under_deck;       /* &deck when built, else NULL: the paths' path_context.deck */
     fm_image *img;
     atomic_int no_memory; /* a worker could not allocate */
 } render_job;

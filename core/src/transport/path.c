@@ -6,6 +6,7 @@
 #include "base/units.h"
 #include "phase/phase.h"
 #include "spectrum/spectral.h"
+#include "transport/deck_base.h"
 #include "transport/free_flight.h"
 #include "transport/path_direction.h"
 #include "transport/shadow_flight.h"
@@ -336,7 +337,7 @@ static flight free_flight(tracer *tr, path_state *p, const ray_segment *seg, col
             return FLIGHT_END_OF_SEGMENT; /* the ground */
         return on_collision(tr, p, seg, *t, SHELL_PLACED) == COLLISION_SCATTER ? FLIGHT_SCATTER : FLIGHT_PATH_ENDS;
     }
-    if (!seg->hits_ground) {
+    if (!seg->hits_ground && !ctx->deck) {
         if (!force_collision(tr, p, seg, &tau))
             return FLIGHT_PATH_ENDS;
     } else {
@@ -484,6 +485,18 @@ static int segment_sunlight_along(tracer *tr, const path_state *p, const ray_seg
     return ctx->max_order > 0 && p->order + 1 >= ctx->max_order ? -1 : 1;
 }
 
+/* The light coming down from the deck's base at x, which the path reached along p->d: orders >= 3
+ * (it has been scattered in the deck), counted only when the orders are not limited. */
+static void add_deck_light(tracer *tr, const path_state *p, vec3 x)
+{
+    const path_context *ctx = tr->ctx;
+    if (ctx->max_order > 0)
+        return;
+    spectral base = {0};
+    deck_base_radiance(ctx->deck, x, p->d, ctx->sun_dir, 1.0, base);
+    spectral_add_product(light_sink(tr, 3), throughput_scale(tr, p), p->q, p->w, base, tr->K);
+}
+
 /* One segment from p->pos along p->d and the event that ends it.  Russian roulette plays once the
  * light the last direction found is counted: before the flight when the segment's sunlight was
  * counted along it, else at the next vertex after its point estimate (late), where a guided
@@ -492,6 +505,7 @@ static int fly_segment(tracer *tr, path_state *p)
 {
     ray_segment seg;
     ray_segment_init(&seg, tr->atm, p->pos, p->d);
+    int at_deck = deck_base_cut(tr->ctx->deck, &seg);
     int along = segment_sunlight_along(tr, p, &seg);
     if (along < 0)
         return 0;
@@ -506,7 +520,9 @@ static int fly_segment(tracer *tr, path_state *p)
         return scatter_vertex(tr, p, v3_madd(seg.origin, seg.dir, t), along, late);
     if (seg.hits_ground)
         return ground_vertex(tr, p, v3_madd(seg.origin, seg.dir, seg.t_end), along, late);
-    return 0; /* left the atmosphere */
+    if (at_deck)
+        add_deck_light(tr, p, v3_madd(seg.origin, seg.dir, seg.t_end));
+    return 0; /* left the atmosphere, or reached the deck */
 }
 
 /* A scattering at p->pos that begins a path (path_trace_from) or a copy of one split there. */

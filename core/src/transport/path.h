@@ -25,7 +25,8 @@
  * (sky_guide.h), joins the MIS; in deep twilight the next interaction along a segment is placed
  * toward the light instead of by delta tracking (shadow_flight.h), the roulette spares the paths
  * that have reached brighter air than they started in, and a path whose weight has grown heavy is
- * split into copies that share it.
+ * split into copies that share it.  Under a deck (path_context.deck) a segment that reaches the
+ * deck's base ends there with the base's light (deck_base.h).
  *
  * The code (path.c) follows the structure of a volumetric path tracer such as pbrt-v4's: a path
  * state (spectral weights, order, the stage it goes on from); one free-flight routine that places

@@ -8,6 +8,7 @@
 #include "base/vec.h"
 #include "atmosphere/sun_irradiance.h"
 
+struct deck_base;
 struct ground_irradiance;
 struct shadow_flight_table;
 struct sky_guide;
@@ -55,6 +56,10 @@ typedef struct path_context {
     /* With shadow_flights: paths whose weight has grown far past 1 are split into copies that share
      * it (path.c); 0 leaves them whole. */
     int split_heavy_paths;
+    /* Under a deck (deck_base.h), for paths that start below its base: a segment that reaches the
+     * base ends there and counts the light coming down from it (orders >= 3); no flight is forced
+     * (none leaves the atmosphere).  NULL otherwise. */
+    const struct deck_base *deck;
 } path_context;
 
 #endif

@@ -3,6 +3,7 @@
 #include "base/rng.h"
 #include "base/units.h"
 #include "spectrum/spectral.h"
+#include "transport/deck_base.h"
 #include "transport/path.h"
 #include "transport/shadow_flight_build.h"
 #include "transport/sky_guide_build.h"
@@ -85,6 +86,16 @@ path_context scattering_path_context(const fm_sky *sky, const twilight_sampling 
     return pc;
 }
 
+/* Under a deck, the light coming down from its base where the view ray ends, through the air below
+ * (orders >= 3): the same for every path, so it adds no noise. */
+static void deck_light_through(const view_ray_vertices *v, const path_context *pc, double *L)
+{
+    double T[FM_MAX_WAVELENGTHS];
+    atmosphere_transmittances(pc->atm, v->column[VIEW_RAY_CELLS], T);
+    deck_base_radiance(pc->deck, v3_madd(v->seg.origin, v->seg.dir, v->seg.t_end), v->seg.dir, pc->sun_dir, 1.0, L);
+    spectral_mul(L, T, pc->atm->grid.count);
+}
+
 void table_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
                       uint64_t item, int offset, double *L, node_moments *m, double *shape, node_orders *orders)
 {
@@ -98,6 +109,9 @@ void table_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int pat
         return; /* no air along the ray */
     if (shape)
         *shape = v.light_integral;
+    double deck[FM_MAX_WAVELENGTHS] = {0}; /* every path's share of the light from the deck's base */
+    if (v.at_deck)
+        deck_light_through(&v, pc, deck);
     sobol_scramble scramble;
     sobol_scramble_init(&scramble, rng_qmc_seed(seed, item), sobol_levels((uint64_t)paths));
     for (int p = 0; p < paths; p++) {
@@ -107,6 +121,8 @@ void table_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int pat
         double weight[FM_MAX_WAVELENGTHS];
         vec3 x = view_ray_vertex(&v, pc, (p + rng_uniform(&r)) / paths, weight);
         path_trace_from(pc, x, d, weight, (p + offset) % K, &r, Lp, orders ? later : NULL);
+        if (v.at_deck)
+            spectral_add(orders ? later : Lp, deck, K);
         if (orders) {
             double y2 = spectral_grid_luminance(&sky->atm.grid, own);
             double y3 = spectral_grid_luminance(&sky->atm.grid, later);

@@ -3,6 +3,7 @@
 #include "atmosphere/optical_depth.h"
 #include "base/vec.h"
 #include "spectrum/spectral.h"
+#include "transport/deck_base.h"
 #include "transport/shadow_flight.h"
 
 #include <math.h>
@@ -58,6 +59,7 @@ int view_ray_vertices_init(view_ray_vertices *v, const path_context *ctx, vec3 o
 {
     const int K = ctx->atm->grid.count;
     ray_segment_init(&v->seg, ctx->atm, origin, dir);
+    v->at_deck = deck_base_cut(ctx->deck, &v->seg);
     if (!(v->seg.t_end > 0.0))
         return 0;
     const int ks[3] = {K / 4, K / 2, (3 * K) / 4};

@@ -36,6 +36,7 @@ typedef struct view_ray_vertices {
      * and 2 at the cell's middle x its length: up to a constant, the ray's radiance of orders 2
      * and 3 were that light isotropic (the table's fit divides by it, sky_grid_fit.h); else 0. */
     double light_integral;
+    int at_deck; /* the ray ends at a deck's base (path_context.deck) */
 } view_ray_vertices;
 
 /* Sets up the density for the ray from origin along dir; 0 when the ray crosses no air. */
