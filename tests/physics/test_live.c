@@ -5,6 +5,7 @@
  * atmosphere's, truncated or corrupt). */
 #include "check.h"
 #include "render/live.h"
+#include "render/live_smooth.h"
 #include "transport/shadow_flight_build.h"
 #include "transport/sky_path.h"
 
@@ -37,7 +38,8 @@ static double grid_elevation_near(const fm_sky_live *live, double e)
 }
 
 /* A live sky with the tables that suns from `from` to `to` degrees read: the grid elevations
- * between them and two more on either side (the interpolation's four nodes). */
+ * between them and two more on either side (the interpolation's four nodes), and the nodes that
+ * the outer ones' smoothing takes in (live_smooth.h), so that the tables are a full build's. */
 static fm_sky_live *live_around(const fm_sky_params *p, double from, double to)
 {
     fm_sky_live *live = live_for(p, 1.0, 0.0);
@@ -46,8 +48,8 @@ static fm_sky_live *live_around(const fm_sky_params *p, double from, double to)
         lo++;
     while (hi > 0 && live->nodes[hi - 1].sun_elevation_deg >= to)
         hi--;
-    lo = lo > 0 ? lo - 1 : 0;
-    hi = hi + 1 < live->count ? hi + 1 : hi;
+    lo = lo > 1 + LIVE_SMOOTH_HALF ? lo - 1 - LIVE_SMOOTH_HALF : 0;
+    hi = hi + 1 + LIVE_SMOOTH_HALF < live->count ? hi + 1 + LIVE_SMOOTH_HALF : live->count - 1;
     fm_error err;
     if (live_build_nodes(live, live->nodes[lo].sun_elevation_deg, live->nodes[hi].sun_elevation_deg, NULL, &err))
         fail_msg("live sky: %s", err.message);
@@ -220,6 +222,74 @@ static void hazy_aureole_matches_final_quality(void **state)
     p.biome = "urban";
     fm_sky_live *live = live_around(&p, 30.0, 30.0);
     check_against_final(live, p, 30.0, 250.0, 0.01);
+    fm_sky_live_destroy(live);
+}
+
+/* The day nodes' smoothing (live_smooth.h) on tables made up for it: value v of node i is
+ * exp(a_v + b_v i + c_v i^2) times a noise of 1 + 2% (a fixed pseudo-random sign per node and
+ * value).  Without the noise every smoothed node keeps its values (the quadratic is exact); with it
+ * the nodes with a full window come closer to the trend, by the weights' root sum of squares (0.70
+ * for five nodes); the nodes below the smoothing's start and a value next to a 0 stay as they were. */
+static double trend(int i, size_t v)
+{
+    return exp(-3.0 + 0.01 * (double)v + (0.3 - 0.002 * (double)v) * i - 0.004 * i * i);
+}
+
+static double noise(int i, size_t v)
+{
+    uint64_t z = (uint64_t)i * 0x9e3779b97f4a7c15ull + (uint64_t)v * 0xbf58476d1ce4e5b9ull; /* splitmix64 */
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return (z ^ (z >> 31)) >> 63 ? 1.02 : 0.98;
+}
+
+static void fill_made_up(fm_sky_live *live, size_t values, int noisy)
+{
+    for (int i = 0; i < live->count; i++)
+        for (size_t v = 0; v < values; v++)
+            live->nodes[i].ms.values[v] = (float)(trend(i, v) * (noisy ? noise(i, v) : 1.0));
+}
+
+static void day_smoothing_keeps_the_trend_and_averages_noise(void **state)
+{
+    fm_sky_params p = test_params(10.0, 0.0);
+    fm_sky_live *live = live_for(&p, 1.0, 0.0);
+    const size_t values = (size_t)sky_grid_nodes(&live->nodes[0].ms) * (size_t)live->channels;
+    const double from = 3.5;
+    unsigned char *fresh = calloc((size_t)live->count, 1);
+    memset(fresh, 1, (size_t)live->count);
+    fill_made_up(live, values, 0);
+    assert_int_equal(live_smooth_day(live, fresh, from), FM_OK);
+    double worst = 0.0;
+    for (int i = 0; i < live->count; i++)
+        for (size_t v = 0; v < values; v++)
+            worst = fmax(worst, fabs(live->nodes[i].ms.values[v] / trend(i, v) - 1.0));
+    print_message("smoothed trend within %.2g of itself\n", worst);
+    check_abs(worst, 0.0, 1e-5, "a quadratic in the logarithm through the smoothing");
+    fill_made_up(live, values, 1);
+    live->nodes[live->count - 3].ms.values[0] = 0.0f; /* a 0 in the windows of the nodes around it */
+    assert_int_equal(live_smooth_day(live, fresh, from), FM_OK);
+    double raw = 0.0, smoothed = 0.0;
+    long n = 0, changed = 0;
+    for (int i = 0; i < live->count; i++) {
+        const double e = live->nodes[i].sun_elevation_deg;
+        for (size_t v = 0; v < values; v++) {
+            const double got = live->nodes[i].ms.values[v], was = (float)(trend(i, v) * noise(i, v));
+            if (e < from || (v == 0 && abs(i - (live->count - 3)) <= LIVE_SMOOTH_HALF && i != live->count - 3))
+                changed += got != was;
+            else if (v > 0 && i >= LIVE_SMOOTH_HALF && i + LIVE_SMOOTH_HALF < live->count &&
+                     live->nodes[i - LIVE_SMOOTH_HALF].sun_elevation_deg >= from) {
+                raw += pow(log(was / trend(i, v)), 2.0);
+                smoothed += pow(log(got / trend(i, v)), 2.0);
+                n++;
+            }
+        }
+    }
+    check_abs((double)changed, 0.0, 0.0, "values changed below the smoothing or beside a 0");
+    assert_true(n > 0);
+    print_message("noise of the nodes with a full window: %.4f raw, %.4f smoothed\n", sqrt(raw / n), sqrt(smoothed / n));
+    check_abs(sqrt(smoothed / raw), 0.70, 0.05, "the noise left after smoothing, relative");
+    free(fresh);
     fm_sky_live_destroy(live);
 }
 
@@ -396,6 +466,7 @@ int main(void)
         cmocka_unit_test(maps_match_final_quality),
         cmocka_unit_test(hazy_aureole_matches_final_quality),
         cmocka_unit_test(no_jump_across_grid_elevations),
+        cmocka_unit_test(day_smoothing_keeps_the_trend_and_averages_noise),
         cmocka_unit_test(shared_flights_match_a_table_of_its_own),
         cmocka_unit_test(file_round_trip_and_refusals),
     };

@@ -8,6 +8,7 @@
 #include "base/status.h"
 #include "base/units.h"
 #include "render/aureole_fill.h"
+#include "render/live_smooth.h"
 #include "render/ms_table.h"
 #include "render/render.h"
 #include "transport/shadow_flight_build.h"
@@ -30,6 +31,17 @@ static const double SUN_DEG[] = {-20, -17.5, -15, -12.5, -10, -8, -6, -4.5, -3, 
 /* Below the horizon the paths cost several times a day's (twilight sampling): a quarter of them,
  * whose noise the fit still averages (the same decision record). */
 #define TWILIGHT_PATH_SCALE 0.25
+/* By day each node draws its own paths (its index seeds them) and the nodes from SMOOTH_FROM_DEG
+ * up have their multiple-scattering tables smoothed across the sun elevation (live_smooth.h): a
+ * map between two nodes then averages two noises, not one noise twice.  Below, the sky changes too
+ * fast with the sun for the smoothing, and in twilight the nodes share one seed so that their noise
+ * is alike from one elevation to the next (docs/decisions/2026-12-06-live-day-nodes.md). */
+#define OWN_SEED_FROM_DEG 0.0
+#define SMOOTH_FROM_DEG 3.5
+/* From HIGH_SUN_DEG up the sky's multiple scattering is a smaller part of it and changes slowest
+ * with the sun: half the paths, whose noise the smoothing takes back (the same decision record). */
+#define HIGH_SUN_DEG 13.0
+#define HIGH_SUN_PATH_SCALE 0.5
 
 fm_status live_sky_params(const fm_sky_params *params, fm_sky_params *out, fm_error *err)
 {
@@ -124,11 +136,13 @@ static fm_status build_node(fm_sky_live *live, live_node *node, const shadow_fli
     ms_table ms = {0};
     render_job job = {.sky = sky, .params = &rp, .ms = &ms, .channels = live->channels, .shared_flights = flights};
     job.q = live->q;
+    if (node->sun_elevation_deg >= HIGH_SUN_DEG)
+        job.q.ms_paths = (int)fmax(1.0, round(job.q.ms_paths * HIGH_SUN_PATH_SCALE));
     if (node->sun_elevation_deg < 0.0) {
         job.q.ms_paths = (int)fmax(1.0, round(job.q.ms_paths * TWILIGHT_PATH_SCALE));
         job.q.ground_paths = (int)fmax(1.0, round(job.q.ground_paths * TWILIGHT_PATH_SCALE));
     }
-    job.seed = mix64(0); /* one seed for every node: their noise is alike from one elevation to the next */
+    job.seed = node->sun_elevation_deg >= OWN_SEED_FROM_DEG ? mix64((uint64_t)(node - live->nodes) + 1) : mix64(0);
     twilight_sampling *twilight = NULL;
     fm_status s = render_twilight(&job, &twilight, err);
     if (!s) {
@@ -182,12 +196,20 @@ static fm_status shared_flights(const fm_sky_live *live, double from_deg, double
 fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, const atomic_int *cancel,
                            fm_error *err)
 {
+    unsigned char *fresh = calloc((size_t)live->count, 1);
+    if (!fresh)
+        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
     shadow_flight_columns flights;
     fm_status s = shared_flights(live, from_deg, to_deg, cancel, &flights, err);
     for (int i = 0; i < live->count && !s; i++)
-        if (live->nodes[i].sun_elevation_deg >= from_deg && live->nodes[i].sun_elevation_deg <= to_deg)
+        if (live->nodes[i].sun_elevation_deg >= from_deg && live->nodes[i].sun_elevation_deg <= to_deg) {
             s = build_node(live, &live->nodes[i], &flights, cancel, err);
+            fresh[i] = !s;
+        }
     shadow_flight_columns_free(&flights);
+    if (!s && live_smooth_day(live, fresh, SMOOTH_FROM_DEG))
+        s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
+    free(fresh);
     return s == FM_ERR_CANCELLED ? fm_fail(err, s, "live sky cancelled") : s;
 }
 

@@ -1,0 +1,80 @@
+#include "render/live_smooth.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int live_quadratic_weights(const double *x, const double *w, int n, double *h)
+{
+    double m[3][3] = {{0}};
+    int used = 0;
+    for (int j = 0; j < n; j++) {
+        const double b[3] = {1.0, x[j], x[j] * x[j]};
+        used += w[j] > 0.0;
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++)
+                m[r][c] += w[j] * b[r] * b[c];
+    }
+    /* the first row of the inverse of the (symmetric) normal matrix, by cofactors */
+    const double c0 = m[1][1] * m[2][2] - m[1][2] * m[2][1], c1 = m[1][2] * m[2][0] - m[1][0] * m[2][2],
+                 c2 = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+    const double det = m[0][0] * c0 + m[0][1] * c1 + m[0][2] * c2;
+    if (used < 3 || !(fabs(det) > 1e-12 * fabs(m[0][0] * m[1][1] * m[2][2])))
+        return 0;
+    for (int j = 0; j < n; j++)
+        h[j] = w[j] * (c0 + c1 * x[j] + c2 * x[j] * x[j]) / det;
+    return 1;
+}
+
+/* The weights of node i's window lo..hi: tricube in the index distance (a node LIVE_SMOOTH_HALF + 1
+ * away would weigh 0), the quadratic in the index: the grid is dense where the sky changes fast, so
+ * by index its logarithm changes at a like pace everywhere and a window's odd terms cancel. */
+static int node_weights(int i, int lo, int hi, double *h)
+{
+    double x[2 * LIVE_SMOOTH_HALF + 1], w[2 * LIVE_SMOOTH_HALF + 1];
+    for (int j = lo; j <= hi; j++) {
+        double d = fabs((double)(j - i)) / (LIVE_SMOOTH_HALF + 1.0), u = 1.0 - d * d * d;
+        x[j - lo] = j - i;
+        w[j - lo] = u * u * u;
+    }
+    return live_quadratic_weights(x, w, hi - lo + 1, h);
+}
+
+static int takes_part(const fm_sky_live *live, const unsigned char *fresh, int i, double from_deg)
+{
+    return i >= 0 && i < live->count && fresh[i] && live->nodes[i].sun_elevation_deg >= from_deg;
+}
+
+fm_status live_smooth_day(fm_sky_live *live, const unsigned char *fresh, double from_deg)
+{
+    const size_t values = (size_t)sky_grid_nodes(&live->nodes[0].ms) * (size_t)live->channels;
+    float *raw = malloc(sizeof(float) * values * (size_t)live->count);
+    if (!raw)
+        return FM_ERR_OUT_OF_MEMORY;
+    for (int i = 0; i < live->count; i++)
+        if (fresh[i])
+            memcpy(&raw[i * values], live->nodes[i].ms.values, sizeof(float) * values);
+    for (int i = 0; i < live->count; i++) {
+        if (!takes_part(live, fresh, i, from_deg))
+            continue;
+        int lo = i, hi = i;
+        while (lo > i - LIVE_SMOOTH_HALF && takes_part(live, fresh, lo - 1, from_deg))
+            lo--;
+        while (hi < i + LIVE_SMOOTH_HALF && takes_part(live, fresh, hi + 1, from_deg))
+            hi++;
+        double h[2 * LIVE_SMOOTH_HALF + 1];
+        if (!node_weights(i, lo, hi, h))
+            continue;
+        float *out = live->nodes[i].ms.values;
+        for (size_t v = 0; v < values; v++) {
+            double sum = 0.0;
+            int j = lo;
+            for (; j <= hi && raw[j * values + v] > 0.0f; j++)
+                sum += h[j - lo] * log(raw[j * values + v]);
+            if (j > hi)
+                out[v] = (float)exp(sum);
+        }
+    }
+    free(raw);
+    return FM_OK;
+}

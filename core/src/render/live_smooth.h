@@ -1,0 +1,25 @@
+/* The live sky's day nodes' multiple-scattering tables smoothed across the sun elevation: each
+ * node's noise is its own (live.c gives the day nodes independent seeds), while the sky by day
+ * changes slowly with the sun, so a local quadratic in the node index through each value's
+ * logarithm over the neighbouring nodes averages the noise and keeps the trend
+ * (docs/decisions/2026-12-06-live-day-nodes.md). */
+#ifndef FM_RENDER_LIVE_SMOOTH_H
+#define FM_RENDER_LIVE_SMOOTH_H
+
+#include "render/live.h"
+
+/* Nodes on either side of a smoothed node that its value takes in. */
+#define LIVE_SMOOTH_HALF 2
+
+/* The weights h[0..n-1] (summing to 1) that give the value at x = 0 of the least-squares quadratic
+ * through the values at x[0..n-1] weighted by w[0..n-1]: exact for any quadratic.  Returns 0 when
+ * the points do not determine a quadratic (fewer than 3 distinct x with weight), leaving h alone. */
+int live_quadratic_weights(const double *x, const double *w, int n, double *h);
+
+/* Smooths the multiple-scattering tables of the nodes fresh[i] != 0 at or above from_deg, each from
+ * the fresh nodes at or above from_deg within LIVE_SMOOTH_HALF of it, as they were before any was
+ * smoothed; a value with a non-positive neighbour stays as it was.  Returns FM_ERR_OUT_OF_MEMORY or
+ * FM_OK. */
+fm_status live_smooth_day(fm_sky_live *live, const unsigned char *fresh, double from_deg);
+
+#endif
