@@ -300,7 +300,9 @@ static fm_status build_atmosphere(fm_sky *sky, const fm_sky_params *p, double wa
     return s ? s : add_clouds(sky, p, err);
 }
 
-static fm_status build_sky(fm_sky *sky, const fm_sky_params *p, fm_error *err)
+/* shared: NULL, or the column table of a sky whose species have the same profiles (a truncated
+ * copy's parent, sky.h): the table holds columns, not optical depths, so it is borrowed, not built. */
+static fm_status build_sky(fm_sky *sky, const fm_sky_params *p, const column_table *shared, fm_error *err)
 {
     fm_status s = build_atmosphere(sky, p, p->wavelength_nm, err);
     if (s)
@@ -310,8 +312,12 @@ static fm_status build_sky(fm_sky *sky, const fm_sky_params *p, fm_error *err)
     sky->observer = v3(0.0, 0.0, sky->atm.bottom_radius_m + p->observer_altitude_m);
     assert(fabs(v3_length(sky->sun_dir) - 1.0) < 1e-12);
     assert(v3_length(sky->observer) >= sky->atm.bottom_radius_m && v3_length(sky->observer) < sky->atm.top_radius_m);
-    if ((s = column_table_build(&sky->columns, &sky->atm, COLUMN_TABLE_R, COLUMN_TABLE_MU, p->threads, err)) ||
-        (s = depth_table_build(&sky->mid_depth, &sky->columns, &sky->atm, sky->atm.grid.count / 2, err)) ||
+    if (shared) {
+        assert(shared->species == sky->atm.species_count);
+        sky->columns = *shared;
+    } else if ((s = column_table_build(&sky->columns, &sky->atm, COLUMN_TABLE_R, COLUMN_TABLE_MU, p->threads, err)))
+        return s;
+    if ((s = depth_table_build(&sky->mid_depth, &sky->columns, &sky->atm, sky->atm.grid.count / 2, err)) ||
         (s = sun_irradiance_build(&sky->sun_table, &sky->atm, &sky->columns, &sky->sun, SUN_TABLE_R, SUN_TABLE_MU,
                                   err)))
         return s;
@@ -359,10 +365,10 @@ fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err
     fm_sky *sky;
     fm_status s = new_sky(params, &sky, err);
     if (!s)
-        s = build_sky(sky, &sky->params, err);
+        s = build_sky(sky, &sky->params, NULL, err);
     if (!s && has_deck(sky) && !(s = new_sky(params, &sky->truncated, err))) {
-        sky->truncated->truncate_peaks = 1;
-        s = build_sky(sky->truncated, &sky->truncated->params, err);
+        sky->truncated->truncate_peaks = 1; /* the layers' optics differ, not their profiles */
+        s = build_sky(sky->truncated, &sky->truncated->params, &sky->columns, err);
     }
     if (s) {
         fm_sky_destroy(sky);
@@ -391,7 +397,8 @@ void fm_sky_destroy(fm_sky *sky)
     fm_sky_destroy(sky->truncated);
     sun_irradiance_free(&sky->sun_table);
     depth_table_free(&sky->mid_depth);
-    column_table_free(&sky->columns);
+    if (!sky->truncate_peaks) /* a truncated copy borrows its parent's (build_sky) */
+        column_table_free(&sky->columns);
     atmosphere_free(&sky->atm);
     free(sky);
 }

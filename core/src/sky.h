@@ -33,7 +33,7 @@ struct fm_sky {
      * scattering, the sun's disk and direct light and the reference mode keep the full phase function
      * (delta-M with exact single scattering: Nakajima & Tanaka 1988).  NULL otherwise. */
     struct fm_sky *truncated;
-    int truncate_peaks; /* this sky is such a copy */
+    int truncate_peaks; /* this sky is such a copy; its column table is its parent's (api.c) */
 };
 
 /* Layers from this optical depth at 550 nm up are truncated in the copy: with the droplets' peak
