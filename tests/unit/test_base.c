@@ -1,5 +1,6 @@
 /* Base utilities: Gauss-Legendre exactness, random-number streams, the Sobol points and their
- * scramble, the parallel loop, the spectral arrays' exp and expm1, new unique files. */
+ * scramble, the parallel loop, the spectral arrays' exp and expm1, new unique files, and the stale
+ * temporaries that a sealed file's write removes. */
 #define _POSIX_C_SOURCE 200809L
 #include "check.h"
 
@@ -7,12 +8,17 @@
 #include "base/platform.h"
 #include "base/quadrature.h"
 #include "base/rng.h"
+#include "base/sealed_file.h"
 #include "base/sobol.h"
 #include "base/threads.h"
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <sys/stat.h>
+#include <unistd.h>
+#include <time.h>
+#include <utime.h>
 
 static void gauss_legendre_is_exact_for_polynomials(void **state)
 {
@@ -267,6 +273,63 @@ static void unique_files_have_new_file_permissions(void **state)
     umask(mask);
 }
 
+/* An empty file in dir last modified age_s ago. */
+static void plant(const char *dir, const char *name, double age_s)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fclose(f);
+    struct utimbuf t = {.actime = time(NULL) - (time_t)age_s, .modtime = time(NULL) - (time_t)age_s};
+    assert_int_equal(utime(path, &t), 0);
+}
+
+/* Whether dir holds a file of that name. */
+static int exists(const char *dir, const char *name)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return access(path, F_OK) == 0;
+}
+
+/* A sealed file's write removes the temporaries that killed writers of files of its kind left (its
+ * name but for the key and the six unique characters) once they are an hour old; not a fresh one
+ * (a writer at work), nor any other file. */
+static void sealed_file_write_removes_stale_temporaries(void **state)
+{
+    char dir[256];
+    snprintf(dir, sizeof dir, "%s/fm-sealed-XXXXXX", platform_temp_dir());
+    assert_non_null(mkdtemp(dir));
+    const char *key = "0123456789abcdef0123456789abcdef";
+    const char *old[] = {"cloud-fedcba9876543210fedcba9876543210.fmcloud.Ab12Cd",
+                         "cloud-0123456789abcdef0123456789abcdef.fmcloud.zz9Y0x"};
+    const char *kept[] = {"cloud-fedcba9876543210fedcba9876543210.fmcloud.Qq11Ww", /* fresh */
+                          "cloud-fedcba9876543210fedcba9876543210.fmcloud.Ab12C",
+                          "cloud-fedcba9876543210fedcba9876543210.fmcloud.Ab12C_",
+                          "cloud-FEDCBA9876543210fedcba9876543210.fmcloud.Ab12Cd",
+                          "cloud-fedcba9876543210fedcba9876543210.fmcloud",
+                          "notes-fedcba9876543210fedcba9876543210.fmcloud.Ab12Cd",
+                          "cloud-fedcba9876543210fedcba9876543210.fmlive.Ab12Cd"};
+    for (int i = 0; i < 2; i++)
+        plant(dir, old[i], 7200.0);
+    plant(dir, kept[0], 60.0);
+    for (int i = 1; i < 7; i++)
+        plant(dir, kept[i], 7200.0);
+    char path[512];
+    snprintf(path, sizeof path, "%s/cloud-%s.fmcloud", dir, key);
+    const sealed_format format = {"FMTEST01", 1, 7, "test table", "another table"};
+    assert_int_equal(sealed_file_write(path, &format, key, "payload", 7, NULL), FM_OK);
+    for (int i = 0; i < 2; i++)
+        assert_false(exists(dir, old[i]));
+    for (int i = 0; i < 7; i++)
+        assert_true(exists(dir, kept[i]));
+    assert_true(exists(dir, "cloud-0123456789abcdef0123456789abcdef.fmcloud"));
+    char cmd[300];
+    snprintf(cmd, sizeof cmd, "rm -r '%s'", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -280,6 +343,7 @@ int main(void)
         cmocka_unit_test(exp_arrays_match_libm),
         cmocka_unit_test(log_array_matches_libm),
         cmocka_unit_test(unique_files_have_new_file_permissions),
+        cmocka_unit_test(sealed_file_write_removes_stale_temporaries),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

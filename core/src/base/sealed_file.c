@@ -2,6 +2,7 @@
 
 #include "base/hash.h"
 #include "base/platform.h"
+#include "base/stale_temps.h"
 #include "base/status.h"
 
 #include <errno.h>
@@ -62,6 +63,22 @@ static fm_status write_all(const char *tmp, const unsigned char *head, const voi
     return ok ? FM_OK : FM_ERR_IO;
 }
 
+/* A temporary that a killed writer left is removed by the next write of a file of its kind once it
+ * is this old (s): writing a cache file takes seconds. */
+#define STALE_TEMP_S 3600.0
+
+/* Removes the stale temporaries of files named as path but for its key, if its name holds it. */
+static void remove_stale_temps(const char *tmp, const char key[32])
+{
+    const char *slash = platform_last_separator(tmp), *name = slash ? slash + 1 : tmp;
+    char k[33];
+    memcpy(k, key, 32);
+    k[32] = '\0';
+    const char *at = strstr(name, k);
+    size_t from = at ? (size_t)(at - name) : 0;
+    stale_temps_remove(tmp, from, at ? from + 32 : from, STALE_TEMP_S);
+}
+
 fm_status sealed_file_write(const char *path, const sealed_format *format, const char key[32], const void *payload,
                             size_t bytes, fm_error *err)
 {
@@ -83,7 +100,8 @@ fm_status sealed_file_write(const char *path, const sealed_format *format, const
     else if (write_all(tmp, head, payload, bytes) || platform_rename_replace(tmp, path) != 0) {
         s = fm_fail(err, FM_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
         platform_remove(tmp);
-    }
+    } else
+        remove_stale_temps(tmp, key);
     free(tmp);
     return s;
 }

@@ -6,6 +6,7 @@
  * publish one after the other. */
 #define _POSIX_C_SOURCE 200809L /* PATH_MAX */
 #include "base/platform.h"
+#include "base/stale_temps.h"
 #include "base/status.h"
 #include "base/text.h"
 #include "image/image.h"
@@ -16,7 +17,6 @@
 
 #include <cjson/cJSON.h>
 
-#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -196,39 +196,6 @@ fm_status fm_output_check_path(const char *path, fm_error *err)
  * once it is a day old: a live run's temporaries are younger (renders take minutes to hours). */
 #define STALE_TEMP_S 86400.0
 
-typedef struct stale_scan {
-    const char *dir;    /* "<dir>/" or "" */
-    int dir_len;
-    const char *prefix; /* ".<name>." */
-    size_t prefix_len;
-} stale_scan;
-
-static void remove_if_stale(void *ctx, const char *name)
-{
-    const stale_scan *scan = ctx;
-    size_t n = strlen(name);
-    if (n != scan->prefix_len + 6 || strncmp(name, scan->prefix, scan->prefix_len) != 0)
-        return;
-    for (size_t i = scan->prefix_len; i < n; i++)
-        if (!isalnum((unsigned char)name[i]))
-            return;
-    char full[PLATFORM_PATH_MAX + 16];
-    snprintf(full, sizeof full, "%.*s%s", scan->dir_len, scan->dir, name);
-    if (platform_path_kind(full) == PLATFORM_FILE && platform_file_age_s(full) > STALE_TEMP_S)
-        platform_remove(full);
-}
-
-/* Removes the stale temporaries of the output whose new temporary is tmp ("<dir>/.<name>.XXXXXX"). */
-static void remove_stale_temps(const char *tmp)
-{
-    const char *slash = platform_last_separator(tmp);
-    int dir_len = slash ? (int)(slash - tmp + 1) : 0;
-    stale_scan scan = {tmp, dir_len, tmp + dir_len, strlen(tmp + dir_len) - 6};
-    char dir[PLATFORM_PATH_MAX + 16];
-    snprintf(dir, sizeof dir, "%.*s", dir_len ? dir_len : 1, dir_len ? tmp : ".");
-    platform_list_dir(dir, remove_if_stale, &scan);
-}
-
 /* Adds path to o's files with a temporary reserved beside it; returns its index, or -1 with err. */
 static int reserve_file(fm_output *o, const char *path, fm_error *err)
 {
@@ -246,7 +213,7 @@ static int reserve_file(fm_output *o, const char *path, fm_error *err)
         f->path = NULL;
         return -1;
     }
-    remove_stale_temps(f->tmp);
+    stale_temps_remove(f->tmp, 0, 0, STALE_TEMP_S);
     return o->count++;
 }
 
