@@ -56,6 +56,7 @@ static void read_camera(exr_context_t c, fm_image *img)
 }
 
 static fm_status read_exr(const char *path, fm_image **out, fm_error *err);
+static fm_status read_opened(exr_context_t c, const char *path, fm_image **out, fm_error *err);
 
 /* The most a codec expands its stored bytes: deflate (ZIP, ZIPS) about 1032:1, times 4/3 for
  * PXR24's 24-bit floats; PIZ's Huffman run codes about 400:1; RLE 64:1; B44A about 11:1; DWA keeps
@@ -123,8 +124,6 @@ static fm_status open_exr(const char *path, exr_context_t *c, fm_error *err)
     return s;
 }
 
-/* DWA files (firmament's --compression dwaa, or other tools') are re-encoded losslessly as ZIP in
- * a private temporary file first: OpenEXR 3.1's C library cannot decode DWA. */
 fm_status image_check_regular(const char *path, fm_error *err)
 {
     struct stat st;
@@ -133,6 +132,9 @@ fm_status image_check_regular(const char *path, fm_error *err)
     return FM_OK;
 }
 
+/* DWA files (firmament's --compression dwaa, or other tools') are re-encoded losslessly as ZIP in
+ * a private temporary file first: OpenEXR 3.1's C library cannot decode DWA; any other is read as
+ * opened. */
 fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
 {
     *out = NULL;
@@ -145,9 +147,9 @@ fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
         return s;
     exr_compression_t method = EXR_COMPRESSION_NONE;
     exr_get_compression(c, 0, &method);
-    exr_finish(&c);
     if (method != EXR_COMPRESSION_DWAA && method != EXR_COMPRESSION_DWAB)
-        return read_exr(path, out, err);
+        return read_opened(c, path, out, err);
+    exr_finish(&c);
     char tmp[4096];
     snprintf(tmp, sizeof tmp, "%s/firmament-read-XXXXXX", platform_temp_dir());
     if (platform_create_unique(tmp) != 0)
@@ -252,8 +254,13 @@ static fm_status read_exr(const char *path, fm_image **out, fm_error *err)
 {
     exr_context_t c = NULL;
     fm_status s = open_exr(path, &c, err);
-    if (s)
-        return s;
+    return s ? s : read_opened(c, path, out, err);
+}
+
+/* The image of the EXR opened as c (open_exr), which it closes. */
+static fm_status read_opened(exr_context_t c, const char *path, fm_image **out, fm_error *err)
+{
+    fm_status s = FM_OK;
     fm_image *img = NULL;
     exr_attr_box2i_t dw;
     const exr_attr_chlist_t *cl;
