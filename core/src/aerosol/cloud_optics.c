@@ -123,20 +123,16 @@ static int payload_read(cloud_water_table *tb, const unsigned char *in, size_t b
     size_t K = (size_t)tb->count, n = K * (2 + CLOUD_ANGLE_COUNT);
     if (bytes != payload_bytes(tb->count))
         return 0;
-    double *v = malloc(sizeof(double) * n);
-    if (!v)
-        return 0;
-    memcpy(v, in, bytes);
-    int ok = 1;
-    for (size_t i = 0; i < n && ok; i++) /* extinction ratios > 0, albedos in (0, 1], phase >= 0 */
-        ok = isfinite(v[i]) && (i < K ? v[i] > 0.0 : i < 2 * K ? v[i] > 0.0 && v[i] <= 1.0 : v[i] >= 0.0);
-    if (ok) {
-        memcpy(tb->ext_rel, v, sizeof(double) * K);
-        memcpy(tb->ssa, v + K, sizeof(double) * K);
-        memcpy(tb->phase, v + 2 * K, sizeof(double) * K * CLOUD_ANGLE_COUNT);
+    for (size_t i = 0; i < n; i++) { /* extinction ratios > 0, albedos in (0, 1], phase >= 0 */
+        double v;
+        memcpy(&v, in + sizeof v * i, sizeof v);
+        if (!(isfinite(v) && (i < K ? v > 0.0 : i < 2 * K ? v > 0.0 && v <= 1.0 : v >= 0.0)))
+            return 0;
     }
-    free(v);
-    return ok;
+    memcpy(tb->ext_rel, in, sizeof(double) * K);
+    memcpy(tb->ssa, in + sizeof(double) * K, sizeof(double) * K);
+    memcpy(tb->phase, in + sizeof(double) * 2 * K, sizeof(double) * K * CLOUD_ANGLE_COUNT);
+    return 1;
 }
 
 static int load(cloud_water_table *tb, const char *path, const char *key)
