@@ -16,8 +16,6 @@
  * to a fraction of a percent.  Seen from the observer, the optical depth toward a point of the disk
  * depends only on its elevation: it is tabulated across the disk first. */
 #define DISK_DEPTH_SAMPLES 257
-#define LD_TERMS 6 /* the limb darkening polynomial's terms (sun_disk.h) */
-_Static_assert(sizeof(((sun_disk *)0)->ld[0]) == LD_TERMS * sizeof(double), "the limb darkening's terms");
 
 /* Angular size (rad) of the camera's pixels around direction d: the smaller of the angles spanned by
  * one pixel across and down at d's position; 0 when the camera cannot place d. */
@@ -101,7 +99,7 @@ static void disk_depths(const fm_sky *sky, disk_span *span, double *depth)
     }
 }
 
-/* Per depth sample and power of mu2, the channels of the disk's light (light[(i * LD_TERMS + p) *
+/* Per depth sample and power of mu2, the channels of the disk's light (light[(i * SUN_LD_TERMS + p) *
  * C]): a point's light is the sum over the powers of mu2^p times the samples' (linear between
  * them), so each point costs a few multiplications instead of an exponential per wavelength.  The
  * limb darkening is a polynomial in mu2 (sun_disk.h), normalised per wavelength to sum to 1 over the
@@ -111,26 +109,26 @@ static void disk_light(const fm_sky *sky, int n, int C, const double *depth, flo
     const atmosphere *atm = &sky->atm;
     const sun_disk *sun = &sky->sun;
     const int K = atm->grid.count;
-    double power_sum[LD_TERMS] = {0};
+    double power_sum[SUN_LD_TERMS] = {0};
     for (int j = 0; j < n; j++)
         for (int i = 0; i < n; i++) {
             double x = (i + 0.5) / n * 2.0 - 1.0, y = (j + 0.5) / n * 2.0 - 1.0, rr = x * x + y * y;
             if (rr >= 1.0)
                 continue;
             double mu2 = sqrt(1.0 - rr), m = 1.0;
-            for (int p = 0; p < LD_TERMS; p++, m *= mu2)
+            for (int p = 0; p < SUN_LD_TERMS; p++, m *= mu2)
                 power_sum[p] += m;
         }
     for (int i = 0; i < DISK_DEPTH_SAMPLES; i++)
-        for (int p = 0; p < LD_TERMS; p++) {
+        for (int p = 0; p < SUN_LD_TERMS; p++) {
             double L[FM_MAX_WAVELENGTHS];
             for (int k = 0; k < K; k++) {
                 double norm = 0.0;
-                for (int q = 0; q < LD_TERMS; q++)
+                for (int q = 0; q < SUN_LD_TERMS; q++)
                     norm += sun->ld[k][q] * power_sum[q];
                 L[k] = atm->grid.solar_irradiance[k] * sun->ld[k][p] / norm * exp(-depth[i * K + k]);
             }
-            render_channels(atm, C, L, &light[((size_t)i * LD_TERMS + p) * C]);
+            render_channels(atm, C, L, &light[((size_t)i * SUN_LD_TERMS + p) * C]);
         }
 }
 
@@ -163,12 +161,12 @@ static void disk_splat(const fm_sky *sky, const camera *cam, omega_cache *cache,
                 td = 1.0;
             else if (isinf(depth[(id + 1) * K]))
                 td = 0.0;
-            const float *l0 = &light[(size_t)id * LD_TERMS * C], *l1 = l0 + LD_TERMS * C;
+            const float *l0 = &light[(size_t)id * SUN_LD_TERMS * C], *l1 = l0 + SUN_LD_TERMS * C;
             double inv_omega = inverse_pixel_solid_angle(cam, cache, px, py), mu2 = sqrt(1.0 - rr);
             size_t idx = ((size_t)py * W + px) * C;
             for (int c = 0; c < C; c++) {
                 double v = 0.0;
-                for (int p = LD_TERMS - 1; p >= 0; p--)
+                for (int p = SUN_LD_TERMS - 1; p >= 0; p--)
                     v = v * mu2 + (1.0 - td) * l0[p * C + c] + td * l1[p * C + c];
                 img->sun_disk[idx + c] += (float)(v * inv_omega);
             }
@@ -182,7 +180,7 @@ fm_status sun_disk_rasterise(const fm_sky *sky, const camera *cam, fm_image *img
         return FM_OK; /* behind the camera */
     omega_cache *cache = cam->type != FM_CAMERA_EQUIRECT ? malloc(sizeof *cache) : NULL;
     double *depth = malloc(sizeof(double) * DISK_DEPTH_SAMPLES * (size_t)sky->atm.grid.count);
-    float *light = malloc(sizeof(float) * DISK_DEPTH_SAMPLES * LD_TERMS * (size_t)C);
+    float *light = malloc(sizeof(float) * DISK_DEPTH_SAMPLES * SUN_LD_TERMS * (size_t)C);
     if ((cam->type != FM_CAMERA_EQUIRECT && !cache) || !depth || !light) {
         free(light);
         free(depth);

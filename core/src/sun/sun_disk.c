@@ -6,17 +6,17 @@
 
 #include <math.h>
 
-void sun_limb_darkening_coefficients(double lambda_nm, double a[6])
+void sun_limb_darkening_coefficients(double lambda_nm, double a[SUN_LD_TERMS])
 {
     const int n = FM_LIMB_DARKENING_COUNT;
     const double (*t)[8] = fm_limb_darkening_neckel_labs;
     if (lambda_nm <= t[0][0]) {
-        for (int m = 0; m < 6; m++)
+        for (int m = 0; m < SUN_LD_TERMS; m++)
             a[m] = t[0][1 + m];
         return;
     }
     if (lambda_nm >= t[n - 1][0]) {
-        for (int m = 0; m < 6; m++)
+        for (int m = 0; m < SUN_LD_TERMS; m++)
             a[m] = t[n - 1][1 + m];
         return;
     }
@@ -24,7 +24,7 @@ void sun_limb_darkening_coefficients(double lambda_nm, double a[6])
     while (i < n - 2 && t[i + 1][0] <= lambda_nm)
         i++;
     double f = (lambda_nm - t[i][0]) / (t[i + 1][0] - t[i][0]);
-    for (int m = 0; m < 6; m++)
+    for (int m = 0; m < SUN_LD_TERMS; m++)
         a[m] = t[i][1 + m] * (1.0 - f) + t[i + 1][1 + m] * f;
 }
 
@@ -50,7 +50,7 @@ static void chord_rule(const sun_disk *sun, int wavelengths, double lo, sun_chor
         rule->delta[j] = rho * sin(phi);
         for (int k = 0; k < wavelengths; k++) {
             double chord = 0.0, cp = c * c; /* cos^(m+2) */
-            for (int m = 0; m < 6; m++) {
+            for (int m = 0; m < SUN_LD_TERMS; m++) {
                 chord += sun->ld[k][m] * sun->chord_b[m] * cp;
                 cp *= c;
             }
@@ -64,17 +64,17 @@ void sun_disk_init(sun_disk *sun, const spectral_grid *grid, double earth_sun_di
     double d = earth_sun_distance_au * FM_ASTRONOMICAL_UNIT_M;
     sun->angular_radius = asin(FM_SUN_RADIUS_M / d);
     sun->solid_angle = 2.0 * FM_PI * (1.0 - cos(sun->angular_radius));
-    for (int m = 0; m < 6; m++)
+    for (int m = 0; m < SUN_LD_TERMS; m++)
         sun->chord_b[m] = chord_factor(m);
     for (int k = 0; k < grid->count; k++) {
         double *a = sun->ld[k];
         sun_limb_darkening_coefficients(grid->lambda_nm[k], a);
         /* normalise so I(centre) = 1 exactly (the published rows sum to 1 within rounding) */
         double s = a[0] + a[1] + a[2] + a[3] + a[4] + a[5];
-        for (int m = 0; m < 6; m++)
+        for (int m = 0; m < SUN_LD_TERMS; m++)
             a[m] /= s;
         double mean = 0.0, norm = 0.0;
-        for (int m = 0; m < 6; m++) {
+        for (int m = 0; m < SUN_LD_TERMS; m++) {
             mean += 2.0 * a[m] / (m + 2);
             norm += a[m] * sun->chord_b[m] * cos_power_integral(m + 2);
         }

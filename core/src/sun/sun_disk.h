@@ -33,12 +33,15 @@ typedef struct sun_chord_rule {
     double weight[FM_SUN_CHORD_POINTS][FM_MAX_WAVELENGTHS];
 } sun_chord_rule;
 
+/* The limb-darkening polynomial's terms: Neckel & Labs' a_0 .. a_5 in powers of mu2. */
+#define SUN_LD_TERMS 6
+
 typedef struct sun_disk {
     double angular_radius;                    /* rad */
     double solid_angle;                       /* sr */
-    double ld[FM_MAX_WAVELENGTHS][6];         /* limb-darkening polynomial per grid wavelength */
+    double ld[FM_MAX_WAVELENGTHS][SUN_LD_TERMS]; /* limb-darkening polynomial per grid wavelength */
     double ld_mean[FM_MAX_WAVELENGTHS];       /* disk mean of the polynomial */
-    double chord_b[6];                        /* B_m */
+    double chord_b[SUN_LD_TERMS];             /* B_m */
     double chord_norm[FM_MAX_WAVELENGTHS];    /* sum_m A_m B_m C_(m+2): the full-disk chord integral */
     /* The whole disk with FM_SUN_COARSE_CHORD_POINTS nodes in delta, weights summing to 1: where
      * the disk is well above the horizon, the transmittance across its 0.53 degrees is a
@@ -51,7 +54,7 @@ typedef struct sun_disk {
 void sun_disk_init(sun_disk *sun, const spectral_grid *grid, double earth_sun_distance_au);
 
 /* Neckel & Labs coefficients at a wavelength (clamped to 303-1099 nm). */
-void sun_limb_darkening_coefficients(double lambda_nm, double a[6]);
+void sun_limb_darkening_coefficients(double lambda_nm, double a[SUN_LD_TERMS]);
 
 /* I / I(centre) at heliocentric cosine mu2 for grid wavelength k. */
 static inline double sun_limb_darkening(const sun_disk *sun, int k, double mu2)

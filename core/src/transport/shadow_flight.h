@@ -26,13 +26,15 @@
 #define FM_TRANSPORT_SHADOW_FLIGHT_H
 
 #include "base/rng.h"
+#include "base/units.h"
 #include "base/vec.h"
 #include "transport/free_flight.h"
 #include "transport/path_context.h"
 
 
 #define SHADOW_FLIGHT_LEVELS 20 /* altitudes, 0 to 100 km */
-#define SHADOW_FLIGHT_SUNS 26   /* local sun elevations, from the observer's up, 1 degree apart */
+#define SHADOW_FLIGHT_SUNS 26   /* local sun elevations, from the observer's up, SHADOW_FLIGHT_SUN_STEP apart */
+#define SHADOW_FLIGHT_SUN_STEP (1.0 * FM_DEG) /* rad */
 #define SHADOW_FLIGHT_TOP_KM 100
 
 typedef struct shadow_flight_table {

@@ -109,7 +109,7 @@ fm_status shadow_flight_columns_build(shadow_flight_columns *c, const path_conte
                                       double up_to, int threads, const atomic_int *cancel)
 {
     const atmosphere *atm = single->atm;
-    *c = (shadow_flight_columns){.sun0 = observer_sun(single, observer), .sun_step = 1.0 * FM_DEG};
+    *c = (shadow_flight_columns){.sun0 = observer_sun(single, observer), .sun_step = SHADOW_FLIGHT_SUN_STEP};
     c->suns = (int)ceil((up_to - c->sun0) / c->sun_step) + 1;
     if (c->suns < 2)
         c->suns = 2;
@@ -156,7 +156,7 @@ fm_status shadow_flight_build(shadow_flight_table *t, const path_context *single
 {
     const atmosphere *atm = single->atm;
     build_job job = {.t = t, .single = single, .top = atm->top_radius_m - 1.0, .value = &t->value[0][0],
-                     .suns = SHADOW_FLIGHT_SUNS, .step = 1.0 * FM_DEG};
+                     .suns = SHADOW_FLIGHT_SUNS, .step = SHADOW_FLIGHT_SUN_STEP};
     job.observer = sun_frame_at(observer, single->sun_dir);
     t->bottom_radius = atm->bottom_radius_m;
     t->sun0 = observer_sun(single, observer);
