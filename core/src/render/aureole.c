@@ -3,6 +3,7 @@
 #include "spectrum/spectral_grid.h"
 #include "transport/sky_grid.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -81,6 +82,7 @@ void aureole_blend(const aureole *a, const aureole_frame *f, double e, double ph
     aureole_place p;
     if (!aureole_locate(f, e, phi, &p))
         return;
+    assert(aureole_seen(f->sun, horizon) || !(aureole_weight(&p, e, horizon) > 0.0));
     const double w = aureole_weight(&p, e, horizon);
     if (!(w > 0.0))
         return;

@@ -64,6 +64,14 @@ double aureole_weight(const aureole_place *p, double e, double horizon);
 /* The grid's log radiance at p, channel by channel (bilinear in sqrt(gamma) and psi). */
 void aureole_lookup_log(const aureole *a, const aureole_place *p, float *out);
 
+/* Whether a map with the sun at sun_elevation (rad), the horizon at `horizon` (rad), reads the grid:
+ * its directions within AUREOLE_RADIUS of a sun lower than that are all below the horizon, where
+ * aureole_weight is 0. */
+static inline int aureole_seen(double sun_elevation, double horizon)
+{
+    return sun_elevation > horizon - AUREOLE_RADIUS;
+}
+
 /* v (channels of linear radiance: the single-scattering table's at elevation e and azimuth relative
  * to the sun phi, horizon at `horizon`, rad) blended with the grid's by aureole_weight, in logarithms. */
 void aureole_blend(const aureole *a, const aureole_frame *f, double e, double phi, double horizon, float *v);

@@ -119,6 +119,15 @@ static fm_status sky_with_sun(const fm_sky_live *live, double elevation_deg, dou
     return s;
 }
 
+/* Whether maps read the node's aureole: interpolate_tables reads it for suns up to the node two
+ * above it, and a map reads the grid only with the sun not far below the horizon (aureole_seen); in
+ * deep twilight its rays are not traced (its grid keeps what it held, never read). */
+static int aureole_read(const fm_sky_live *live, const live_node *node, double horizon)
+{
+    int k = (int)(node - live->nodes);
+    return k + 2 >= live->count || aureole_seen(live->nodes[k + 2].sun_elevation_deg * FM_DEG, horizon);
+}
+
 /* The tables of one node: the fast path's, for a sun at the node's elevation; in deep twilight its
  * guided flights' light from the columns shared by every node (shadow_flight_build.h). */
 static fm_status build_node(fm_sky_live *live, live_node *node, const shadow_flight_columns *flights,
@@ -149,7 +158,8 @@ static fm_status build_node(fm_sky_live *live, live_node *node, const shadow_fli
         job.twilight = twilight;
         s = render_fast_tables(&job, node->sun_elevation_deg * FM_DEG, err);
     }
-    if (!s && (s = aureole_fill(&node->aureole, &job, asin(clamp_cosine(sky->sun_dir.z)))))
+    if (!s && aureole_read(live, node, job.ss.horizon_elevation) &&
+        (s = aureole_fill(&node->aureole, &job, asin(clamp_cosine(sky->sun_dir.z)))))
         s = s == FM_ERR_CANCELLED ? s : fm_fail(err, s, "the live sky's aureole: %s", fm_status_name(s));
     if (!s) {
         memcpy(node->ss.values, job.ss.values, sizeof(float) * (size_t)sky_grid_nodes(&node->ss) * live->channels);
