@@ -7,36 +7,10 @@
 #define FM_RENDER_LIVE_H
 
 #include "firmament/firmament.h"
-#include "render/aureole.h"
-#include "render/quality.h"
-#include "transport/sky_grid.h"
+#include "render/live_tables.h"
 
 #include <stddef.h>
 #include <stdint.h>
-
-/* Part of every key: a change of what the tables hold or how they are laid out makes old files
- * another atmosphere's. */
-#define LIVE_TABLE_VERSION 4
-
-/* The tables of one sun elevation. */
-typedef struct live_node {
-    double sun_elevation_deg;
-    int paths_per_node; /* the multiple-scattering table's */
-    sky_grid ss;        /* single scattering, logarithmic */
-    sky_grid ms;        /* multiple scattering, fitted, linear */
-    aureole aureole;    /* single scattering around the sun (aureole.h) */
-} live_node;
-
-struct fm_sky_live {
-    fm_sky *sky;          /* the atmosphere; its sun is set per render on a copy */
-    fm_sky_params params; /* as given to create, the sun and time resolved away (live_sky_params) */
-    quality_settings q;   /* the tables' (live.c) */
-    fm_quality quality;   /* the level and sample scale the maps record */
-    double sample_scale;
-    int channels;         /* 3 (CIE XYZ) or 1 (a monochromatic sky) */
-    int count;            /* nodes, by rising sun elevation */
-    live_node *nodes;
-};
 
 /* The parameters a live sky builds its fm_sky from: the sun at a fixed place, no time of day, the
  * Earth-Sun distance of the date when it came from the time. */

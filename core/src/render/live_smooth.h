@@ -6,7 +6,7 @@
 #ifndef FM_RENDER_LIVE_SMOOTH_H
 #define FM_RENDER_LIVE_SMOOTH_H
 
-#include "render/live.h"
+#include "render/live_tables.h"
 
 /* Nodes on either side of a smoothed node that its value takes in. */
 #define LIVE_SMOOTH_HALF 2

@@ -1,0 +1,36 @@
+/* The live sky's tables (live.h): one node's per sun elevation of the grid, and the whole that
+ * fm_sky_live is; a module of its own so that what works on the tables (live_smooth.h) does not
+ * include the live sky's builder. */
+#ifndef FM_RENDER_LIVE_TABLES_H
+#define FM_RENDER_LIVE_TABLES_H
+
+#include "firmament/firmament.h"
+#include "render/aureole.h"
+#include "render/quality.h"
+#include "transport/sky_grid.h"
+
+/* Part of every key: a change of what the tables hold or how they are laid out makes old files
+ * another atmosphere's. */
+#define LIVE_TABLE_VERSION 4
+
+/* The tables of one sun elevation. */
+typedef struct live_node {
+    double sun_elevation_deg;
+    int paths_per_node; /* the multiple-scattering table's */
+    sky_grid ss;        /* single scattering, logarithmic */
+    sky_grid ms;        /* multiple scattering, fitted, linear */
+    aureole aureole;    /* single scattering around the sun (aureole.h) */
+} live_node;
+
+struct fm_sky_live {
+    fm_sky *sky;          /* the atmosphere; its sun is set per render on a copy */
+    fm_sky_params params; /* as given to create, the sun and time resolved away (live_sky_params) */
+    quality_settings q;   /* the tables' (live.c) */
+    fm_quality quality;   /* the level and sample scale the maps record */
+    double sample_scale;
+    int channels;         /* 3 (CIE XYZ) or 1 (a monochromatic sky) */
+    int count;            /* nodes, by rising sun elevation */
+    live_node *nodes;
+};
+
+#endif
