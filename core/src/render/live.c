@@ -34,8 +34,10 @@ static const double SUN_DEG[] = {-20, -17.5, -15, -12.5, -10, -8, -6, -4.5, -3, 
 /* By day each node draws its own paths (its index seeds them) and the nodes from SMOOTH_FROM_DEG
  * up have their multiple-scattering tables smoothed across the sun elevation (live_smooth.h): a
  * map between two nodes then averages two noises, not one noise twice.  Below, the sky changes too
- * fast with the sun for the smoothing, and in twilight the nodes share one seed so that their noise
- * is alike from one elevation to the next (docs/decisions/2026-12-06-live-day-nodes.md). */
+ * fast with the sun for the smoothing, and in twilight above deep twilight the nodes share one seed so
+ * that their noise is alike from one elevation to the next (docs/decisions/2026-12-06-live-day-nodes.md).
+ * Deep twilight's nodes draw their own paths too, and their tables are smoothed across the sun
+ * elevation among themselves (live_smooth_deep_twilight; docs/decisions/2026-12-06-live-twilight.md). */
 #define OWN_SEED_FROM_DEG 0.0
 #define SMOOTH_FROM_DEG 3.5
 /* From HIGH_SUN_DEG up the sky's multiple scattering is a smaller part of it and changes slowest
@@ -151,7 +153,8 @@ static fm_status build_node(fm_sky_live *live, live_node *node, const shadow_fli
         job.q.ms_paths = (int)fmax(1.0, round(job.q.ms_paths * TWILIGHT_PATH_SCALE));
         job.q.ground_paths = (int)fmax(1.0, round(job.q.ground_paths * TWILIGHT_PATH_SCALE));
     }
-    job.seed = node->sun_elevation_deg >= OWN_SEED_FROM_DEG ? mix64((uint64_t)(node - live->nodes) + 1) : mix64(0);
+    const int own_seed = node->sun_elevation_deg >= OWN_SEED_FROM_DEG || twilight_deep(node->sun_elevation_deg);
+    job.seed = own_seed ? mix64((uint64_t)(node - live->nodes) + 1) : mix64(0);
     twilight_sampling *twilight = NULL;
     fm_status s = render_twilight(&job, &twilight, err);
     if (!s) {
@@ -217,7 +220,7 @@ fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, co
             fresh[i] = !s;
         }
     shadow_flight_columns_free(&flights);
-    if (!s && live_smooth_day(live, fresh, SMOOTH_FROM_DEG))
+    if (!s && (live_smooth_day(live, fresh, SMOOTH_FROM_DEG) || live_smooth_deep_twilight(live, fresh)))
         s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
     free(fresh);
     return s == FM_ERR_CANCELLED ? fm_fail(err, s, "live sky cancelled") : s;

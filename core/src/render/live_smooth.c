@@ -1,5 +1,7 @@
 #include "render/live_smooth.h"
 
+#include "transport/twilight.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -76,5 +78,49 @@ fm_status live_smooth_day(fm_sky_live *live, const unsigned char *fresh, double 
         }
     }
     free(raw);
+    return FM_OK;
+}
+
+fm_status live_smooth_deep_twilight(fm_sky_live *live, const unsigned char *fresh)
+{
+    int *at = malloc(sizeof(int) * (size_t)live->count), n = 0;
+    double *x = malloc(sizeof(double) * 4 * (size_t)live->count);
+    if (!at || !x) {
+        free(at);
+        free(x);
+        return FM_ERR_OUT_OF_MEMORY;
+    }
+    double *w = x + live->count, *h = w + live->count, *ratio = h + live->count;
+    for (int i = 0; i < live->count; i++)
+        if (fresh[i] && twilight_deep(live->nodes[i].sun_elevation_deg))
+            at[n++] = i;
+    const int C = live->channels, lum = C == 3 ? 1 : 0; /* CIE Y, or the one value */
+    const size_t values = n ? (size_t)sky_grid_nodes(&live->nodes[at[0]].ms) : 0;
+    for (size_t v = 0; v < values && n >= LIVE_SMOOTH_DEEP_MIN; v++) {
+        int lit = 1;
+        for (int j = 0; j < n; j++)
+            lit &= live->nodes[at[j]].ms.values[v * C + lum] > 0.0f;
+        for (int k = 0; k < n && lit; k++) {
+            for (int j = 0; j < n; j++) {
+                const double d = (live->nodes[at[j]].sun_elevation_deg - live->nodes[at[k]].sun_elevation_deg) /
+                                 LIVE_SMOOTH_DEEP_DEG;
+                x[j] = d;
+                w[j] = exp(-0.5 * d * d);
+            }
+            double z = 0.0;
+            if (!live_quadratic_weights(x, w, n, h)) {
+                ratio[k] = 1.0;
+                continue;
+            }
+            for (int j = 0; j < n; j++)
+                z += h[j] * log(live->nodes[at[j]].ms.values[v * C + lum]);
+            ratio[k] = exp(z) / live->nodes[at[k]].ms.values[v * C + lum];
+        }
+        for (int k = 0; k < n && lit; k++) /* after every ratio: each from the nodes as they were */
+            for (int c = 0; c < C; c++)
+                live->nodes[at[k]].ms.values[v * C + c] *= (float)ratio[k];
+    }
+    free(at);
+    free(x);
     return FM_OK;
 }

@@ -22,4 +22,17 @@ int live_quadratic_weights(const double *x, const double *w, int n, double *h);
  * FM_OK. */
 fm_status live_smooth_day(fm_sky_live *live, const unsigned char *fresh, double from_deg);
 
+/* Deep twilight (twilight.h): its nodes' tables, fitted from a quarter of the preview's paths,
+ * keep a noise of several percent spread over the sky by the fit's few terms.  Each value of a
+ * fresh deep twilight node is replaced by the least-squares quadratic in the sun elevation through
+ * the logarithms of that value at every fresh deep twilight node, weighted by a Gaussian of
+ * LIVE_SMOOTH_DEEP_DEG in the elevation (the sky falls by decades there, smoothly, and its nodes
+ * are 2 to 2.5 degrees apart: a wider window than the day's, which averages more noise).  Every
+ * channel of a value is scaled alike (the node's colour stays); a value that is not positive at one
+ * of the nodes, or fewer than LIVE_SMOOTH_DEEP_MIN such nodes, leave it as it was.  Returns
+ * FM_ERR_OUT_OF_MEMORY or FM_OK. */
+#define LIVE_SMOOTH_DEEP_DEG 5.0
+#define LIVE_SMOOTH_DEEP_MIN 4
+fm_status live_smooth_deep_twilight(fm_sky_live *live, const unsigned char *fresh);
+
 #endif
