@@ -32,6 +32,7 @@
 #include "base/units.h"
 #include "phase/phase.h"
 #include "spectrum/spectral_grid.h"
+#include "transport/path.h"
 #include "transport/single_scatter.h"
 #include "transport/shadow_flight.h"
 #include "transport/sky_guide_build.h"
@@ -511,6 +512,33 @@ static void night_paths_are_not_split(void **state)
     }
 }
 
+/* A path and all its copies make at most 1024 copies together (path.c, SPLIT_TOTAL).  With the sun
+ * 35 degrees down and splitting forced on, nearly every vertex passes the split weight (the light at
+ * a path's first point is tiny), and with each copy inheriting what was left of its path's budget
+ * the copies of copies multiplied (about 1500 per path: docs/decisions/2026-12-06-night-paths.md). */
+static void split_copies_are_bounded_per_path(void **state)
+{
+    fm_sky *sky;
+    twilight_sampling *tw = deep_twilight(-35.0, &sky);
+    path_context pc = node_context(sky, tw);
+    pc.split_heavy_paths = 1;
+    double L[FM_MAX_WAVELENGTHS] = {0};
+    int most = 0;
+    double total = 0.0;
+    for (int i = 0; i < 32; i++) {
+        rng r = rng_for(1234, 77, (uint64_t)i);
+        vec3 d = direction_from_elevation_azimuth((1.0 + (i % 8)) * FM_DEG, 90.0 * (i / 8) * FM_DEG);
+        int copies = path_trace(&pc, sky->observer, d, i % sky->atm.grid.count, &r, L);
+        most = copies > most ? copies : most;
+        total += copies;
+    }
+    print_message("sun -35, split forced: %.1f copies per path, at most %d\n", total / 32.0, most);
+    assert_true(most <= 1024);
+    assert_true(most > 32); /* the paths do split at nearly every vertex, beyond one path's budget */
+    free(tw);
+    fm_sky_destroy(sky);
+}
+
 /* Sun 14 degrees down, rural: orders >= 2 with half the first vertices placed along the view ray by
  * the light there (view_ray_vertices.h, as rendered) against all of them by scattering x
  * transmittance alone (everything else equal), in the three directions above: within four combined
@@ -645,6 +673,7 @@ int main(void)
         cmocka_unit_test(light_led_roulette_matches_the_plain_one),
         cmocka_unit_test(split_paths_match_whole_ones),
         cmocka_unit_test(night_paths_are_not_split),
+        cmocka_unit_test(split_copies_are_bounded_per_path),
         cmocka_unit_test(light_led_first_vertices_match_plain_ones),
         cmocka_unit_test(zenith_falls_monotonically),
         cmocka_unit_test(illuminance_against_the_ams_glossary),

@@ -28,10 +28,14 @@
 #define LIGHT_LED_MIN_SURVIVAL 0.1
 /* Deep twilight splits a path whose weight has passed SPLIT_WEIGHT into at most SPLIT_COPIES copies
  * that share it, and each path may make SPLIT_BUDGET copies beyond itself: the heavy tail of its
- * path estimates, left whole, has no variance (docs/decisions/2026-12-06-path-splitting.md). */
+ * path estimates, left whole, has no variance (docs/decisions/2026-12-06-path-splitting.md).  A
+ * copy inherits what is left of that budget, which bounds the waiting copies (PATH_STACK) but not
+ * their number: where nearly every vertex passes the split weight the copies of copies multiply, so
+ * a path and all its copies make at most SPLIT_TOTAL together. */
 #define SPLIT_WEIGHT 3.0
 #define SPLIT_COPIES 4
 #define SPLIT_BUDGET 32
+#define SPLIT_TOTAL 1024
 /* exp(-600): the weight behind an absorption optical depth of 600, far below any light a map holds */
 #define OPAQUE_WEIGHT 2.65e-261
 
@@ -137,9 +141,17 @@ typedef struct tracer {
     int light_led;      /* deep twilight's roulette at the new vertex (path_context.light_led_roulette) */
     double min_survive; /* the roulette's floor: LIGHT_LED_MIN_SURVIVAL when light-led, else 0 */
     int placed;         /* deep twilight's shadow flights place every collision: no path leaves */
+    int copies_made;    /* by the path and its copies, together (at most SPLIT_TOTAL) */
     int waiting;
     waiting_path stack[PATH_STACK];
 } tracer;
+
+/* The copies p may still split into: its own budget's, within what is left of the whole path's. */
+static int splits_left(const tracer *tr, const path_state *p)
+{
+    int total_left = SPLIT_TOTAL - tr->copies_made;
+    return p->splits_left < total_left ? p->splits_left : total_left;
+}
 
 static void push_path(tracer *tr, const path_state *p, int copies)
 {
@@ -394,13 +406,14 @@ static int scatter_vertex(tracer *tr, path_state *p, vec3 x, int along, int late
     p->counted = 0;
     p->pos = x;
     int copies = ctx->shadow_flights && ctx->split_heavy_paths && tr->light_led
-                     ? split_copies(path_weight(p->W, p->q, p->w, tr->K) * lift, p->splits_left)
+                     ? split_copies(path_weight(p->W, p->q, p->w, tr->K) * lift, splits_left(tr, p))
                      : 1;
     if (copies == 1)
         return leave_scatter_vertex(tr, p);
     /* led by the light: each copy draws its own direction here, then the path itself */
     p->W /= copies;
     p->splits_left -= copies - 1;
+    tr->copies_made += copies - 1;
     p->stage = STAGE_DIRECTION;
     push_path(tr, p, 1);
     path_state copy = *p;
@@ -422,12 +435,13 @@ static int leave_scatter_vertex(tracer *tr, path_state *p)
     p->vertices_done = 1;
     p->stage = STAGE_FLIGHT;
     int copies = ctx->shadow_flights && ctx->split_heavy_paths
-                     ? split_copies(path_weight(p->W, p->q, p->w, K), p->splits_left)
+                     ? split_copies(path_weight(p->W, p->q, p->w, K), splits_left(tr, p))
                      : 1;
     if (copies == 1)
         return 1;
     p->W /= copies;
     p->splits_left -= copies - 1;
+    tr->copies_made += copies - 1;
     push_path(tr, p, copies); /* the copies, then the path itself: all alike */
     return 0;
 }
@@ -554,8 +568,9 @@ static void trace(tracer *tr, path_state *p)
     } while (pop_path(tr, p));
 }
 
-/* A path from origin along dir (unit), with weights `weight` (or 1), at `stage`. */
-static void trace_from(const path_context *ctx, vec3 origin, vec3 dir, const double *weight, path_stage stage,
+/* A path from origin along dir (unit), with weights `weight` (or 1), at `stage`; returns the
+ * copies it split into. */
+static int trace_from(const path_context *ctx, vec3 origin, vec3 dir, const double *weight, path_stage stage,
                        int hero, rng *r, double *L, double *L_later)
 {
     assert(is_unit(dir));
@@ -571,6 +586,7 @@ static void trace_from(const path_context *ctx, vec3 origin, vec3 dir, const dou
     tr.light_led = ctx->shadow_flights && ctx->light_led_roulette;
     tr.min_survive = tr.light_led ? LIGHT_LED_MIN_SURVIVAL : 0.0;
     tr.placed = ctx->shadow_flights != NULL;
+    tr.copies_made = 0;
     tr.waiting = 0;
     path_state p;
     p.W = 1.0;
@@ -593,15 +609,16 @@ static void trace_from(const path_context *ctx, vec3 origin, vec3 dir, const dou
             p.start_light = 1e-300;
     }
     trace(&tr, &p);
+    return tr.copies_made;
 }
 
-void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L)
+int path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L)
 {
-    trace_from(ctx, origin, dir, NULL, STAGE_FLIGHT, hero, r, L, NULL);
+    return trace_from(ctx, origin, dir, NULL, STAGE_FLIGHT, hero, r, L, NULL);
 }
 
-void path_trace_from(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r, double *L,
-                     double *L_later)
+int path_trace_from(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r, double *L,
+                    double *L_later)
 {
-    trace_from(ctx, x, dir, weight, STAGE_VERTEX, hero, r, L, L_later);
+    return trace_from(ctx, x, dir, weight, STAGE_VERTEX, hero, r, L, L_later);
 }

@@ -45,14 +45,15 @@
 #include "base/rng.h"
 #include "transport/path_context.h"
 
-/* Adds one path's radiance estimate (W m^-2 sr^-1 nm^-1, per grid wavelength) to L. */
-void path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L);
+/* Adds one path's radiance estimate (W m^-2 sr^-1 nm^-1, per grid wavelength) to L; returns the
+ * copies that it and its copies split into, together (0 unless heavy paths split; at most 1024). */
+int path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L);
 
 /* The same for a path that begins with a scattering at x (arrived along dir, counted as order 1)
  * with spectral weights weight[k] (the caller's f/p of placing the vertex there).  L_later, if not
  * NULL, receives the contributions of orders 3 and up instead of L (the same path, its light
  * parted by order). */
-void path_trace_from(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r, double *L,
-                     double *L_later);
+int path_trace_from(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r, double *L,
+                    double *L_later);
 
 #endif
