@@ -22,9 +22,10 @@
 
 /* The sun elevations of the tables (degrees): 1 degree apart where the sun's light through the
  * horizon changes fastest, wider by day and in deep twilight, where the sky's logarithm changes
- * smoothly (docs/decisions/2026-12-06-live-sky.md). */
+ * smoothly; no more than 7.5 apart at the top, where the single-scattering table's bright band
+ * around the sun moves with it (docs/decisions/2026-12-06-live-sky.md). */
 static const double SUN_DEG[] = {-20, -17.5, -15, -12.5, -10, -8, -6, -4.5, -3, -2, -1, 0, 1,
-                                 2,   3.5,   5.5, 8,     11,  15, 20, 27,   35, 45, 60, 75, 90};
+                                 2,   3.5,   5.5, 8,     11,  15, 20, 27,   35, 45, 52.5, 60, 67.5, 75, 82.5, 90};
 #define NODES ((int)(sizeof SUN_DEG / sizeof SUN_DEG[0]))
 #define QUALITY FM_QUALITY_PREVIEW
 #define SAMPLE_SCALE 1.0
