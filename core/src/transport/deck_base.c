@@ -72,6 +72,7 @@ static void layers_build(layers *l, const atmosphere *atm, double base_m)
     qsort(z, (size_t)n, sizeof *z, by_altitude);
     l->atm = atm;
     l->count = 0;
+    l->base = 0; /* a base at the ground: the loop skips its repeated 0 */
     l->z[0] = 0.0;
     for (int i = 1; i <= n; i++) {
         double next = i < n ? z[i] : top;
