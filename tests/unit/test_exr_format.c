@@ -307,6 +307,44 @@ static void corrupt_window_refused(void **state)
     assert_null(none);
 }
 
+/* A DWA map whose string attribute claims 2 GB (a corrupt file the fuzzer found: the C++ library
+ * that decodes DWA allocated what it claimed) is refused from its header, in no memory to speak of. */
+static void corrupt_attribute_refused(void **state)
+{
+    fm_sky_params p = test_params(30.0, 0.0);
+    fm_sky *sky = test_sky(&p);
+    fm_image *img = test_render(sky, 16, FM_QUALITY_PREVIEW, 2, 1, 0, 0.05, 0);
+    fm_sky_destroy(sky);
+    fm_error err = {0};
+    assert_int_equal(fm_image_to_rec709(img, &err), FM_OK);
+    assert_int_equal(write_map(img, "claims-attribute", 1, FM_EXR_DWAA, &err), FM_OK);
+    fm_image_destroy(img);
+    fm_image *back = read_dwa("claims-attribute");
+    fm_image_destroy(back);
+    char exr[300];
+    snprintf(exr, sizeof exr, "%s/claims-attribute.exr", dir);
+    FILE *f = fopen(exr, "r+b");
+    assert_non_null(f);
+    char head[4096];
+    size_t n = fread(head, 1, sizeof head, f);
+    static const char key[] = "firmament.version\0string";
+    char *at = memmem(head, n, key, sizeof key);
+    assert_non_null(at);
+    const int32_t claim = 0x7ff00000;
+    fseek(f, (long)(at - head) + (long)sizeof key, SEEK_SET);
+    assert_int_equal(fwrite(&claim, sizeof claim, 1, f), 1);
+    fclose(f);
+    struct rusage before, after;
+    getrusage(RUSAGE_SELF, &before);
+    fm_image *none = NULL;
+    assert_int_equal(fm_image_read_exr(exr, &none, &err), FM_ERR_IO);
+    getrusage(RUSAGE_SELF, &after);
+    print_message("attribute: %s; peak memory +%ld MiB\n", err.message, (after.ru_maxrss - before.ru_maxrss) / 1024);
+    assert_non_null(strstr(err.message, "claims more bytes than the file holds"));
+    assert_true(after.ru_maxrss - before.ru_maxrss < 256 * 1024); /* KiB */
+    assert_null(none);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -315,6 +353,7 @@ int main(void)
         cmocka_unit_test(compression_methods),
         cmocka_unit_test(dwaa),
         cmocka_unit_test(corrupt_window_refused),
+        cmocka_unit_test(corrupt_attribute_refused),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -4,6 +4,7 @@
 #include "image/image.h"
 
 #include "colour/colour.h"
+#include "image/exr_attributes.h"
 #include "image/exr_recode.h"
 
 #include <errno.h>
@@ -16,7 +17,6 @@
 
 /* 2^28: a 16384 x 16384 map; a side of at most 2^16 bounds one scanline's buffers */
 #define MAX_READ_PIXELS ((int64_t)1 << 28)
-#define MAX_READ_SIDE ((int64_t)1 << 16)
 
 static _Thread_local char read_message[256];
 
@@ -87,11 +87,11 @@ static fm_status check_header(exr_context_t c, const char *path, int64_t file_by
         exr_get_channels(c, 0, &cl) || exr_get_compression(c, 0, &method))
         return fm_fail(err, FM_ERR_IO, "cannot read '%s': not a scanline image", path);
     int64_t W = (int64_t)dw.max.x - dw.min.x + 1, H = (int64_t)dw.max.y - dw.min.y + 1;
-    if (W < 1 || H < 1 || W > MAX_READ_SIDE || H > MAX_READ_SIDE || W * H > MAX_READ_PIXELS)
+    if (W < 1 || H < 1 || W > EXR_MAX_SIDE || H > EXR_MAX_SIDE || W * H > MAX_READ_PIXELS)
         return fm_fail(err, FM_ERR_IO, "cannot read '%s': its data window is %lld x %lld pixels (at most %lld a side "
-                       "and %lld in all are read)", path, (long long)W, (long long)H, (long long)MAX_READ_SIDE,
+                       "and %lld in all are read)", path, (long long)W, (long long)H, (long long)EXR_MAX_SIDE,
                        (long long)MAX_READ_PIXELS);
-    if (cl->num_channels > 4)
+    if (cl->num_channels > EXR_MAX_CHANNELS)
         return fm_fail(err, FM_ERR_IO, "cannot read '%s': expected R, G, B or Y channels, found %d channels", path,
                        cl->num_channels);
     double decoded = 0.0;
@@ -150,6 +150,10 @@ fm_status fm_image_read_exr(const char *path, fm_image **out, fm_error *err)
     if (method != EXR_COMPRESSION_DWAA && method != EXR_COMPRESSION_DWAB)
         return read_opened(c, path, out, err);
     exr_finish(&c);
+    struct stat st;
+    if (stat(path, &st) != 0 || !exr_attributes_fit(path, (int64_t)st.st_size))
+        return fm_fail(err, FM_ERR_IO, "cannot read '%s': an attribute of its header claims more bytes than the file "
+                       "holds", path);
     char tmp[4096];
     snprintf(tmp, sizeof tmp, "%s/firmament-read-XXXXXX", platform_temp_dir());
     if (platform_create_unique(tmp) != 0)

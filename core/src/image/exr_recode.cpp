@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <stdexcept>
 #include <vector>
 
 int recode_exr(const char *src, const char *dst, recode_target target, float dwa_level, char *msg,
@@ -26,7 +27,14 @@ int recode_exr(const char *src, const char *dst, recode_target target, float dwa
         }
         header.lineOrder() = Imf::INCREASING_Y; // the strips below are written top to bottom
         const Imath::Box2i window = header.dataWindow();
-        const size_t width = (size_t)(window.max.x - window.min.x + 1);
+        const int64_t width64 = (int64_t)window.max.x - window.min.x + 1, height = (int64_t)window.max.y - window.min.y + 1;
+        size_t channels = 0;
+        for (Imf::ChannelList::ConstIterator c = header.channels().begin(); c != header.channels().end(); ++c)
+            channels++;
+        // the C library's check of the same file (exr_read.c) may have read another header than this
+        if (width64 < 1 || height < 1 || width64 > EXR_MAX_SIDE || height > EXR_MAX_SIDE || channels > EXR_MAX_CHANNELS)
+            throw std::runtime_error("its header claims more pixels or channels than are read");
+        const size_t width = (size_t)width64;
 
         // Each channel is read and written in its stored type (half stays half, float stays float);
         // the only change to the pixels is DWA's own quantisation.  Strips of 256 lines (a whole
