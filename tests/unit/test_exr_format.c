@@ -246,10 +246,10 @@ static void dwaa(void **state)
     fm_sky_destroy(sky);
 }
 
-/* A header that claims far more pixels than its file can hold (a corrupt or hostile file) is
- * refused before anything is allocated for it, in a DWA file (read through the C++ library) as in
- * a ZIP one; a DWA map taller than one 256-line strip of the recoding reads back whole. */
-static void claim_window(const char *name, int32_t width, int32_t height)
+/* Overwrites the bytes `skip` bytes after the header's first `key` (key_size bytes, its NULs
+ * included) in the map `name` with data. */
+static void overwrite_after(const char *name, const char *key, size_t key_size, long skip, const void *data,
+                            size_t size)
 {
     char exr[300];
     snprintf(exr, sizeof exr, "%s/%s.exr", dir, name);
@@ -257,23 +257,39 @@ static void claim_window(const char *name, int32_t width, int32_t height)
     assert_non_null(f);
     char head[4096];
     size_t n = fread(head, 1, sizeof head, f);
-    static const char key[] = "dataWindow\0box2i";
-    char *at = memmem(head, n, key, sizeof key);
+    char *at = memmem(head, n, key, key_size);
     assert_non_null(at);
-    int32_t box[4] = {0, 0, width - 1, height - 1};
-    fseek(f, (long)(at - head) + (long)sizeof key + 4, SEEK_SET);
-    assert_int_equal(fwrite(box, sizeof box, 1, f), 1);
+    fseek(f, (long)(at - head) + (long)key_size + skip, SEEK_SET);
+    assert_int_equal(fwrite(data, size, 1, f), 1);
     fclose(f);
 }
 
-static void corrupt_window_refused(void **state)
+static void claim_window(const char *name, int32_t width, int32_t height)
+{
+    static const char key[] = "dataWindow\0box2i";
+    int32_t box[4] = {0, 0, width - 1, height - 1};
+    overwrite_after(name, key, sizeof key, 4, box, sizeof box);
+}
+
+/* A preview map of the default sky at sun 30, `width` wide, in Rec.709. */
+static fm_image *rec709_map(int width)
 {
     fm_sky_params p = test_params(30.0, 0.0);
     fm_sky *sky = test_sky(&p);
-    fm_image *img = test_render(sky, 1200, FM_QUALITY_PREVIEW, 2, 1, 0, 0.05, 0);
+    fm_image *img = test_render(sky, width, FM_QUALITY_PREVIEW, 2, 1, 0, 0.05, 0);
     fm_sky_destroy(sky);
     fm_error err = {0};
     assert_int_equal(fm_image_to_rec709(img, &err), FM_OK);
+    return img;
+}
+
+/* A header that claims far more pixels than its file can hold (a corrupt or hostile file) is
+ * refused before anything is allocated for it, in a DWA file (read through the C++ library) as in
+ * a ZIP one; a DWA map taller than one 256-line strip of the recoding reads back whole. */
+static void corrupt_window_refused(void **state)
+{
+    fm_image *img = rec709_map(1200);
+    fm_error err = {0};
     size_t n = (size_t)img->width * img->height * 3;
     if (write_map(img, "tall-dwaa", 1, FM_EXR_DWAA, &err))
         fail_msg("%s", err.message);
@@ -311,29 +327,16 @@ static void corrupt_window_refused(void **state)
  * that decodes DWA allocated what it claimed) is refused from its header, in no memory to speak of. */
 static void corrupt_attribute_refused(void **state)
 {
-    fm_sky_params p = test_params(30.0, 0.0);
-    fm_sky *sky = test_sky(&p);
-    fm_image *img = test_render(sky, 16, FM_QUALITY_PREVIEW, 2, 1, 0, 0.05, 0);
-    fm_sky_destroy(sky);
+    fm_image *img = rec709_map(16);
     fm_error err = {0};
-    assert_int_equal(fm_image_to_rec709(img, &err), FM_OK);
     assert_int_equal(write_map(img, "claims-attribute", 1, FM_EXR_DWAA, &err), FM_OK);
     fm_image_destroy(img);
-    fm_image *back = read_dwa("claims-attribute");
-    fm_image_destroy(back);
+    fm_image_destroy(read_dwa("claims-attribute"));
+    static const char key[] = "firmament.version\0string";
+    const int32_t claim = 0x7ff00000;
+    overwrite_after("claims-attribute", key, sizeof key, 0, &claim, sizeof claim);
     char exr[300];
     snprintf(exr, sizeof exr, "%s/claims-attribute.exr", dir);
-    FILE *f = fopen(exr, "r+b");
-    assert_non_null(f);
-    char head[4096];
-    size_t n = fread(head, 1, sizeof head, f);
-    static const char key[] = "firmament.version\0string";
-    char *at = memmem(head, n, key, sizeof key);
-    assert_non_null(at);
-    const int32_t claim = 0x7ff00000;
-    fseek(f, (long)(at - head) + (long)sizeof key, SEEK_SET);
-    assert_int_equal(fwrite(&claim, sizeof claim, 1, f), 1);
-    fclose(f);
     struct rusage before, after;
     getrusage(RUSAGE_SELF, &before);
     fm_image *none = NULL;
