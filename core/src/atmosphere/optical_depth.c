@@ -55,8 +55,8 @@ static double integral_r_ds(double p, double s)
 }
 
 /* Integral of the profile over a piece [sa, sb] of the ray that stays inside one grid cell, where
- * the density is exactly linear in r: n = a + b r. */
-static double cell_piece(const density_profile *prof, double rb, double p, double sa, double sb)
+ * the density is exactly linear in r: n = a + b r; ia, ib: integral_r_ds at sa and sb. */
+static double cell_piece(const density_profile *prof, double rb, double p, double sa, double sb, double ia, double ib)
 {
     double sm = 0.5 * (sa + sb);
     double z = sqrt(p * p + sm * sm) - rb;
@@ -71,53 +71,83 @@ static double cell_piece(const density_profile *prof, double rb, double p, doubl
         b = (prof->n[cell + 1] - prof->n[cell]) / prof->dz_m;
         a = prof->n[cell] - b * r0;
     }
-    return a * (sb - sa) + b * (integral_r_ds(p, sb) - integral_r_ds(p, sa));
+    return a * (sb - sa) + b * (ib - ia);
+}
+
+/* A walk along the ray from cell boundary to cell boundary, adding each piece of every species
+ * from..to - 1 (profiles sampled dz apart) into columns: a boundary's antiderivative is computed once
+ * for the pieces on both sides of it and for every species. */
+typedef struct column_walk {
+    const atmosphere *atm;
+    int from, to;
+    double rb, p, prev, i_prev, *columns;
+} column_walk;
+
+static void walk_to(column_walk *w, double s)
+{
+    const double i_s = integral_r_ds(w->p, s);
+    for (int c = w->from; c < w->to; c++)
+        w->columns[c] += cell_piece(&w->atm->species[c].profile, w->rb, w->p, w->prev, s, w->i_prev, i_s);
+    w->prev = s;
+    w->i_prev = i_s;
+}
+
+static void walk_start(column_walk *w, double s)
+{
+    w->prev = s;
+    w->i_prev = integral_r_ds(w->p, s);
+}
+
+/* column_exact for the species from..to - 1, whose profiles are all dz apart. */
+static void species_columns(column_walk *w, double dz, double p2, double s0, double s1)
+{
+    const double rb = w->rb;
+    for (int c = w->from; c < w->to; c++)
+        w->columns[c] = 0.0;
+    /* Inbound side (s < 0): the radius falls, so cell boundaries are met from the top down. */
+    if (s0 < 0.0) {
+        double end = fmin(s1, 0.0);
+        double r_start = sqrt(p2 + s0 * s0), r_end = sqrt(p2 + end * end);
+        walk_start(w, s0);
+        for (long i = (long)floor((r_start - rb) / dz); i >= 0 && rb + i * dz > r_end; i--) {
+            double ri = rb + i * dz;
+            if (ri >= r_start)
+                continue;
+            double sc = -sqrt(fmax(0.0, ri * ri - p2));
+            if (sc <= w->prev || sc >= end)
+                continue;
+            walk_to(w, sc);
+        }
+        walk_to(w, end);
+    }
+    /* Outbound side (s >= 0): the radius grows. */
+    if (s1 > 0.0) {
+        double start = fmax(s0, 0.0);
+        double r_start = sqrt(p2 + start * start), r_end = sqrt(p2 + s1 * s1);
+        walk_start(w, start);
+        for (long i = (long)ceil((r_start - rb) / dz); rb + i * dz < r_end; i++) {
+            double ri = rb + i * dz;
+            if (ri <= r_start)
+                continue;
+            double sc = sqrt(fmax(0.0, ri * ri - p2));
+            if (sc <= w->prev || sc >= s1)
+                continue;
+            walk_to(w, sc);
+        }
+        walk_to(w, s1);
+    }
 }
 
 void column_exact(const atmosphere *atm, double r, double mu, double t_max, double *columns)
 {
-    const double rb = atm->bottom_radius_m;
     double p2 = fmax(0.0, r * r * (1.0 - mu * mu));
-    double p = sqrt(p2);
     double s0 = r * mu, s1 = s0 + t_max;
-    for (int c = 0; c < atm->species_count; c++) {
-        const density_profile *prof = &atm->species[c].profile;
-        double dz = prof->dz_m, total = 0.0;
-        /* Inbound side (s < 0): the radius falls, so cell boundaries are met from the top down. */
-        if (s0 < 0.0) {
-            double end = fmin(s1, 0.0);
-            double r_start = sqrt(p2 + s0 * s0), r_end = sqrt(p2 + end * end);
-            double prev = s0;
-            for (long i = (long)floor((r_start - rb) / dz); i >= 0 && rb + i * dz > r_end; i--) {
-                double ri = rb + i * dz;
-                if (ri >= r_start)
-                    continue;
-                double sc = -sqrt(fmax(0.0, ri * ri - p2));
-                if (sc <= prev || sc >= end)
-                    continue;
-                total += cell_piece(prof, rb, p, prev, sc);
-                prev = sc;
-            }
-            total += cell_piece(prof, rb, p, prev, end);
-        }
-        /* Outbound side (s >= 0): the radius grows. */
-        if (s1 > 0.0) {
-            double start = fmax(s0, 0.0);
-            double r_start = sqrt(p2 + start * start), r_end = sqrt(p2 + s1 * s1);
-            double prev = start;
-            for (long i = (long)ceil((r_start - rb) / dz); rb + i * dz < r_end; i++) {
-                double ri = rb + i * dz;
-                if (ri <= r_start)
-                    continue;
-                double sc = sqrt(fmax(0.0, ri * ri - p2));
-                if (sc <= prev || sc >= s1)
-                    continue;
-                total += cell_piece(prof, rb, p, prev, sc);
-                prev = sc;
-            }
-            total += cell_piece(prof, rb, p, prev, s1);
-        }
-        columns[c] = total;
+    column_walk w = {.atm = atm, .rb = atm->bottom_radius_m, .p = sqrt(p2), .columns = columns};
+    /* one walk for all species when their profiles share one spacing (their cells' boundaries) */
+    const int together = atm->profile_dz_m > 0.0;
+    for (w.from = 0; w.from < atm->species_count; w.from = w.to) {
+        w.to = together ? atm->species_count : w.from + 1;
+        species_columns(&w, atm->species[w.from].profile.dz_m, p2, s0, s1);
     }
 }
 
