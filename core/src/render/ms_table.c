@@ -274,6 +274,7 @@ typedef struct shape_field {
     const render_job *job;
     const sky_grid *above; /* the table read above the horizon; the single-scattering table below */
     int channel;
+    const double *sun_field; /* the field at the shape's points about the sun (next_order_sun_field) */
 } shape_field;
 
 static double table_field(void *ctx, vec3 d)
@@ -294,8 +295,9 @@ static void part_shapes(void *ctx, int64_t begin, int64_t end, int thread)
     for (int64_t i = begin; i < end; i++) {
         double e, phi;
         sky_grid_node_angles(&job->ms->grid, (int)i, &e, &phi);
-        job->ms->shape[i] = next_order_shape(&sky->atm, sky->observer, render_view_direction(sky, e, phi),
-                                            sky->sun_dir, sky->atm.grid.count / 2, table_field, (void *)field);
+        job->ms->shape[i] = next_order_shape_with(&sky->atm, sky->observer, render_view_direction(sky, e, phi),
+                                                 sky->sun_dir, sky->atm.grid.count / 2, table_field, (void *)field,
+                                                 field->sun_field);
     }
 }
 
@@ -305,7 +307,9 @@ static fm_status fit_part(render_job *job, sky_grid *part, const sky_grid *above
                           const double *var)
 {
     const int K = job->sky->atm.grid.count;
-    shape_field field = {job, above, job->channels == 3 ? 1 : (job->channels == K ? K / 2 : 0)};
+    double sun_field[NEXT_ORDER_SUN_POINTS];
+    shape_field field = {job, above, job->channels == 3 ? 1 : (job->channels == K ? K / 2 : 0), sun_field};
+    next_order_sun_field(job->sky->sun_dir, table_field, &field, sun_field);
     fm_status s = parallel_for(job->params->threads, job->ms->grid.rows_sky * job->ms->grid.cols, 4, part_shapes,
                                &field, job->params->cancel, NULL);
     return s ? s : sky_grid_fit(part, sun_elevation, y, var, job->ms->shape, NULL);

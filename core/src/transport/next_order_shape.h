@@ -30,4 +30,12 @@ typedef double (*radiance_field)(void *ctx, vec3 d);
 double next_order_shape(const atmosphere *atm, vec3 observer, vec3 d, vec3 sun_dir, int k, radiance_field F,
                         void *ctx);
 
+/* The quadrature's points about the sun are the same for every d: F there, computed once
+ * (next_order_sun_field, NEXT_ORDER_SUN_POINTS values) for a table's many directions, and then
+ * next_order_shape_with that, the same sum as next_order_shape's. */
+#define NEXT_ORDER_SUN_POINTS (48 * 24)
+void next_order_sun_field(vec3 sun_dir, radiance_field F, void *ctx, double *field);
+double next_order_shape_with(const atmosphere *atm, vec3 observer, vec3 d, vec3 sun_dir, int k, radiance_field F,
+                             void *ctx, const double *sun_field);
+
 #endif
