@@ -1,0 +1,363 @@
+/* Adding-doubling for a plane-parallel column (see the header).
+ *
+ * Conventions (Hansen & Travis 1974).  A kernel K(mu, mu') of one Fourier mode maps incident to
+ * outgoing radiance by L_out(mu) = 2 int_0^1 K(mu, mu') L_in(mu') mu' dmu'; on the discrete points that
+ * integral is sum_j K[i][j] w[j], w = 2 mu c (c: Gauss weights on [0, 1]; 0 for the view and sun
+ * points).  Rows run over every point (N Gauss nodes, the views, the sun last); columns over the
+ * directions of incidence the beam's light can have (the N Gauss nodes, then the sun).  E = exp(-tau
+ * / mu) is the direct transmission; E on the right scales the incident direction's column, on the
+ * left the outgoing row.  Doubling two identical layers (R from above equals R from below):
+ *   Q = R w R,  S = Q (1 - w Q)^-1,  D = T + S E + S w T,  U = R E + R w D,
+ *   R' = R + E U + T w U,  T' = E D + T E + T w D,  E' = E^2.
+ * Adding a homogeneous layer k under a column C (R*: C's reflection of light from below; only the
+ * beam's diffuse transmission t = T_C[., sun] and R* are carried down):
+ *   d = t + e_sun R* w R_k[., sun] + R* w R_k w d   (the downward light between them),
+ *   t' = E_k d + T_k w d + T_k[., sun] e_sun,
+ *   Q = R_k w R*,  S = Q (1 - w Q)^-1,  U = T_k + S E_k + S w T_k,  D = R* E_k + R* w U,
+ *   R*' = R_k + E_k D + T_k w D,  E' = E_C E_k. */
+#include "transport/plane_column.h"
+
+#include "base/quadrature.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PC_PI 3.14159265358979323846
+/* Doubling starts from single scattering in a sliver this thin: the second order it leaves out is
+ * about tau_start times the layer's optical depth. */
+#define PLANE_COLUMN_TAU_START 1e-6
+#define MAX_STREAMS 32
+#define MAX_VIEWS 512
+#define MAX_POINTS (MAX_STREAMS + MAX_VIEWS + 1)
+
+typedef struct work {
+    int n, nq, nc, sun;              /* rows, Gauss nodes, columns; the sun's row */
+    double *xs, *w;                  /* [n]: the rows' cosines and weights (0 past the Gauss nodes) */
+    double *lam;                     /* [n][M]: normalised associated Legendre functions of the mode */
+    double *pt, *pr;                 /* [n][nc]: the mode's phase kernels, transmission and reflection */
+    double *r, *t, *e;               /* the layer: R, T [n][nc], E [n] */
+    double *rs, *tc, *ec;            /* the column above: R* [n][nc], t [n], E [n] */
+    double *q, *s, *d, *u, *v;       /* scratch [n][nc] */
+    double *a;                       /* [nc][nc] */
+    int *piv;
+} work;
+
+/* The column index's row: the Gauss nodes, then the sun. */
+static inline int col_row(const work *W, int j)
+{
+    return j < W->nq ? j : W->sun;
+}
+
+/* Normalised associated Legendre functions sqrt((l-m)!/(l+m)!) P_l^m(x), l = m..lmax (index l). */
+static void assoc_legendre(int m, int lmax, double x, double *lam)
+{
+    double s = sqrt(fmax(0.0, 1.0 - x * x)), v = 1.0;
+    for (int k = 1; k <= m; k++)
+        v *= sqrt((2.0 * k - 1.0) / (2.0 * k)) * s;
+    lam[m] = v;
+    if (m + 1 <= lmax)
+        lam[m + 1] = sqrt(2.0 * m + 1.0) * x * v;
+    for (int l = m + 1; l < lmax; l++)
+        lam[l + 1] = ((2.0 * l + 1.0) * x * lam[l] - sqrt((double)(l * l - m * m)) * lam[l - 1]) /
+                     sqrt((double)((l + 1) * (l + 1) - m * m));
+}
+
+/* c = a diag(w) b, summing over the Gauss nodes (b's first nq rows); all [n][nc]. */
+static void mul_w(const work *W, const double *a, const double *b, double *c)
+{
+    const int n = W->n, nq = W->nq, nc = W->nc;
+    memset(c, 0, sizeof(double) * (size_t)(n * nc));
+    for (int i = 0; i < n; i++)
+        for (int k = 0; k < nq; k++) {
+            double aik = a[i * nc + k] * W->w[k];
+            const double *bk = b + k * nc;
+            double *ci = c + i * nc;
+            for (int j = 0; j < nc; j++)
+                ci[j] += aik * bk[j];
+        }
+}
+
+/* S = Q (1 - w Q)^-1 over the columns: the matrix 1 - w Q is nc x nc (its sun row is the identity's:
+ * w is 0 there); each row x of S solves x (1 - w Q) = q, by LU with partial pivoting of the
+ * transpose.  s may not alias q. */
+static void resolvent(work *W, const double *q, double *s)
+{
+    const int n = W->n, nq = W->nq, nc = W->nc;
+    double *a = W->a; /* a = (1 - w Q)^T restricted: a[j][p] = delta - w_p Q[row p][j] */
+    for (int p = 0; p < nc; p++)
+        for (int j = 0; j < nc; j++)
+            a[j * nc + p] = (p == j) - (p < nq ? W->w[p] * q[p * nc + j] : 0.0);
+    int *piv = W->piv;
+    for (int k = 0; k < nc; k++) {
+        int p = k;
+        for (int i = k + 1; i < nc; i++)
+            if (fabs(a[i * nc + k]) > fabs(a[p * nc + k]))
+                p = i;
+        piv[k] = p;
+        if (p != k)
+            for (int j = 0; j < nc; j++) {
+                double tmp = a[k * nc + j];
+                a[k * nc + j] = a[p * nc + j];
+                a[p * nc + j] = tmp;
+            }
+        for (int i = k + 1; i < nc; i++) {
+            double f = a[i * nc + k] /= a[k * nc + k];
+            for (int j = k + 1; j < nc; j++)
+                a[i * nc + j] -= f * a[k * nc + j];
+        }
+    }
+    for (int r = 0; r < n; r++) {
+        double *y = s + r * nc;
+        memcpy(y, q + r * nc, sizeof(double) * (size_t)nc);
+        for (int k = 0; k < nc; k++) {
+            double tmp = y[k];
+            y[k] = y[piv[k]];
+            y[piv[k]] = tmp;
+            for (int i = k + 1; i < nc; i++)
+                y[i] -= a[i * nc + k] * y[k];
+        }
+        for (int k = nc - 1; k >= 0; k--) {
+            for (int j = k + 1; j < nc; j++)
+                y[k] -= a[k * nc + j] * y[j];
+            y[k] /= a[k * nc + k];
+        }
+    }
+}
+
+/* The mode's phase kernels for moments chi (terms l = m .. M-1). */
+static void phase_kernels(work *W, const double *chi, int m, int M)
+{
+    for (int i = 0; i < W->n; i++)
+        for (int j = 0; j < W->nc; j++) {
+            const double *li = W->lam + i * M, *lj = W->lam + col_row(W, j) * M;
+            double st = 0.0, sr = 0.0;
+            for (int l = m; l < M; l++) {
+                double v = (2.0 * l + 1.0) * chi[l] * li[l] * lj[l];
+                st += v;
+                sr += (l + m) % 2 ? -v : v;
+            }
+            W->pt[i * W->nc + j] = st;
+            W->pr[i * W->nc + j] = sr;
+        }
+}
+
+/* R, T and E of one homogeneous layer for the current phase kernels. */
+static void layer_doubled(work *W, double tau, double ssa)
+{
+    const int n = W->n, nc = W->nc;
+    int k = 0;
+    double tau0 = tau;
+    while (tau0 > PLANE_COLUMN_TAU_START) {
+        tau0 *= 0.5;
+        k++;
+    }
+    double *r = W->r, *t = W->t, *e = W->e, *q = W->q, *s = W->s, *dd = W->d, *u = W->u, *v = W->v;
+    for (int i = 0; i < n; i++) {
+        e[i] = exp(-tau0 / W->xs[i]);
+        for (int j = 0; j < nc; j++) {
+            double a = W->xs[i], b = W->xs[col_row(W, j)], d = a - b;
+            r[i * nc + j] = 0.25 * ssa * W->pr[i * nc + j] * -expm1(-tau0 * (a + b) / (a * b)) / (a + b);
+            double tt = fabs(d) < 1e-14 ? tau0 / (a * b) : expm1(tau0 * d / (a * b)) / d;
+            t[i * nc + j] = 0.25 * ssa * W->pt[i * nc + j] * exp(-tau0 / b) * tt;
+        }
+    }
+    for (int it = 0; it < k; it++) {
+        mul_w(W, r, r, q);
+        resolvent(W, q, s);
+        mul_w(W, s, t, dd); /* D = T + S E + S w T */
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < nc; j++)
+                dd[i * nc + j] += t[i * nc + j] + s[i * nc + j] * e[col_row(W, j)];
+        mul_w(W, r, dd, u); /* U = R E + R w D */
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < nc; j++)
+                u[i * nc + j] += r[i * nc + j] * e[col_row(W, j)];
+        mul_w(W, t, u, v); /* R' = R + E U + T w U */
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < nc; j++)
+                r[i * nc + j] += e[i] * u[i * nc + j] + v[i * nc + j];
+        mul_w(W, t, dd, v); /* T' = E D + T E + T w D */
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < nc; j++)
+                t[i * nc + j] = e[i] * dd[i * nc + j] + t[i * nc + j] * e[col_row(W, j)] + v[i * nc + j];
+        for (int i = 0; i < n; i++)
+            e[i] *= e[i];
+    }
+}
+
+/* Solves (1 - B) y = y over the Gauss rows, B[i][k] = Q[i][k] w_k (nq x nq, overwritten in W->a). */
+static void solve_gauss(work *W, const double *Q, double *y)
+{
+    const int nq = W->nq, nc = W->nc;
+    double *a = W->a;
+    for (int i = 0; i < nq; i++)
+        for (int k = 0; k < nq; k++)
+            a[i * nq + k] = (i == k) - Q[i * nc + k] * W->w[k];
+    for (int k = 0; k < nq; k++) {
+        int p = k;
+        for (int i = k + 1; i < nq; i++)
+            if (fabs(a[i * nq + k]) > fabs(a[p * nq + k]))
+                p = i;
+        if (p != k) {
+            for (int j = 0; j < nq; j++) {
+                double tmp = a[k * nq + j];
+                a[k * nq + j] = a[p * nq + j];
+                a[p * nq + j] = tmp;
+            }
+            double tmp = y[k];
+            y[k] = y[p];
+            y[p] = tmp;
+        }
+        for (int i = k + 1; i < nq; i++) {
+            double f = a[i * nq + k] / a[k * nq + k];
+            for (int j = k; j < nq; j++)
+                a[i * nq + j] -= f * a[k * nq + j];
+            y[i] -= f * y[k];
+        }
+    }
+    for (int k = nq - 1; k >= 0; k--) {
+        for (int j = k + 1; j < nq; j++)
+            y[k] -= a[k * nq + j] * y[j];
+        y[k] /= a[k * nq + k];
+    }
+}
+
+/* Adds the layer in (r, t, e) under the column in (rs, tc, ec). */
+static void add_layer(work *W)
+{
+    const int n = W->n, nq = W->nq, nc = W->nc;
+    double *q = W->q, *s = W->s, *uu = W->u, *dd = W->d, *v = W->v;
+    const double e_sun = W->ec[W->sun];
+    /* the beam's downward light between the column and the layer */
+    mul_w(W, W->rs, W->r, q); /* R* w R_k */
+    double dp[MAX_POINTS];
+    for (int i = 0; i < nq; i++)
+        dp[i] = W->tc[i] + e_sun * q[i * nc + nq];
+    solve_gauss(W, q, dp);
+    for (int i = nq; i < n; i++) {
+        double sum = W->tc[i] + e_sun * q[i * nc + nq];
+        for (int k = 0; k < nq; k++)
+            sum += q[i * nc + k] * W->w[k] * dp[k];
+        dp[i] = sum;
+    }
+    for (int i = 0; i < n; i++) {
+        double sum = W->e[i] * dp[i] + W->t[i * nc + nq] * e_sun;
+        for (int j = 0; j < nq; j++)
+            sum += W->t[i * nc + j] * W->w[j] * dp[j];
+        uu[i] = sum; /* t' (uu is free scratch until the reflection below) */
+    }
+    memcpy(W->tc, uu, sizeof(double) * (size_t)n);
+    /* the column's reflection of light from below */
+    mul_w(W, W->r, W->rs, q); /* Q = R_k w R* */
+    resolvent(W, q, s);
+    mul_w(W, s, W->t, uu); /* U = T_k + S E_k + S w T_k */
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < nc; j++)
+            uu[i * nc + j] += W->t[i * nc + j] + s[i * nc + j] * W->e[col_row(W, j)];
+    mul_w(W, W->rs, uu, dd); /* D = R* E_k + R* w U */
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < nc; j++)
+            dd[i * nc + j] += W->rs[i * nc + j] * W->e[col_row(W, j)];
+    mul_w(W, W->t, dd, v); /* R*' = R_k + E_k D + T_k w D */
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < nc; j++)
+            W->rs[i * nc + j] = W->r[i * nc + j] + W->e[i] * dd[i * nc + j] + v[i * nc + j];
+    for (int i = 0; i < n; i++)
+        W->ec[i] *= W->e[i];
+}
+
+static int column_valid(const plane_column *c)
+{
+    if (!c || c->streams < 2 || c->streams > MAX_STREAMS || c->layer_count < 1 ||
+        c->layer_count > PLANE_COLUMN_MAX_LAYERS || !(c->mu0 > 0.0 && c->mu0 <= 1.0) ||
+        !(c->ground_albedo >= 0.0 && c->ground_albedo <= 1.0) || c->n_mu < 0 || c->n_mu > MAX_VIEWS || (c->n_mu && !c->mu))
+        return 0;
+    for (int k = 0; k < c->n_mu; k++)
+        if (!(c->mu[k] > 0.0 && c->mu[k] <= 1.0))
+            return 0;
+    for (int l = 0; l < c->layer_count; l++)
+        if (!(c->layer[l].tau >= 0.0) || !(c->layer[l].ssa >= 0.0 && c->layer[l].ssa <= 1.0) || !c->layer[l].chi)
+            return 0;
+    return 1;
+}
+
+fm_status plane_column_bottom(const plane_column *c, double *modes, double *flux_down)
+{
+    if (!column_valid(c))
+        return FM_ERR_INVALID_ARGUMENT;
+    work W = {.nq = c->streams, .nc = c->streams + 1};
+    const int nq = W.nq, nc = W.nc, M = 2 * nq, nv = c->n_mu, n = nq + nv + 1;
+    W.n = n;
+    W.sun = n - 1;
+    const size_t nn = (size_t)n * (size_t)nc;
+    double *block = calloc((size_t)n * (5 + (size_t)M) + nn * 10 + (size_t)(nc * nc), sizeof(double));
+    W.piv = malloc(sizeof(int) * (size_t)nc);
+    if (!block || !W.piv) {
+        free(block);
+        free(W.piv);
+        return FM_ERR_OUT_OF_MEMORY;
+    }
+    double *next = block;
+    W.w = next, next += n;
+    W.xs = next, next += n;
+    W.lam = next, next += (size_t)n * (size_t)M;
+    double **mats[] = {&W.pt, &W.pr, &W.r, &W.t, &W.rs, &W.q, &W.s, &W.d, &W.u, &W.v};
+    for (size_t i = 0; i < sizeof mats / sizeof mats[0]; i++)
+        *mats[i] = next, next += nn;
+    W.e = next, next += n;
+    W.tc = next, next += n;
+    W.ec = next, next += n;
+    W.a = next;
+    gauss_rule g;
+    gauss_legendre(nq, &g);
+    for (int i = 0; i < nq; i++) {
+        W.xs[i] = 0.5 * (1.0 + g.x[i]);
+        W.w[i] = 2.0 * W.xs[i] * 0.5 * g.w[i];
+    }
+    for (int k = 0; k < nv; k++)
+        W.xs[nq + k] = c->mu[k];
+    W.xs[W.sun] = c->mu0;
+
+    double rh[MAX_POINTS] = {0};
+    double e_sun = 0.0, tflux = 0.0, sph = 0.0;
+    for (int m = 0; m < M; m++) {
+        for (int i = 0; i < n; i++)
+            assoc_legendre(m, M - 1, W.xs[i], W.lam + i * M);
+        for (int l = 0; l < c->layer_count; l++) {
+            phase_kernels(&W, c->layer[l].chi, m, M);
+            layer_doubled(&W, c->layer[l].tau, c->layer[l].ssa);
+            if (l == 0) {
+                memcpy(W.rs, W.r, sizeof(double) * nn);
+                memcpy(W.ec, W.e, sizeof(double) * (size_t)n);
+                for (int i = 0; i < n; i++)
+                    W.tc[i] = W.t[i * nc + nq];
+            } else {
+                add_layer(&W);
+            }
+        }
+        for (int k = 0; k < nv; k++)
+            modes[k * M + m] = c->mu0 / PC_PI * W.tc[nq + k];
+        if (m == 0) {
+            e_sun = W.ec[W.sun];
+            for (int i = 0; i < n; i++) {
+                rh[i] = 0.0;
+                for (int j = 0; j < nq; j++)
+                    rh[i] += W.rs[i * nc + j] * W.w[j];
+            }
+            for (int i = 0; i < nq; i++) {
+                tflux += W.w[i] * W.tc[i];
+                sph += W.w[i] * rh[i];
+            }
+        }
+    }
+    /* the ground: its light, reflected down again by the column, in the azimuthal mean */
+    const double A = c->ground_albedo, e_dn = (e_sun + tflux) / (1.0 - A * sph), lg = A * c->mu0 * e_dn / PC_PI;
+    for (int k = 0; k < nv; k++)
+        modes[k * M] += lg * rh[nq + k];
+    if (flux_down)
+        *flux_down = e_dn;
+    free(block);
+    free(W.piv);
+    return FM_OK;
+}

@@ -1,0 +1,44 @@
+/* Adding-doubling for a plane-parallel column of homogeneous layers over a Lambertian ground, lit
+ * by a parallel solar beam at its top: the diffuse downward radiance at the bottom, per azimuthal
+ * Fourier mode, at given view cosines (Hansen & Travis 1974, Space Sci. Rev. 16, 527, section 2.6;
+ * the adding of unlike layers: Plass, Kattawar & Catchings 1973, Appl. Opt. 12, 314).
+ *
+ * Each layer is solved by doubling from single scattering in a sliver of optical depth below
+ * PLANE_COLUMN_TAU_START; the layers are added from the top down, and the ground couples through the
+ * azimuthal mean only.  The view cosines (and the sun's) enter as points of zero quadrature weight,
+ * so they do not change the integrals; only the columns of incidence that the beam's light reaches
+ * (the Gauss nodes and the sun) are kept, which keeps the work at n x (N + 1) per matrix row.
+ *
+ * The caller scales the layers (delta-M: chi are the scaled phase function's moments, tau and ssa
+ * the scaled ones) and corrects single scattering (render/fog_table.c).  Units: F0 = 1 on a surface
+ * normal to the beam; radiances per unit F0, fluxes per unit mu0 F0. */
+#ifndef FM_TRANSPORT_PLANE_COLUMN_H
+#define FM_TRANSPORT_PLANE_COLUMN_H
+
+#include "firmament/firmament.h"
+
+#define PLANE_COLUMN_MAX_LAYERS 16
+
+typedef struct plane_layer {
+    double tau;        /* vertical optical depth */
+    double ssa;        /* single-scattering albedo, [0, 1] */
+    const double *chi; /* Legendre moments chi_0 .. chi_{2N-1} of the phase function (chi_0 = 1) */
+} plane_layer;
+
+typedef struct plane_column {
+    int streams;         /* N Gauss nodes per hemisphere, [2, 32]: 2N moments and 2N Fourier modes */
+    int layer_count;     /* [1, PLANE_COLUMN_MAX_LAYERS] */
+    const plane_layer *layer; /* the top layer first */
+    double ground_albedo;
+    double mu0;          /* the sun's zenith cosine, (0, 1] */
+    int n_mu;            /* view cosines at the bottom, looking up, each in (0, 1] */
+    const double *mu;
+} plane_column;
+
+/* Fourier modes of the diffuse downward radiance at the bottom: modes[k * 2N + m] for view cosine
+ * mu[k], so that L(mu_k, phi) = modes[k 2N] + 2 sum_m modes[k 2N + m] cos(m phi), phi the azimuth
+ * from the sun's side; *flux_down is the downward flux at the bottom (direct and diffuse, per mu0 F0,
+ * the ground's light included).  FM_ERR_INVALID_ARGUMENT on a bad column, FM_ERR_OUT_OF_MEMORY. */
+fm_status plane_column_bottom(const plane_column *c, double *modes, double *flux_down);
+
+#endif
