@@ -9,6 +9,7 @@
 #include "camera/equirect.h"
 #include "camera/footprint.h"
 #include "image/image.h"
+#include "render/fog_table.h"
 #include "render/ms_table.h"
 #include "render/record.h"
 #include "render/reference.h"
@@ -258,26 +259,34 @@ static fm_status create_image(render_job *job, fm_error *err)
     return FM_OK;
 }
 
+/* The ground seen from the observer (rad: the arc up to its horizon) and the sun's zenith angle;
+ * returns whether the ground's irradiance takes orders >= 2 from the table (an observer on it). */
+static int ground_from_table(const fm_sky *sky, double *visible, double *theta_s)
+{
+    double r_obs = v3_length(sky->observer);
+    *visible = acos(fmin(1.0, sky->atm.bottom_radius_m / r_obs)); /* ground seen up to the horizon */
+    *theta_s = acos(clamp_cosine(sky->sun_dir.z));
+    assert(r_obs >= sky->atm.bottom_radius_m && r_obs < sky->atm.top_radius_m);
+    assert(*visible >= 0.0 && *visible <= 0.5 * FM_PI && *theta_s >= 0.0 && *theta_s <= FM_PI);
+    return ground_irradiance_angle_count(*theta_s, *visible) == 1;
+}
+
 /* The diffuse ground irradiance (ground_irradiance.h), with every segment's sunlight along its
  * length (sunlit_segment.h), not at one point: with a low sun behind thick haze the ground's light
  * comes from the few vertices above the haze (docs/decisions/2026-12-06-ground-segment-sunlight.md).
  * An observer on the ground gets orders >= 2 from the multiple-scattering table instead
- * (*from_table set; ms_table_add_to_ground). */
-static fm_status build_ground(render_job *job, int *from_table)
+ * (from_table; ms_table_add_to_ground). */
+static fm_status build_ground(render_job *job, int from_table)
 {
     const fm_sky *sky = job->sky;
     const quality_settings *q = &job->q;
     path_context all = scattering_path_context(sky, job->twilight, 1, 0);
     all.segment_sunlight = SEGMENT_SUNLIGHT_ALL;
     all.deck = job->under_deck;
-    double r_obs = v3_length(sky->observer);
-    double visible = acos(fmin(1.0, sky->atm.bottom_radius_m / r_obs)); /* ground seen up to the horizon */
+    double visible, theta_s;
+    ground_from_table(sky, &visible, &theta_s);
     ground_quadrature gq = {q->ground_rows, q->ground_cols, q->ss_points};
-    double theta_s = acos(clamp_cosine(sky->sun_dir.z));
-    assert(r_obs >= sky->atm.bottom_radius_m && r_obs < sky->atm.top_radius_m);
-    assert(visible >= 0.0 && visible <= 0.5 * FM_PI && theta_s >= 0.0 && theta_s <= FM_PI);
-    *from_table = ground_irradiance_angle_count(theta_s, visible) == 1;
-    return ground_irradiance_build(&job->ground, &all, theta_s, visible, gq, *from_table ? 0 : q->ground_paths,
+    return ground_irradiance_build(&job->ground, &all, theta_s, visible, gq, from_table ? 0 : q->ground_paths,
                                    job->seed, job->params->threads, job->params->cancel);
 }
 
@@ -294,29 +303,38 @@ fm_status render_fast_tables(render_job *job, double sun_elevation, fm_error *er
     const fm_render_params *params = job->params;
     const quality_settings *q = &job->q;
     const double horizon = asin(horizon_mu(&job->sky->atm, v3_length(job->sky->observer))); /* elevation, <= 0 */
-    /* deterministic single scattering interpolates in log space */
-    if (sky_grid_init(&job->ss, horizon, q->ss_rows_sky, q->ss_rows_ground, q->ss_cols, job->channels, 1) ||
-        ms_table_init(job->ms, q, horizon, job->channels, job->sky->atm.grid.count, ms_table_parted(job->twilight),
-                      job->twilight && job->channels == 3))
-        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the radiance tables");
     report(params, 0.0, "ground irradiance");
-    int ground_from_table, deck_built;
+    int deck_built;
     fm_status s = deck_base_for_sky(&job->deck, job->sky, q->deck_photons, job->seed, params->threads, params->cancel,
                                     &deck_built);
     job->under_deck = deck_built ? &job->deck : NULL;
     if (deck_built) /* the paths carry only what the air below the base scatters: the rest is the base's */
         job->q.ms_paths = (job->q.ms_paths + DECK_PATH_SHARE - 1) / DECK_PATH_SHARE;
+    double visible, theta_s;
+    const int on_ground = ground_from_table(job->sky, &visible, &theta_s);
+    const int fog = !s && fog_table_applies(job, on_ground); /* the table from the column, no fit */
+    quality_settings table_q = *q;
+    if (fog && job->fine_fog_table)
+        fog_table_size(&table_q);
+    /* deterministic single scattering interpolates in log space */
+    if (sky_grid_init(&job->ss, horizon, q->ss_rows_sky, q->ss_rows_ground, q->ss_cols, job->channels, 1) ||
+        ms_table_init(job->ms, &table_q, horizon, job->channels, job->sky->atm.grid.count,
+                      ms_table_parted(job->twilight), job->twilight && job->channels == 3))
+        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the radiance tables");
     if (!s)
-        s = build_ground(job, &ground_from_table);
+        s = build_ground(job, on_ground);
     if (s == FM_ERR_OUT_OF_MEMORY)
         return fm_fail(err, s, "out of memory for the ground irradiance");
     parallel_progress pss = {params->progress, params->progress_user, "single scattering", 0.80, 0.10};
-    if (s || (s = ms_table_fill(job, sun_elevation / FM_DEG)) ||
-        (ground_from_table && (s = ms_table_add_to_ground(job))) ||
+    if (s || (s = fog ? fog_table_fill(job) : ms_table_fill(job, sun_elevation / FM_DEG)) ||
+        (on_ground && (s = ms_table_add_to_ground(job))) ||
         (s = parallel_for(params->threads, job->ss.rows_sky + job->ss.rows_ground, 1, ss_rows, job, params->cancel,
                           &pss)) ||
-        (s = atomic_load(&job->no_memory) ? FM_ERR_OUT_OF_MEMORY : FM_OK) || (s = ms_table_fit(job, sun_elevation)))
+        (s = atomic_load(&job->no_memory) ? FM_ERR_OUT_OF_MEMORY : FM_OK) ||
+        (!fog && (s = ms_table_fit(job, sun_elevation))))
         return render_failed(s, err);
+    if (fog)
+        fog_table_add_peak(job);
     sky_grid_average_poles(&job->ms->grid);
     return FM_OK;
 }
@@ -382,7 +400,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
 {
     *out = NULL;
     ms_table ms = {0};
-    render_job job = {.sky = sky, .params = params, .ms = &ms};
+    render_job job = {.sky = sky, .params = params, .ms = &ms, .fine_fog_table = 1};
     fm_status s = render_start(&job, err);
     if (s)
         return s;

@@ -1,0 +1,411 @@
+#include "render/fog_table.h"
+
+#include "base/quadrature.h"
+#include "base/threads.h"
+#include "base/units.h"
+#include "render/ms_table.h"
+#include "render/render_job.h"
+#include "sky.h"
+#include "transport/plane_column.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* 12 streams (24 moments) with delta-M: the multiple scattering of orders >= 2 in the fog to well
+ * under a percent of the 24-stream solution's (docs/decisions/2026-12-06-fog-column.md). */
+#define FOG_STREAMS 12
+#define FOG_MOMENTS (2 * FOG_STREAMS)
+/* Panels uniform in scattering angle for the moments: 0.09 degrees, a fifth of the droplets'
+ * diffraction peak at 380 nm. */
+#define MOMENT_PANELS 2000
+/* The air above the fog in layers broken here (m above the ground): the aerosols' share of the
+ * scattering falls with height, and a layer's mixture is one phase function. */
+static const double air_breaks_m[] = {1000.0, 3000.0, 10000.0};
+/* The horizon row's view cosine: the plane-parallel radiance at grazing views tends to the source
+ * function at the bottom, reached within a milliradian. */
+#define VIEW_MU_MIN 1e-3
+
+typedef struct fog_column {
+    render_job *job;
+    int layers;                    /* top first */
+    int fog_layers;                /* the bottom fog_layers are the fog */
+    double column[PLANE_COLUMN_MAX_LAYERS][FM_MAX_SPECIES]; /* m^-2 */
+    double *chi;                   /* [species][K][FOG_MOMENTS + 1] */
+    int n_mu;
+    double mu[512];
+    double top_radius;             /* the fog's top, m from the planet's centre */
+    double ground[FM_MAX_WAVELENGTHS]; /* the peak's light on the ground (peak_light) */
+} fog_column;
+
+/* ---- where it applies ------------------------------------------------------------------------ */
+
+/* The optical depth at 550 nm of the cloud layer on the ground that holds the observer, or 0; its
+ * top (m) in *top. */
+static double fog_around_observer(const fm_sky *sky, double *top)
+{
+    const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    for (int i = 0; i < sky->composition.cloud_count; i++) {
+        const double base = sky->composition.cloud[i].base_m, h = sky->composition.cloud[i].thickness_m;
+        if (base <= 0.0 && altitude < base + h) {
+            *top = base + h;
+            return sky->composition.cloud[i].tau550;
+        }
+    }
+    return 0.0;
+}
+
+int fog_table_applies(const render_job *job, int on_ground)
+{
+    double top;
+    return on_ground && !job->twilight && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
+           job->sky->sun_dir.z >= sin(FOG_TABLE_MIN_SUN_DEG * FM_DEG) &&
+           fog_around_observer(job->sky, &top) >= FOG_TABLE_MIN_TAU;
+}
+
+void fog_table_size(quality_settings *q)
+{
+    q->ms_rows_sky = q->ms_rows_sky > FOG_TABLE_ROWS_SKY ? q->ms_rows_sky : FOG_TABLE_ROWS_SKY;
+    q->ms_cols = q->ms_cols > FOG_TABLE_COLS ? q->ms_cols : FOG_TABLE_COLS;
+}
+
+/* ---- the column ------------------------------------------------------------------------------ */
+
+/* The integral of a piecewise-linear profile from z0 to z1 (m^-2): exact, cell by cell. */
+static double column_between(const density_profile *p, double z0, double z1)
+{
+    double sum = 0.0, a = z0;
+    while (a < z1) {
+        double b = fmin(z1, (floor(a / p->dz_m) + 1.0) * p->dz_m);
+        sum += 0.5 * (profile_density(p, a) + profile_density(p, b)) * (b - a);
+        a = b;
+    }
+    return sum;
+}
+
+static int add_break(double *z, int n, double v, double lo, double hi)
+{
+    if (!(v > lo && v < hi) || n >= PLANE_COLUMN_MAX_LAYERS)
+        return n;
+    for (int i = 0; i < n; i++)
+        if (fabs(z[i] - v) < 1.0)
+            return n;
+    z[n] = v;
+    return n + 1;
+}
+
+static int ascending(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The layers' boundaries and every species' column in each (top layer first). */
+static void column_layers(fog_column *fc, const fm_sky *sky, double fog_top)
+{
+    const atmosphere *atm = &sky->atm;
+    const double toa = atm->top_radius_m - atm->bottom_radius_m;
+    double z[PLANE_COLUMN_MAX_LAYERS + 1] = {0.0, fog_top, toa};
+    int n = fog_top < toa ? 3 : 2;
+    if (n == 2)
+        z[1] = toa;
+    for (size_t i = 0; i < sizeof air_breaks_m / sizeof air_breaks_m[0]; i++)
+        n = add_break(z, n, fog_top + air_breaks_m[i], fog_top, toa);
+    for (int i = 0; i < sky->composition.cloud_count; i++) {
+        const double base = sky->composition.cloud[i].base_m;
+        n = add_break(z, n, base, fog_top, toa);
+        n = add_break(z, n, base + sky->composition.cloud[i].thickness_m, fog_top, toa);
+    }
+    qsort(z, (size_t)n, sizeof z[0], ascending);
+    fc->layers = n - 1;
+    fc->fog_layers = 1;
+    for (int l = 0; l < fc->layers; l++) {
+        const double z0 = z[n - 2 - l], z1 = z[n - 1 - l]; /* top first */
+        for (int c = 0; c < atm->species_count; c++)
+            fc->column[l][c] = column_between(&atm->species[c].profile, z0, z1);
+    }
+}
+
+/* Legendre polynomials P_0..P_lmax at x. */
+static void legendre(int lmax, double x, double *p)
+{
+    p[0] = 1.0;
+    p[1] = x;
+    for (int l = 2; l <= lmax; l++)
+        p[l] = ((2.0 * l - 1.0) * x * p[l - 1] - (l - 1.0) * p[l - 2]) / l;
+}
+
+/* chi[c][k][l] = (1/2) int P_c,k(x) P_l(x) dx / (1/2) int P_c,k(x) dx, l = 0 .. FOG_MOMENTS, by 4-point
+ * Gauss on panels uniform in the scattering angle (the forward peak resolved). */
+static fm_status species_moments(fog_column *fc, const atmosphere *atm)
+{
+    const int K = atm->grid.count, L = FOG_MOMENTS + 1, S = atm->scattering_count;
+    fc->chi = calloc((size_t)S * (size_t)K * (size_t)L, sizeof(double));
+    if (!fc->chi)
+        return FM_ERR_OUT_OF_MEMORY;
+    const gauss_rule *g = gauss_legendre_cached(4);
+    const double h = FM_PI / MOMENT_PANELS;
+    double pl[FOG_MOMENTS + 1], val[FM_MAX_WAVELENGTHS];
+    for (int i = 0; i < MOMENT_PANELS; i++)
+        for (int q = 0; q < 4; q++) {
+            const double th = h * (i + 0.5 * (1.0 + g->x[q])), x = cos(th), wq = sin(th) * 0.5 * h * g->w[q];
+            legendre(FOG_MOMENTS, x, pl);
+            for (int c = 0; c < S; c++) {
+                phase_evaluate_all(&atm->species[c].phase, K, x, val);
+                for (int k = 0; k < K; k++) {
+                    double *chi = fc->chi + ((size_t)c * K + k) * L, v = val[k] * wq;
+                    for (int l = 0; l < L; l++)
+                        chi[l] += v * pl[l];
+                }
+            }
+        }
+    for (size_t j = 0; j < (size_t)S * K; j++) {
+        double *chi = fc->chi + j * L, c0 = chi[0];
+        for (int l = 0; l < L && c0 > 0.0; l++)
+            chi[l] /= c0;
+    }
+    return FM_OK;
+}
+
+/* The scaled phase function sum_l (2l + 1) chi_l P_l(x) / (4 pi) for l < FOG_MOMENTS. */
+static double scaled_phase(const double *chi, double x)
+{
+    double p[FOG_MOMENTS + 1], sum = 0.0;
+    legendre(FOG_MOMENTS, x, p);
+    for (int l = 0; l < FOG_MOMENTS; l++)
+        sum += (2.0 * l + 1.0) * chi[l] * p[l];
+    return sum / (4.0 * FM_PI);
+}
+
+/* ---- one wavelength -------------------------------------------------------------------------- */
+
+typedef struct scaled_layer {
+    double tau, ssa, f;               /* unscaled optical depth and albedo; the truncated fraction */
+    double chi[FOG_MOMENTS + 1];      /* the scaled moments */
+} scaled_layer;
+
+/* Layer l's optical properties at wavelength k, delta-M scaled for the column (pl). */
+static void layer_at(const fog_column *fc, const atmosphere *atm, int l, int k, scaled_layer *sl, plane_layer *pl)
+{
+    const int K = atm->grid.count, L = FOG_MOMENTS + 1;
+    double ts = 0.0, tt = 0.0;
+    memset(sl->chi, 0, sizeof sl->chi);
+    for (int c = 0; c < atm->species_count; c++) {
+        const double col = fc->column[l][c], s = col * atm->species[c].sigma_s[k];
+        tt += col * (atm->species[c].sigma_s[k] + atm->species[c].sigma_a[k]);
+        if (c < atm->scattering_count && s > 0.0) {
+            ts += s;
+            const double *chi = fc->chi + ((size_t)c * K + k) * L;
+            for (int j = 0; j < L; j++)
+                sl->chi[j] += s * chi[j];
+        }
+    }
+    for (int j = 0; j < L; j++)
+        sl->chi[j] = ts > 0.0 ? sl->chi[j] / ts : (j == 0);
+    sl->tau = tt;
+    sl->ssa = tt > 0.0 ? ts / tt : 0.0;
+    sl->f = fmin(fmax(sl->chi[FOG_MOMENTS], 0.0), 0.999);
+    for (int j = 0; j < FOG_MOMENTS; j++)
+        sl->chi[j] = (sl->chi[j] - sl->f) / (1.0 - sl->f);
+    const double wf = sl->ssa * sl->f;
+    *pl = (plane_layer){.tau = (1.0 - wf) * tt, .ssa = wf < 1.0 ? sl->ssa * (1.0 - sl->f) / (1.0 - wf) : 0.0,
+                        .chi = sl->chi};
+}
+
+/* Single scattering at the bottom looking up along mu, per unit F0, from one homogeneous layer of
+ * optical depth tau lit at its top, with albedo times phase function ssa_phase. */
+static double single_bottom(double tau, double ssa_phase, double mu, double mu0)
+{
+    const double d = mu - mu0;
+    const double f = fabs(d) < 1e-12 ? tau / (mu * mu0) * exp(-tau / mu0) : (exp(-tau / mu) - exp(-tau / mu0)) / d;
+    return ssa_phase * mu0 * f;
+}
+
+/* The light scattered two or more times within the truncated peak and never wider: the scaled
+ * column counts it as unscattered.  The number of peak scatterings along the beam is Poisson with
+ * mean lambda (sum of ssa f tau / mu0); each turns the light by a small angle, so n of them spread it
+ * about the sun as a Gaussian of n times the peak's mean square angle (small-angle approximation).
+ * The peak is the forward-most fraction f of the scattering in the layer where it scatters most. */
+static void peak_light(fog_column *fc, const scaled_layer *sl, int k, double lambda, double beam)
+{
+    const atmosphere *atm = &fc->job->sky->atm;
+    ms_table *t = fc->job->ms;
+    int top = 0;
+    for (int l = 1; l < fc->layers; l++)
+        if (sl[l].ssa * sl[l].f * sl[l].tau > sl[top].ssa * sl[top].f * sl[top].tau)
+            top = l;
+    double s[FM_MAX_SPECIES], ts = 0.0;
+    for (int c = 0; c < atm->scattering_count; c++)
+        ts += s[c] = fc->column[top][c] * atm->species[c].sigma_s[k];
+    const gauss_rule *g = gauss_legendre_cached(4);
+    const double h = FM_PI / MOMENT_PANELS, f = sl[top].f;
+    double cum = 0.0, m2 = 0.0;
+    for (int i = 0; i < MOMENT_PANELS && cum < f && ts > 0.0; i++)
+        for (int q = 0; q < 4; q++) {
+            const double th = h * (i + 0.5 * (1.0 + g->x[q])), x = cos(th);
+            double p = 0.0;
+            for (int c = 0; c < atm->scattering_count; c++)
+                p += s[c] > 0.0 ? s[c] / ts * phase_evaluate(&atm->species[c].phase, k, x) : 0.0;
+            const double w = 2.0 * FM_PI * sin(th) * 0.5 * h * g->w[q] * p;
+            cum += w;
+            m2 += w * th * th;
+        }
+    t->peak_beam[k] = beam;
+    t->peak_count[k] = lambda;
+    t->peak_angle2[k] = cum > 0.0 ? m2 / cum : 0.0;
+    /* its flux on the ground, which the table's nodes do not hold */
+    const double mu0 = fc->job->sky->sun_dir.z;
+    fc->ground[k] = mu0 * beam * (expm1(lambda) - lambda);
+}
+
+/* Work item: the table's sums at one grid wavelength. */
+static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
+{
+    fog_column *fc = ctx;
+    render_job *job = fc->job;
+    const fm_sky *sky = job->sky;
+    const atmosphere *atm = &sky->atm;
+    ms_table *t = job->ms;
+    const int K = atm->grid.count, M = FOG_MOMENTS, cols = t->grid.cols;
+    const double mu0 = sky->sun_dir.z, sin0 = sqrt(fmax(0.0, 1.0 - mu0 * mu0));
+    (void)thread;
+    for (int64_t k = begin; k < end; k++) {
+        scaled_layer sl[PLANE_COLUMN_MAX_LAYERS];
+        plane_layer pl[PLANE_COLUMN_MAX_LAYERS];
+        double tau_total = 0.0, lambda = 0.0, above_fog = 0.0;
+        for (int l = 0; l < fc->layers; l++) {
+            layer_at(fc, atm, l, (int)k, &sl[l], &pl[l]);
+            tau_total += sl[l].tau;
+            lambda += sl[l].ssa * sl[l].f * sl[l].tau / mu0;
+            if (l < fc->layers - fc->fog_layers)
+                above_fog += sl[l].tau;
+        }
+        plane_column col = {.streams = FOG_STREAMS, .layer_count = fc->layers, .layer = pl,
+                            .ground_albedo = atm->ground_albedo[k], .mu0 = mu0, .n_mu = fc->n_mu, .mu = fc->mu};
+        double *modes = malloc(sizeof(double) * (size_t)(fc->n_mu * M));
+        if (!modes || plane_column_bottom(&col, modes, NULL)) {
+            free(modes);
+            atomic_store(&job->no_memory, 1);
+            return;
+        }
+        /* the beam above the fog as in the sphere: its plane-parallel dimming replaced */
+        double T_sph[FM_MAX_WAVELENGTHS], above[PLANE_COLUMN_MAX_LAYERS];
+        for (int l = 0; l < fc->layers; l++)
+            above[l] = l ? above[l - 1] + sl[l - 1].tau : 0.0;
+        sun_irradiance_lookup(&sky->sun_table, atm, &sky->sun, fc->top_radius, mu0, T_sph);
+        const double scale = atm->grid.solar_irradiance[k] * T_sph[k] / exp(-above_fog / mu0);
+        for (int r = 0; r < t->grid.rows_sky; r++) {
+            const double mu = fc->mu[r], sin_v = sqrt(fmax(0.0, 1.0 - mu * mu));
+            for (int c = 0; c < cols; c++) {
+                double e, phi;
+                sky_grid_node_angles(&t->grid, r * cols + c, &e, &phi);
+                double L = modes[r * M];
+                for (int m = 1; m < M; m++)
+                    L += 2.0 * modes[r * M + m] * cos(m * phi);
+                /* less order 1 with one wide-angle scattering and none in the peak (the part of the
+                 * scaled order 1 that is order 1): the single-scattering table holds it, and the rest */
+                const double x = mu * mu0 + sin_v * sin0 * cos(phi);
+                double below = 0.0;
+                for (int l = fc->layers - 1; l >= 0; l--) {
+                    L -= exp(-above[l] / mu0 - below / mu) *
+                         single_bottom(sl[l].tau, sl[l].ssa * (1.0 - sl[l].f) * scaled_phase(sl[l].chi, x), mu, mu0);
+                    below += sl[l].tau;
+                }
+                t->sum[(size_t)(r * cols + c) * K + k] = L * scale;
+            }
+        }
+        peak_light(fc, sl, (int)k, lambda, exp(-tau_total / mu0) * scale);
+        free(modes);
+    }
+}
+
+/* ---- the table ------------------------------------------------------------------------------- */
+
+/* The view cosines of the table's sky rows. */
+static void sky_nodes(fog_column *fc, const sky_grid *g)
+{
+    double e, phi;
+    fc->n_mu = g->rows_sky;
+    for (int r = 0; r < g->rows_sky; r++) {
+        sky_grid_node_angles(g, r * g->cols, &e, &phi);
+        fc->mu[r] = fmax(sin(e), VIEW_MU_MIN);
+    }
+}
+
+fm_status fog_table_fill(render_job *job)
+{
+    const fm_sky *sky = job->sky;
+    const atmosphere *atm = &sky->atm;
+    ms_table *t = job->ms;
+    const int K = atm->grid.count, nodes = sky_grid_nodes(&t->grid);
+    if (t->grid.rows_sky > (int)(sizeof ((fog_column *)0)->mu / sizeof(double)))
+        return FM_ERR_INVALID_ARGUMENT;
+    fog_column *fc = calloc(1, sizeof *fc);
+    if (!fc)
+        return FM_ERR_OUT_OF_MEMORY;
+    fc->job = job;
+    double fog_top = 0.0;
+    fog_around_observer(sky, &fog_top);
+    fc->top_radius = atm->bottom_radius_m + fog_top;
+    column_layers(fc, sky, fog_top);
+    sky_nodes(fc, &t->grid);
+    fm_status s = species_moments(fc, atm);
+    if (!s) {
+        memset(t->sum, 0, sizeof(double) * (size_t)nodes * K);
+        const fm_render_params *p = job->params;
+        parallel_progress pp = {p->progress, p->progress_user, "multiple scattering (fog column)", 0.05, 0.75};
+        s = parallel_for(p->threads, K, 1, wavelength_nodes, fc, p->cancel, &pp);
+        if (!s && atomic_load(&job->no_memory))
+            s = FM_ERR_OUT_OF_MEMORY;
+    }
+    if (!s) {
+        /* the nodes as one path each, already the whole of orders >= 2: no fit */
+        t->paths = 1;
+        for (int i = 0; i < nodes; i++) {
+            const double *L = &t->sum[(size_t)i * K];
+            t->y[i] = spectral_grid_luminance(&atm->grid, L);
+            t->var[i] = 0.0;
+            render_channels(atm, job->channels, L, &t->grid.values[(size_t)i * job->channels]);
+        }
+        job->paths_per_node = 0;
+        ground_irradiance_add(&job->ground, fc->ground);
+    }
+    free(fc->chi);
+    free(fc);
+    return s;
+}
+
+/* The peak's light (peak_light) added to the single-scattering table's sky nodes: a few degrees
+ * about the sun, where the table's nodes are a degree or two apart (the multiple-scattering table's,
+ * ten). */
+#define PEAK_TERMS 60
+void fog_table_add_peak(render_job *job)
+{
+    const fm_sky *sky = job->sky;
+    const atmosphere *atm = &sky->atm;
+    const ms_table *t = job->ms;
+    const int K = atm->grid.count, C = job->channels, n = job->ss.rows_sky * job->ss.cols;
+    for (int i = 0; i < n; i++) {
+        double e, phi, L[FM_MAX_WAVELENGTHS] = {0};
+        sky_grid_node_angles(&job->ss, i, &e, &phi);
+        const double x = v3_dot(render_view_direction(sky, e, phi), sky->sun_dir), th2 = 2.0 * (1.0 - x);
+        for (int k = 0; k < K; k++) {
+            const double lambda = t->peak_count[k], a2 = t->peak_angle2[k];
+            if (!(t->peak_beam[k] > 0.0 && a2 > 0.0))
+                continue;
+            /* sum over n >= 2 of Poisson(n; lambda) e^lambda times a Gaussian of mean square angle n a2 */
+            double term = lambda, sum = 0.0;
+            for (int m = 2; m < PEAK_TERMS; m++) {
+                term *= lambda / m;
+                sum += term * exp(-th2 / (m * a2)) / (FM_PI * m * a2);
+            }
+            L[k] = t->peak_beam[k] * sum;
+        }
+        float add[FM_MAX_WAVELENGTHS];
+        render_channels(atm, C, L, add);
+        for (int c = 0; c < C; c++) {
+            float *v = &job->ss.values[(size_t)i * C + c];
+            sky_grid_set(&job->ss, i, c, expf(*v) + add[c]);
+        }
+    }
+}

@@ -1,0 +1,46 @@
+/* Fog around the observer: the fast path's multiple-scattering table from a deterministic solution
+ * of the plane-parallel column instead of paths (docs/decisions/2026-12-06-fog-column.md).
+ *
+ * In fog of a few hundred metres' visibility the table's paths are heavy-tailed (the droplets'
+ * forward peak through several scatterings) and a map keeps percents of noise.  The atmosphere is
+ * horizontally uniform and a view in such fog sees a few hundred metres, where the sphere does not
+ * matter, so the radiance at the observer is that of a plane-parallel column: the fog, the air and
+ * any clouds above cut into homogeneous layers, solved by adding-doubling (transport/plane_column.h)
+ * with the droplets' peak truncated (delta-M), per grid wavelength, with the beam dimmed above the
+ * fog as in the spherical atmosphere.  Orders >= 2 are that solution less its single scattering;
+ * single scattering stays the exact quadrature of the single-scattering table. */
+#ifndef FM_RENDER_FOG_TABLE_H
+#define FM_RENDER_FOG_TABLE_H
+
+#include "firmament/firmament.h"
+
+struct render_job;
+
+/* Fog of at least this optical depth at 550 nm (visibility under about 1 km) takes the column. */
+#define FOG_TABLE_MIN_TAU 1.0
+/* The sun at least this high (the beam's slant path through the fog and the air above it stays
+ * within a percent of the plane-parallel one, once dimmed as in the sphere above the fog). */
+#define FOG_TABLE_MIN_SUN_DEG 10.0
+
+/* Whether the job's table comes from the column: by day, not in the reference mode, no deck above,
+ * the observer on the ground (on_ground: the ground's irradiance takes the table's orders >= 2) in a
+ * fog layer of FOG_TABLE_MIN_TAU or more, the sun FOG_TABLE_MIN_SUN_DEG or more up. */
+int fog_table_applies(const struct render_job *job, int on_ground);
+
+/* The multiple-scattering table's size where the column fills it: its values are exact at the
+ * nodes, and the forward light about the sun, a few degrees wide, wants nodes 2.5 degrees apart
+ * there (the quality's are 5 by 12). */
+#define FOG_TABLE_ROWS_SKY 40
+#define FOG_TABLE_COLS 64
+struct quality_settings;
+void fog_table_size(struct quality_settings *q);
+
+/* Fills the job's multiple-scattering table from the column (values and the sums the ground's
+ * irradiance reads, one "path" per node), in place of its paths and fit. */
+fm_status fog_table_fill(struct render_job *job);
+
+/* Adds the light scattered several times within the droplets' truncated peak, a few degrees about
+ * the sun, to the single-scattering table (once it is filled; its flux on the ground is already in). */
+void fog_table_add_peak(struct render_job *job);
+
+#endif

@@ -1,0 +1,175 @@
+/* Fog around the observer (issue 48, item 5): the plane-parallel column solver
+ * (transport/plane_column.h) against the tests' own adding-doubling (adding_doubling.c), and the fast
+ * path's fog sky against the reference mode's plain path tracer. */
+#include "check.h"
+
+#include "adding_doubling.h"
+#include "base/rng.h"
+#include "thick_media_cases.h"
+#include "transport/path.h"
+#include "render/ms_table.h"
+#include "render/render.h"
+#include "transport/plane_column.h"
+#include "transport/sky_path.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#define N_MU 5
+static const double view_mu[N_MU] = {0.05, 0.2, 0.5, 0.8, 1.0};
+
+/* One Henyey-Greenstein layer (delta-M scaled by adding_doubling.c), cut into `cuts` layers of the
+ * given shares of its optical depth: the bottom radiance's modes and the flux must be the reference's. */
+static void layer_as_column(double tau, double g, double ssa, double albedo, int cuts, const double *share)
+{
+    ad_problem p = {.tau = tau, .ssa = ssa, .ground_albedo = albedo, .mu0 = 0.5, .phase = ad_phase_hg,
+                    .phase_ctx = &g, .streams = 12, .delta_m = 1, .n_mu = N_MU, .mu = view_mu};
+    ad_solution s;
+    assert_int_equal(ad_solve(&p, &s), 0);
+    plane_layer layer[4];
+    for (int i = 0; i < cuts; i++)
+        layer[i] = (plane_layer){.tau = s.tau_scaled * share[i], .ssa = s.ssa_scaled, .chi = s.moments};
+    plane_column c = {.streams = p.streams, .layer_count = cuts, .layer = layer, .ground_albedo = albedo,
+                      .mu0 = p.mu0, .n_mu = N_MU, .mu = view_mu};
+    double modes[N_MU * 24], flux;
+    assert_int_equal(plane_column_bottom(&c, modes, &flux), FM_OK);
+    char what[96];
+    for (int k = 0; k < N_MU; k++)
+        for (int m = 0; m < s.modes; m++) {
+            snprintf(what, sizeof what, "tau %g in %d: mu %g mode %d", tau, cuts, view_mu[k], m);
+            check_abs(modes[k * s.modes + m], s.bottom[k * s.modes + m], 1e-4 * fabs(s.bottom[k * s.modes]) + 1e-12, what);
+        }
+    double expected = s.flux_down_diffuse + s.flux_down_direct;
+    snprintf(what, sizeof what, "tau %g in %d: flux", tau, cuts);
+    check_rel(flux, expected, 1e-4, what);
+    ad_free(&s);
+}
+
+static void column_matches_adding_doubling(void **state)
+{
+    (void)state;
+    const double one[] = {1.0}, two[] = {0.5, 0.5}, three[] = {0.1, 0.7, 0.2};
+    layer_as_column(3.9, 0.85, 1.0, 0.2, 1, one);
+    layer_as_column(3.9, 0.85, 1.0, 0.2, 2, two);
+    layer_as_column(3.9, 0.85, 0.99, 0.3, 3, three);
+    layer_as_column(0.3, 0.5, 0.9, 0.0, 3, three);
+}
+
+/* Fog of 200 m visibility (presets/clouds/fog.json: 0-200 m, optical depth 3.9) around an observer on
+ * the ground, sun 30 degrees up at azimuth 180, 550 nm: in the built-in atmosphere (rural aerosols,
+ * ozone, the sphere) or, plane, alone in a trace of air on a planet of radius 10^6 km. */
+static fm_sky *fog_sky(int plane)
+{
+    const char *text = "{\"planet_radius_km\": 1000000, \"top_altitude_km\": 3, \"ground_albedo\": 0.2, "
+                       "\"solar_irradiance\": 1, \"constituents\": [{\"name\": \"trace\", \"profile\": {\"type\": "
+                       "\"exponential\", \"scale_height_km\": 8}, \"extinction\": 1e-12, \"single_scattering_albedo\": 1, "
+                       "\"phase\": {\"type\": \"henyey-greenstein\", \"g\": 0}}]}";
+    char *path = plane ? test_write_temp("fog", text) : NULL;
+    fm_sky_params p = fm_sky_params_default();
+    p.atmosphere_file = path;
+    p.fog_visibility_m = 200.0;
+    p.wavelength_nm = 550.0;
+    p.sun_elevation_deg = 30.0;
+    p.sun_azimuth_deg = 180.0;
+    fm_sky *sky = test_sky(&p);
+    if (path) {
+        unlink(path);
+        free(path);
+    }
+    return sky;
+}
+
+/* The fast path's tables for the sky (render.h), as a render makes them. */
+static void fast_tables(const fm_sky *sky, render_job *job, ms_table *ms, fm_render_params *rp)
+{
+    *rp = fm_render_params_default();
+    rp->width = 64;
+    *job = (render_job){.sky = sky, .params = rp, .ms = ms, .fine_fog_table = 1};
+    fm_error err;
+    twilight_sampling *tw;
+    assert_int_equal(render_start(job, &err), FM_OK);
+    assert_int_equal(render_twilight(job, &tw, &err), FM_OK);
+    assert_null(tw);
+    assert_int_equal(render_fast_tables(job, asin(sky->sun_dir.z), &err), FM_OK);
+    assert_int_equal(job->paths_per_node, 0); /* the column's table, not paths */
+}
+
+static void free_tables(render_job *job, ms_table *ms)
+{
+    sky_grid_free(&job->ss);
+    ms_table_free(ms);
+    ground_irradiance_free(&job->ground);
+    deck_base_free(&job->deck);
+    fm_image_destroy(job->img);
+}
+
+/* Views (elevation, azimuth from the sun's, degrees): across the sky, and three 8 degrees from the
+ * sun, where the tolerance is NEAR_SUN: there the truncated peak's light (delta-M with 24 moments)
+ * keeps the column's radiance within a few percent only. */
+static const double views[][2] = {{30, 10}, {38, 0}, {22, 0}, {30, 30}, {50, 0}, {30, 90},
+                                  {60, 180}, {10, 180}, {80, 0}, {3, 90}};
+#define NEAR_SUN 3
+#define NEAR_SUN_TOLERANCE 0.10
+
+static void check_within(double fast, double ref, double se, double rel, const char *what)
+{
+    print_message("%s: fast path %.5g, reference %.5g +- %.2f%% (%+.2f%%)\n", what, fast, ref, 100.0 * se / ref,
+                  100.0 * (fast / ref - 1.0));
+    check_abs(fast, ref, rel * ref + 3.0 * se, what);
+}
+
+static void fog_against_the_path_tracer(int plane)
+{
+    fm_sky *sky = fog_sky(plane);
+    render_job job;
+    ms_table ms;
+    fm_render_params rp;
+    fast_tables(sky, &job, &ms, &rp);
+    char what[96];
+    double diffuse, se;
+    ground_irradiance_lookup(&job.ground, sky->sun_dir.z, &diffuse);
+    double E = cloud_irradiance(sky, 1.0, 200000, 7, &se);
+    snprintf(what, sizeof what, "%s: diffuse irradiance at the ground", plane ? "plane fog" : "fog");
+    check_within(diffuse, E, se, 0.01, what);
+    path_context all = sky_path_context(sky, 1, 0);
+    for (size_t i = 0; i < sizeof views / sizeof views[0]; i++) {
+        if (plane && !(i == 1 || i == 5 || i == 6)) /* the column alone: one view near the sun, two away */
+            continue;
+        const double e = views[i][0] * FM_DEG, phi = views[i][1] * FM_DEG;
+        float v[1];
+        sky_grid_lookup(&job.ss, e, phi, v);
+        double L = v[0];
+        sky_grid_lookup(&ms.grid, e, phi, v);
+        L += v[0];
+        double ref = test_path_radiance(&all, sky->observer, render_view_direction(sky, e, phi), 250000, 9, i, &se);
+        snprintf(what, sizeof what, "%s: radiance at elevation %.0f, azimuth %.0f", plane ? "plane fog" : "fog",
+                 views[i][0], views[i][1]);
+        check_within(L, ref, se, i < NEAR_SUN ? NEAR_SUN_TOLERANCE : 0.01, what);
+    }
+    free_tables(&job, &ms);
+    fm_sky_destroy(sky);
+}
+
+static void plane_fog_against_the_path_tracer(void **state)
+{
+    (void)state;
+    fog_against_the_path_tracer(1);
+}
+
+static void fog_in_the_atmosphere_against_the_path_tracer(void **state)
+{
+    (void)state;
+    fog_against_the_path_tracer(0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(plane_fog_against_the_path_tracer),
+        cmocka_unit_test(fog_in_the_atmosphere_against_the_path_tracer),
+        cmocka_unit_test(column_matches_adding_doubling),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
