@@ -39,8 +39,7 @@ typedef struct work {
     double *r, *t, *e;               /* the layer: R, T [n][nc], E [n] */
     double *rs, *tc, *ec;            /* the column above: R* [n][nc], t [n], E [n] */
     double *q, *s, *d, *u, *v;       /* scratch [n][nc] */
-    double *a;                       /* [nc][nc] */
-    int *piv;
+    double *a;                       /* [2][nc][nc] */
 } work;
 
 /* The column index's row: the Gauss nodes, then the sun. */
@@ -79,50 +78,55 @@ static void mul_w(const work *W, const double *a, const double *b, double *c)
 }
 
 /* S = Q (1 - w Q)^-1 over the columns: the matrix 1 - w Q is nc x nc (its sun row is the identity's:
- * w is 0 there); each row x of S solves x (1 - w Q) = q, by LU with partial pivoting of the
- * transpose.  s may not alias q. */
+ * w is 0 there), inverted once by Gauss-Jordan with partial pivoting, then S = Q times the inverse.
+ * s may not alias q. */
 static void resolvent(work *W, const double *q, double *s)
 {
     const int n = W->n, nq = W->nq, nc = W->nc;
-    double *a = W->a; /* a = (1 - w Q)^T restricted: a[j][p] = delta - w_p Q[row p][j] */
+    double *a = W->a, *inv = W->a + nc * nc;
     for (int p = 0; p < nc; p++)
-        for (int j = 0; j < nc; j++)
-            a[j * nc + p] = (p == j) - (p < nq ? W->w[p] * q[p * nc + j] : 0.0);
-    int *piv = W->piv;
+        for (int j = 0; j < nc; j++) {
+            a[p * nc + j] = (p == j) - (p < nq ? W->w[p] * q[p * nc + j] : 0.0);
+            inv[p * nc + j] = p == j;
+        }
     for (int k = 0; k < nc; k++) {
         int p = k;
         for (int i = k + 1; i < nc; i++)
             if (fabs(a[i * nc + k]) > fabs(a[p * nc + k]))
                 p = i;
-        piv[k] = p;
         if (p != k)
             for (int j = 0; j < nc; j++) {
-                double tmp = a[k * nc + j];
+                double t = a[k * nc + j];
                 a[k * nc + j] = a[p * nc + j];
-                a[p * nc + j] = tmp;
+                a[p * nc + j] = t;
+                t = inv[k * nc + j];
+                inv[k * nc + j] = inv[p * nc + j];
+                inv[p * nc + j] = t;
             }
-        for (int i = k + 1; i < nc; i++) {
-            double f = a[i * nc + k] /= a[k * nc + k];
-            for (int j = k + 1; j < nc; j++)
+        const double d = 1.0 / a[k * nc + k];
+        for (int j = 0; j < nc; j++) {
+            a[k * nc + j] *= d;
+            inv[k * nc + j] *= d;
+        }
+        for (int i = 0; i < nc; i++) {
+            const double f = a[i * nc + k];
+            if (i == k || f == 0.0)
+                continue;
+            for (int j = 0; j < nc; j++) {
                 a[i * nc + j] -= f * a[k * nc + j];
+                inv[i * nc + j] -= f * inv[k * nc + j];
+            }
         }
     }
-    for (int r = 0; r < n; r++) {
-        double *y = s + r * nc;
-        memcpy(y, q + r * nc, sizeof(double) * (size_t)nc);
+    memset(s, 0, sizeof(double) * (size_t)(n * nc));
+    for (int i = 0; i < n; i++)
         for (int k = 0; k < nc; k++) {
-            double tmp = y[k];
-            y[k] = y[piv[k]];
-            y[piv[k]] = tmp;
-            for (int i = k + 1; i < nc; i++)
-                y[i] -= a[i * nc + k] * y[k];
+            const double qik = q[i * nc + k];
+            const double *row = inv + k * nc;
+            double *si = s + i * nc;
+            for (int j = 0; j < nc; j++)
+                si[j] += qik * row[j];
         }
-        for (int k = nc - 1; k >= 0; k--) {
-            for (int j = k + 1; j < nc; j++)
-                y[k] -= a[k * nc + j] * y[j];
-            y[k] /= a[k * nc + k];
-        }
-    }
 }
 
 /* The mode's phase kernels for moments chi (terms l = m .. M-1). */
@@ -291,13 +295,9 @@ fm_status plane_column_bottom(const plane_column *c, double *modes, double *flux
     W.n = n;
     W.sun = n - 1;
     const size_t nn = (size_t)n * (size_t)nc;
-    double *block = calloc((size_t)n * (5 + (size_t)M) + nn * 10 + (size_t)(nc * nc), sizeof(double));
-    W.piv = malloc(sizeof(int) * (size_t)nc);
-    if (!block || !W.piv) {
-        free(block);
-        free(W.piv);
+    double *block = calloc((size_t)n * (5 + (size_t)M) + nn * 10 + (size_t)(2 * nc * nc), sizeof(double));
+    if (!block)
         return FM_ERR_OUT_OF_MEMORY;
-    }
     double *next = block;
     W.w = next, next += n;
     W.xs = next, next += n;
@@ -358,6 +358,5 @@ fm_status plane_column_bottom(const plane_column *c, double *modes, double *flux
     if (flux_down)
         *flux_down = e_dn;
     free(block);
-    free(W.piv);
     return FM_OK;
 }
