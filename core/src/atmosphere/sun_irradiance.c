@@ -169,14 +169,19 @@ void sun_irradiance_free(sun_irradiance *table)
     table_rows_free(&table->rows);
 }
 
-/* Bilinear weights and node offsets of (r, mu_s); returns 1 when the point is fully in the Earth's
- * shadow for either row (then the weights are unused). */
-static int locate(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r, double mu_s,
-                  double w[4], size_t idx[4])
+sun_row_place sun_irradiance_row_place(const sun_irradiance *table, const atmosphere *atm, double r)
+{
+    sun_row_place place;
+    place.row = table_rows_locate(&table->rows, atm, r, &place.t);
+    return place;
+}
+
+/* Bilinear weights and node offsets of mu_s at a radius between rows ir and ir + 1 (tr of the way);
+ * returns 1 when the point is fully in the Earth's shadow for either row (then the weights are
+ * unused). */
+static int locate_at(const sun_irradiance *table, int ir, double tr, double mu_s, double w[4], size_t idx[4])
 {
     const int K = table->count;
-    double tr;
-    int ir = table_rows_locate(&table->rows, atm, r, &tr);
     /* the mu mapping depends on the row's radius: locate mu_s in each of the two rows */
     int dark = 0;
     for (int row = 0; row < 2; row++) {
@@ -202,6 +207,15 @@ static int locate(const sun_irradiance *table, const atmosphere *atm, const sun_
         }
     }
     return dark;
+}
+
+/* locate_at the rows about radius r. */
+static int locate(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r, double mu_s,
+                  double w[4], size_t idx[4])
+{
+    double tr;
+    int ir = table_rows_locate(&table->rows, atm, r, &tr);
+    return locate_at(table, ir, tr, mu_s, w, idx);
 }
 
 /* A depth as lookups return it: infinite (Tbar 0) at MAX_DEPTH and beyond. */
@@ -323,10 +337,16 @@ void sun_irradiance_lookup_ground(const sun_irradiance *table, const atmosphere 
 int sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
                                 double mu_s, double *depth)
 {
+    return sun_irradiance_lookup_depth_at(table, atm, sun, sun_irradiance_row_place(table, atm, r), r, mu_s, depth);
+}
+
+int sun_irradiance_lookup_depth_at(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
+                                   sun_row_place place, double r, double mu_s, double *depth)
+{
     double w[4];
     size_t idx[4];
     const int K = table->count;
-    if (locate(table, atm, sun, r, mu_s, w, idx)) {
+    if (locate_at(table, place.row, place.t, mu_s, w, idx)) {
         spectral_fill(depth, INFINITY, K);
         return 0;
     }

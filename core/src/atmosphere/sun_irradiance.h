@@ -65,6 +65,18 @@ void sun_irradiance_lookup_ground(const sun_irradiance *table, const atmosphere 
 int sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
                                  double mu_s, double *depth);
 
+/* Where radius r lies between the table's rows: for many lookups at one radius (the points of a
+ * view ray, each read for many directions), sun_irradiance_lookup_depth_at then finds only mu_s. */
+typedef struct sun_row_place {
+    int row;  /* the row at or below r */
+    double t; /* the fraction toward the row above */
+} sun_row_place;
+sun_row_place sun_irradiance_row_place(const sun_irradiance *table, const atmosphere *atm, double r);
+
+/* sun_irradiance_lookup_depth at r, whose place is `place` (sun_irradiance_row_place(r)): the same. */
+int sun_irradiance_lookup_depth_at(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
+                                   sun_row_place place, double r, double mu_s, double *depth);
+
 /* The optical depths for the n grid wavelengths ks[0..n-1] only (depth[i] for ks[i]; infinite where
  * Tbar is 0); returns 0 in the Earth's shadow. */
 int sun_irradiance_lookup_some_depths(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,

@@ -76,12 +76,17 @@ fm_status single_scatter_ray_init(single_scatter_ray *ray, const path_context *c
     double pieces[SS_MAX_BOUNDS * SS_MAX_SPLIT + 1];
     int np = ray_quadrature_pieces(atm, &seg, r0, pieces);
     ray->origin = origin;
+    ray->sun_table = ctx->sun_table;
     ray->hits_ground = seg.hits_ground;
     ray->t_end = seg.t_end;
     ray->n = 0;
-    ray->point = malloc(sizeof(double) * (size_t)stride * (size_t)(np > 1 ? np - 1 : 1) * (size_t)g->n);
-    if (!ray->point)
+    const size_t most = (size_t)(np > 1 ? np - 1 : 1) * (size_t)g->n;
+    ray->point = malloc(sizeof(double) * (size_t)stride * most);
+    ray->sun_row = malloc(sizeof(sun_row_place) * most);
+    if (!ray->point || !ray->sun_row) {
+        single_scatter_ray_free(ray);
         return FM_ERR_OUT_OF_MEMORY;
+    }
     double col_start[FM_MAX_SPECIES] = {0}, col[FM_MAX_SPECIES], part[FM_MAX_SPECIES];
     for (int i = 0; i + 1 < np; i++) {
         double sa = pieces[i], sb = pieces[i + 1];
@@ -90,6 +95,8 @@ fm_status single_scatter_ray_init(single_scatter_ray *ray, const path_context *c
             continue;
         for (int j = 0; j < g->n; j++) {
             double s = mid + half * g->x[j];
+            if (ctx->sun_table) /* at pt[2] */
+                ray->sun_row[ray->n] = sun_irradiance_row_place(ctx->sun_table, atm, sqrt(seg.p2 + s * s));
             double *pt = ray->point + (size_t)ray->n++ * stride;
             piece_columns(atm, seg.p2, sa, s, gs, part);
             for (int c = 0; c < C; c++)
@@ -111,7 +118,9 @@ fm_status single_scatter_ray_init(single_scatter_ray *ray, const path_context *c
 void single_scatter_ray_free(single_scatter_ray *ray)
 {
     free(ray->point);
+    free(ray->sun_row);
     ray->point = NULL;
+    ray->sun_row = NULL;
 }
 
 void single_scatter_ray_radiance(const single_scatter_ray *ray, const path_context *ctx, vec3 dir, double *L)
@@ -134,8 +143,10 @@ void single_scatter_ray_radiance(const single_scatter_ray *ray, const path_conte
         double t = pt[0], wgt = pt[1], rad = pt[2];
         const double *n = pt + 3, *view_depth = pt + 3 + C;
         /* sunlight in, transmittance out: one exp of the two optical depths (none in the Earth's shadow) */
-        if (!sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, (origin_sun + t * cos_sun) / rad,
-                                         sun_depth))
+        const double mu_s = (origin_sun + t * cos_sun) / rad;
+        if (!(ray->sun_table == ctx->sun_table
+                  ? sun_irradiance_lookup_depth_at(ctx->sun_table, atm, ctx->sun, ray->sun_row[i], rad, mu_s, sun_depth)
+                  : sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, mu_s, sun_depth)))
             continue;
         spectral_fill(coef, 0.0, K);
         for (int c = 0; c < atm->scattering_count; c++)

@@ -24,6 +24,8 @@ typedef struct single_scatter_ray {
     int hits_ground;
     double t_end;     /* distance to the ground (or the top) */
     double *point;    /* [n][3 + C + K]: t (m), weight (m), radius (m), densities, view optical depths */
+    const sun_irradiance *sun_table; /* the path context's at init (NULL: none) */
+    sun_row_place *sun_row; /* [n]: the radius's place in sun_table, for its lookup per direction */
     double ground_depth[FM_MAX_WAVELENGTHS]; /* view optical depth to the ground */
 } single_scatter_ray;
 
