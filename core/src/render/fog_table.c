@@ -30,12 +30,14 @@ typedef struct fog_column {
     render_job *job;
     int layers;                    /* top first */
     int fog_layers;                /* the bottom fog_layers are the fog */
+    int level;                     /* the observer's: the boundary below the first `level` layers */
+    int on_ground;                 /* the observer on the ground (level == layers) */
     double column[PLANE_COLUMN_MAX_LAYERS][FM_MAX_SPECIES]; /* m^-2 */
     double *chi;                   /* [species][K][FOG_MOMENTS + 1] */
     int n_mu;
-    double mu[512];
+    double mu[512];                /* the sky rows' view cosines, then the ground rows' (looking down) */
     double top_radius;             /* the fog's top, m from the planet's centre */
-    double ground[FM_MAX_WAVELENGTHS]; /* the peak's light on the ground (peak_light) */
+    double ground[FM_MAX_WAVELENGTHS]; /* what the column adds to the ground's irradiance */
 } fog_column;
 
 /* ---- where it applies ------------------------------------------------------------------------ */
@@ -55,10 +57,10 @@ static double fog_around_observer(const fm_sky *sky, double *top)
     return 0.0;
 }
 
-int fog_table_applies(const render_job *job, int on_ground)
+int fog_table_applies(const render_job *job)
 {
     double top;
-    return on_ground && !job->twilight && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
+    return !job->twilight && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
            job->sky->sun_dir.z >= sin(FOG_TABLE_MIN_SUN_DEG * FM_DEG) &&
            fog_around_observer(job->sky, &top) >= FOG_TABLE_MIN_TAU;
 }
@@ -116,9 +118,18 @@ static void column_layers(fog_column *fc, const fm_sky *sky, double fog_top)
         n = add_break(z, n, base, fog_top, toa);
         n = add_break(z, n, base + sky->composition.cloud[i].thickness_m, fog_top, toa);
     }
+    const double altitude = v3_length(sky->observer) - atm->bottom_radius_m;
+    n = add_break(z, n, altitude, 0.0, fog_top);
     qsort(z, (size_t)n, sizeof z[0], ascending);
     fc->layers = n - 1;
     fc->fog_layers = 1;
+    fc->level = fc->layers;
+    for (int i = 1; i < n - 1; i++) {
+        fc->fog_layers += z[i] < fog_top - 0.5;
+        if (fabs(z[i] - altitude) < 1.0)
+            fc->level = n - 1 - i;
+    }
+    fc->on_ground = fc->level == fc->layers;
     for (int l = 0; l < fc->layers; l++) {
         const double z0 = z[n - 2 - l], z1 = z[n - 1 - l]; /* top first */
         for (int c = 0; c < atm->species_count; c++)
@@ -231,7 +242,7 @@ static void peak_light(fog_column *fc, const scaled_layer *sl, int k, double lam
     const atmosphere *atm = &fc->job->sky->atm;
     ms_table *t = fc->job->ms;
     int top = 0;
-    for (int l = 1; l < fc->layers; l++)
+    for (int l = 1; l < fc->level; l++)
         if (sl[l].ssa * sl[l].f * sl[l].tau > sl[top].ssa * sl[top].f * sl[top].tau)
             top = l;
     double s[FM_MAX_SPECIES], ts = 0.0;
@@ -258,6 +269,34 @@ static void peak_light(fog_column *fc, const scaled_layer *sl, int k, double lam
     fc->ground[k] = mu0 * beam * (expm1(lambda) - lambda);
 }
 
+/* Single scattering looking down along mu from the top of one homogeneous layer lit at its top,
+ * per unit F0 (as single_bottom). */
+static double single_top(double tau, double ssa_phase, double mu, double mu0)
+{
+    return ssa_phase * mu0 / (mu + mu0) * -expm1(-tau * (mu + mu0) / (mu * mu0));
+}
+
+/* The column's radiance at one node from its Fourier modes, less the part of its order 1 that is
+ * order 1 (one scattering by the truncated phase function, at the true optical depths; the rest of
+ * the scaled order 1 was also scattered within the peak): the single-scattering table holds it.
+ * Looking up (down 0) the layers above the observer scatter it, looking down those below. */
+static double node_radiance(const fog_column *fc, const scaled_layer *sl, const double *above, const double *modes,
+                            double mu, double phi, double mu0, int down)
+{
+    double L = modes[0];
+    for (int m = 1; m < FOG_MOMENTS; m++)
+        L += 2.0 * modes[m] * cos(m * phi);
+    const double x = (down ? -mu : mu) * mu0 + sqrt(fmax(0.0, (1.0 - mu * mu) * (1.0 - mu0 * mu0))) * cos(phi);
+    double between = 0.0; /* optical depth from the layer to the observer */
+    for (int l = down ? fc->level : fc->level - 1; down ? l < fc->layers : l >= 0; l += down ? 1 : -1) {
+        const double sp = sl[l].ssa * (1.0 - sl[l].f) * scaled_phase(sl[l].chi, x);
+        L -= exp(-above[l] / mu0 - between / mu) *
+             (down ? single_top(sl[l].tau, sp, mu, mu0) : single_bottom(sl[l].tau, sp, mu, mu0));
+        between += sl[l].tau;
+    }
+    return L;
+}
+
 /* Work item: the table's sums at one grid wavelength. */
 static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
 {
@@ -266,69 +305,67 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
     const fm_sky *sky = job->sky;
     const atmosphere *atm = &sky->atm;
     ms_table *t = job->ms;
-    const int K = atm->grid.count, M = FOG_MOMENTS, cols = t->grid.cols;
-    const double mu0 = sky->sun_dir.z, sin0 = sqrt(fmax(0.0, 1.0 - mu0 * mu0));
+    const int K = atm->grid.count, M = FOG_MOMENTS, cols = t->grid.cols, rows = t->grid.rows_sky;
+    const double mu0 = sky->sun_dir.z;
     (void)thread;
     for (int64_t k = begin; k < end; k++) {
         scaled_layer sl[PLANE_COLUMN_MAX_LAYERS];
         plane_layer pl[PLANE_COLUMN_MAX_LAYERS];
-        double tau_total = 0.0, lambda = 0.0, above_fog = 0.0;
+        double above[PLANE_COLUMN_MAX_LAYERS + 1], lambda = 0.0, above_fog = 0.0;
+        above[0] = 0.0;
         for (int l = 0; l < fc->layers; l++) {
             layer_at(fc, atm, l, (int)k, &sl[l], &pl[l]);
-            tau_total += sl[l].tau;
-            lambda += sl[l].ssa * sl[l].f * sl[l].tau / mu0;
+            above[l + 1] = above[l] + sl[l].tau;
+            if (l < fc->level)
+                lambda += sl[l].ssa * sl[l].f * sl[l].tau / mu0;
             if (l < fc->layers - fc->fog_layers)
                 above_fog += sl[l].tau;
         }
         plane_column col = {.streams = FOG_STREAMS, .layer_count = fc->layers, .layer = pl,
                             .ground_albedo = atm->ground_albedo[k], .mu0 = mu0, .n_mu = fc->n_mu, .mu = fc->mu};
-        double *modes = malloc(sizeof(double) * (size_t)(fc->n_mu * M));
-        if (!modes || plane_column_bottom(&col, modes, NULL)) {
-            free(modes);
+        double *down = malloc(sizeof(double) * (size_t)(2 * fc->n_mu * M)), *up = down + fc->n_mu * M, ground;
+        if (!down || plane_column_level(&col, fc->level, down, fc->on_ground ? NULL : up, NULL) ||
+            (!fc->on_ground && plane_column_level(&col, fc->layers, NULL, NULL, &ground))) {
+            free(down);
             atomic_store(&job->no_memory, 1);
             return;
         }
         /* the beam above the fog as in the sphere: its plane-parallel dimming replaced */
-        double T_sph[FM_MAX_WAVELENGTHS], above[PLANE_COLUMN_MAX_LAYERS];
-        for (int l = 0; l < fc->layers; l++)
-            above[l] = l ? above[l - 1] + sl[l - 1].tau : 0.0;
+        double T_sph[FM_MAX_WAVELENGTHS];
         sun_irradiance_lookup(&sky->sun_table, atm, &sky->sun, fc->top_radius, mu0, T_sph);
         const double scale = atm->grid.solar_irradiance[k] * T_sph[k] / exp(-above_fog / mu0);
-        for (int r = 0; r < t->grid.rows_sky; r++) {
-            const double mu = fc->mu[r], sin_v = sqrt(fmax(0.0, 1.0 - mu * mu));
+        for (int r = 0; r < rows + (fc->on_ground ? 0 : t->grid.rows_ground); r++)
             for (int c = 0; c < cols; c++) {
                 double e, phi;
                 sky_grid_node_angles(&t->grid, r * cols + c, &e, &phi);
-                double L = modes[r * M];
-                for (int m = 1; m < M; m++)
-                    L += 2.0 * modes[r * M + m] * cos(m * phi);
-                /* less order 1 with one wide-angle scattering and none in the peak (the part of the
-                 * scaled order 1 that is order 1): the single-scattering table holds it, and the rest */
-                const double x = mu * mu0 + sin_v * sin0 * cos(phi);
-                double below = 0.0;
-                for (int l = fc->layers - 1; l >= 0; l--) {
-                    L -= exp(-above[l] / mu0 - below / mu) *
-                         single_bottom(sl[l].tau, sl[l].ssa * (1.0 - sl[l].f) * scaled_phase(sl[l].chi, x), mu, mu0);
-                    below += sl[l].tau;
-                }
+                const int looking_down = r >= rows;
+                double L = node_radiance(fc, sl, above, (looking_down ? up : down) + r * M, fc->mu[r], phi, mu0,
+                                         looking_down);
+                /* looking down: less the ground's light the single-scattering table reflects (the
+                 * column's irradiance there, all of it, seen through the air below) */
+                if (looking_down)
+                    L -= atm->ground_albedo[k] / FM_PI * mu0 * ground * exp(-(above[fc->layers] - above[fc->level]) / fc->mu[r]);
                 t->sum[(size_t)(r * cols + c) * K + k] = L * scale;
             }
-        }
-        peak_light(fc, sl, (int)k, lambda, exp(-tau_total / mu0) * scale);
-        free(modes);
+        peak_light(fc, sl, (int)k, lambda, exp(-above[fc->level] / mu0) * scale);
+        /* above the ground, its diffuse irradiance comes from the column (the peak's light in it): all
+         * of it but the direct beam and order 1, which the ground's own quadrature holds */
+        if (!fc->on_ground)
+            fc->ground[k] = scale * mu0 * (ground - exp(-above[fc->layers] / mu0));
+        free(down);
     }
 }
 
 /* ---- the table ------------------------------------------------------------------------------- */
 
-/* The view cosines of the table's sky rows. */
-static void sky_nodes(fog_column *fc, const sky_grid *g)
+/* The view cosines of the table's rows: the sky's looking up, the ground's looking down. */
+static void view_cosines(fog_column *fc, const sky_grid *g)
 {
     double e, phi;
-    fc->n_mu = g->rows_sky;
-    for (int r = 0; r < g->rows_sky; r++) {
+    fc->n_mu = g->rows_sky + g->rows_ground;
+    for (int r = 0; r < fc->n_mu; r++) {
         sky_grid_node_angles(g, r * g->cols, &e, &phi);
-        fc->mu[r] = fmax(sin(e), VIEW_MU_MIN);
+        fc->mu[r] = fmax(fabs(sin(e)), VIEW_MU_MIN);
     }
 }
 
@@ -338,7 +375,7 @@ fm_status fog_table_fill(render_job *job)
     const atmosphere *atm = &sky->atm;
     ms_table *t = job->ms;
     const int K = atm->grid.count, nodes = sky_grid_nodes(&t->grid);
-    if (t->grid.rows_sky > (int)(sizeof ((fog_column *)0)->mu / sizeof(double)))
+    if (t->grid.rows_sky + t->grid.rows_ground > (int)(sizeof ((fog_column *)0)->mu / sizeof(double)))
         return FM_ERR_INVALID_ARGUMENT;
     fog_column *fc = calloc(1, sizeof *fc);
     if (!fc)
@@ -348,7 +385,7 @@ fm_status fog_table_fill(render_job *job)
     fog_around_observer(sky, &fog_top);
     fc->top_radius = atm->bottom_radius_m + fog_top;
     column_layers(fc, sky, fog_top);
-    sky_nodes(fc, &t->grid);
+    view_cosines(fc, &t->grid);
     fm_status s = species_moments(fc, atm);
     if (!s) {
         memset(t->sum, 0, sizeof(double) * (size_t)nodes * K);
@@ -368,6 +405,12 @@ fm_status fog_table_fill(render_job *job)
             render_channels(atm, job->channels, L, &t->grid.values[(size_t)i * job->channels]);
         }
         job->paths_per_node = 0;
+        if (!fc->on_ground) { /* the ground's quadrature holds order 1 (render.c builds it without paths) */
+            double order1[FM_MAX_WAVELENGTHS];
+            ground_irradiance_lookup(&job->ground, sky->sun_dir.z, order1);
+            for (int k = 0; k < K; k++)
+                fc->ground[k] -= order1[k];
+        }
         ground_irradiance_add(&job->ground, fc->ground);
     }
     free(fc->chi);

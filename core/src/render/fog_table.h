@@ -23,9 +23,10 @@ struct render_job;
 #define FOG_TABLE_MIN_SUN_DEG 10.0
 
 /* Whether the job's table comes from the column: by day, not in the reference mode, no deck above,
- * the observer on the ground (on_ground: the ground's irradiance takes the table's orders >= 2) in a
- * fog layer of FOG_TABLE_MIN_TAU or more, the sun FOG_TABLE_MIN_SUN_DEG or more up. */
-int fog_table_applies(const struct render_job *job, int on_ground);
+ * the observer in a fog layer (a cloud layer from the ground up) of FOG_TABLE_MIN_TAU or more, the
+ * sun FOG_TABLE_MIN_SUN_DEG or more up.  The ground's irradiance then takes orders >= 2 from the
+ * column too (build it without paths). */
+int fog_table_applies(const struct render_job *job);
 
 /* The multiple-scattering table's size where the column fills it: its values are exact at the
  * nodes, and the forward light about the sun, a few degrees wide, wants nodes 2.5 degrees apart

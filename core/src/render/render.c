@@ -312,7 +312,7 @@ fm_status render_fast_tables(render_job *job, double sun_elevation, fm_error *er
         job->q.ms_paths = (job->q.ms_paths + DECK_PATH_SHARE - 1) / DECK_PATH_SHARE;
     double visible, theta_s;
     const int on_ground = ground_from_table(job->sky, &visible, &theta_s);
-    const int fog = !s && fog_table_applies(job, on_ground); /* the table from the column, no fit */
+    const int fog = !s && fog_table_applies(job); /* the table from the column, no fit */
     quality_settings table_q = *q;
     if (fog && job->fine_fog_table)
         fog_table_size(&table_q);
@@ -321,8 +321,8 @@ fm_status render_fast_tables(render_job *job, double sun_elevation, fm_error *er
         ms_table_init(job->ms, &table_q, horizon, job->channels, job->sky->atm.grid.count,
                       ms_table_parted(job->twilight), job->twilight && job->channels == 3))
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the radiance tables");
-    if (!s)
-        s = build_ground(job, on_ground);
+    if (!s) /* on the ground or in fog, orders >= 2 come from the table */
+        s = build_ground(job, on_ground || fog);
     if (s == FM_ERR_OUT_OF_MEMORY)
         return fm_fail(err, s, "out of memory for the ground irradiance");
     parallel_progress pss = {params->progress, params->progress_user, "single scattering", 0.80, 0.10};

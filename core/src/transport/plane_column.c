@@ -227,24 +227,39 @@ static void solve_gauss(work *W, const double *Q, double *y)
     }
 }
 
+/* The beam's diffuse light at the boundary between the column above (rs, tc, ec) and a reflector rb
+ * below it (its reflection from above): downward d and, unless NULL, upward u (n each). */
+static void level_light(work *W, const double *rb, double *d, double *u)
+{
+    const int n = W->n, nq = W->nq, nc = W->nc;
+    double *q = W->q;
+    const double e_sun = W->ec[W->sun];
+    mul_w(W, W->rs, rb, q); /* R* w R_below */
+    for (int i = 0; i < nq; i++)
+        d[i] = W->tc[i] + e_sun * q[i * nc + nq];
+    solve_gauss(W, q, d);
+    for (int i = nq; i < n; i++) {
+        double sum = W->tc[i] + e_sun * q[i * nc + nq];
+        for (int k = 0; k < nq; k++)
+            sum += q[i * nc + k] * W->w[k] * d[k];
+        d[i] = sum;
+    }
+    for (int i = 0; i < n && u; i++) {
+        double sum = rb[i * nc + nq] * e_sun;
+        for (int j = 0; j < nq; j++)
+            sum += rb[i * nc + j] * W->w[j] * d[j];
+        u[i] = sum;
+    }
+}
+
 /* Adds the layer in (r, t, e) under the column in (rs, tc, ec). */
 static void add_layer(work *W)
 {
     const int n = W->n, nq = W->nq, nc = W->nc;
     double *q = W->q, *s = W->s, *uu = W->u, *dd = W->d, *v = W->v;
     const double e_sun = W->ec[W->sun];
-    /* the beam's downward light between the column and the layer */
-    mul_w(W, W->rs, W->r, q); /* R* w R_k */
     double dp[MAX_POINTS];
-    for (int i = 0; i < nq; i++)
-        dp[i] = W->tc[i] + e_sun * q[i * nc + nq];
-    solve_gauss(W, q, dp);
-    for (int i = nq; i < n; i++) {
-        double sum = W->tc[i] + e_sun * q[i * nc + nq];
-        for (int k = 0; k < nq; k++)
-            sum += q[i * nc + k] * W->w[k] * dp[k];
-        dp[i] = sum;
-    }
+    level_light(W, W->r, dp, NULL);
     for (int i = 0; i < n; i++) {
         double sum = W->e[i] * dp[i] + W->t[i * nc + nq] * e_sun;
         for (int j = 0; j < nq; j++)
@@ -271,6 +286,27 @@ static void add_layer(work *W)
         W->ec[i] *= W->e[i];
 }
 
+/* The layer in (r, t, e) laid over a reflector rb (its reflection from above): rb becomes the pair's. */
+static void over_reflector(work *W, double *rb)
+{
+    const int n = W->n, nc = W->nc;
+    double *q = W->q, *s = W->s, *dd = W->d, *u = W->u, *v = W->v;
+    mul_w(W, W->r, rb, q); /* Q = R w R_below */
+    resolvent(W, q, s);
+    mul_w(W, s, W->t, dd); /* D = T + S E + S w T */
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < nc; j++)
+            dd[i * nc + j] += W->t[i * nc + j] + s[i * nc + j] * W->e[col_row(W, j)];
+    mul_w(W, rb, dd, u); /* U = R_below E + R_below w D */
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < nc; j++)
+            u[i * nc + j] += rb[i * nc + j] * W->e[col_row(W, j)];
+    mul_w(W, W->t, u, v); /* R' = R + E U + T w U */
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < nc; j++)
+            rb[i * nc + j] = W->r[i * nc + j] + W->e[i] * u[i * nc + j] + v[i * nc + j];
+}
+
 static int column_valid(const plane_column *c)
 {
     if (!c || c->streams < 2 || c->streams > MAX_STREAMS || c->layer_count < 1 ||
@@ -286,28 +322,30 @@ static int column_valid(const plane_column *c)
     return 1;
 }
 
-fm_status plane_column_bottom(const plane_column *c, double *modes, double *flux_down)
+fm_status plane_column_level(const plane_column *c, int level, double *down, double *up, double *flux_down)
 {
-    if (!column_valid(c))
+    if (!column_valid(c) || level < 0 || level > c->layer_count)
         return FM_ERR_INVALID_ARGUMENT;
     work W = {.nq = c->streams, .nc = c->streams + 1};
     const int nq = W.nq, nc = W.nc, M = 2 * nq, nv = c->n_mu, n = nq + nv + 1;
     W.n = n;
     W.sun = n - 1;
     const size_t nn = (size_t)n * (size_t)nc;
-    double *block = calloc((size_t)n * (5 + (size_t)M) + nn * 10 + (size_t)(2 * nc * nc), sizeof(double));
+    double *block = calloc((size_t)n * (7 + (size_t)M) + nn * 11 + (size_t)(2 * nc * nc), sizeof(double));
     if (!block)
         return FM_ERR_OUT_OF_MEMORY;
-    double *next = block;
+    double *next = block, *rb, *d, *u;
     W.w = next, next += n;
     W.xs = next, next += n;
     W.lam = next, next += (size_t)n * (size_t)M;
-    double **mats[] = {&W.pt, &W.pr, &W.r, &W.t, &W.rs, &W.q, &W.s, &W.d, &W.u, &W.v};
+    double **mats[] = {&W.pt, &W.pr, &W.r, &W.t, &W.rs, &W.q, &W.s, &W.d, &W.u, &W.v, &rb};
     for (size_t i = 0; i < sizeof mats / sizeof mats[0]; i++)
         *mats[i] = next, next += nn;
     W.e = next, next += n;
     W.tc = next, next += n;
     W.ec = next, next += n;
+    d = next, next += n;
+    u = next, next += n;
     W.a = next;
     gauss_rule g;
     gauss_legendre(nq, &g);
@@ -319,12 +357,25 @@ fm_status plane_column_bottom(const plane_column *c, double *modes, double *flux
         W.xs[nq + k] = c->mu[k];
     W.xs[W.sun] = c->mu0;
 
-    double rh[MAX_POINTS] = {0};
-    double e_sun = 0.0, tflux = 0.0, sph = 0.0;
-    for (int m = 0; m < M; m++) {
+    const int modes = down || up ? M : 1; /* the flux alone is the azimuthal mean's */
+    for (int m = 0; m < modes; m++) {
         for (int i = 0; i < n; i++)
             assoc_legendre(m, M - 1, W.xs[i], W.lam + i * M);
-        for (int l = 0; l < c->layer_count; l++) {
+        /* below the level: the layers laid over the ground from the bottom up (the Lambertian
+         * ground reflects the azimuthal mean only: its kernel is the albedo in mode 0) */
+        for (size_t i = 0; i < nn; i++)
+            rb[i] = m == 0 ? c->ground_albedo : 0.0;
+        for (int l = c->layer_count - 1; l >= level; l--) {
+            phase_kernels(&W, c->layer[l].chi, m, M);
+            layer_doubled(&W, c->layer[l].tau, c->layer[l].ssa);
+            over_reflector(&W, rb);
+        }
+        /* above it: the layers added from the top down (none: the beam alone) */
+        memset(W.rs, 0, sizeof(double) * nn);
+        memset(W.tc, 0, sizeof(double) * (size_t)n);
+        for (int i = 0; i < n; i++)
+            W.ec[i] = 1.0;
+        for (int l = 0; l < level; l++) {
             phase_kernels(&W, c->layer[l].chi, m, M);
             layer_doubled(&W, c->layer[l].tau, c->layer[l].ssa);
             if (l == 0) {
@@ -336,27 +387,25 @@ fm_status plane_column_bottom(const plane_column *c, double *modes, double *flux
                 add_layer(&W);
             }
         }
-        for (int k = 0; k < nv; k++)
-            modes[k * M + m] = c->mu0 / PC_PI * W.tc[nq + k];
-        if (m == 0) {
-            e_sun = W.ec[W.sun];
-            for (int i = 0; i < n; i++) {
-                rh[i] = 0.0;
-                for (int j = 0; j < nq; j++)
-                    rh[i] += W.rs[i * nc + j] * W.w[j];
-            }
-            for (int i = 0; i < nq; i++) {
-                tflux += W.w[i] * W.tc[i];
-                sph += W.w[i] * rh[i];
-            }
+        level_light(&W, rb, d, u);
+        for (int k = 0; k < nv; k++) {
+            if (down)
+                down[k * M + m] = c->mu0 / PC_PI * d[nq + k];
+            if (up)
+                up[k * M + m] = c->mu0 / PC_PI * u[nq + k];
+        }
+        if (m == 0 && flux_down) {
+            double flux = W.ec[W.sun];
+            for (int i = 0; i < nq; i++)
+                flux += W.w[i] * d[i];
+            *flux_down = flux;
         }
     }
-    /* the ground: its light, reflected down again by the column, in the azimuthal mean */
-    const double A = c->ground_albedo, e_dn = (e_sun + tflux) / (1.0 - A * sph), lg = A * c->mu0 * e_dn / PC_PI;
-    for (int k = 0; k < nv; k++)
-        modes[k * M] += lg * rh[nq + k];
-    if (flux_down)
-        *flux_down = e_dn;
     free(block);
     return FM_OK;
+}
+
+fm_status plane_column_bottom(const plane_column *c, double *modes, double *flux_down)
+{
+    return plane_column_level(c, c ? c->layer_count : 0, modes, NULL, flux_down);
 }

@@ -41,4 +41,11 @@ typedef struct plane_column {
  * the ground's light included).  FM_ERR_INVALID_ARGUMENT on a bad column, FM_ERR_OUT_OF_MEMORY. */
 fm_status plane_column_bottom(const plane_column *c, double *modes, double *flux_down);
 
+/* The same at the boundary above layer `level` (0: the top; layer_count: the bottom, as
+ * plane_column_bottom): the downward radiance's modes in down (looking up) and the upward's in up
+ * (looking down, mu the cosine below the horizontal; the ground's light included), either NULL when
+ * not wanted (both NULL: the flux alone, from the azimuthal mean only), and the downward flux at that
+ * level in *flux_down (may be NULL). */
+fm_status plane_column_level(const plane_column *c, int level, double *down, double *up, double *flux_down);
+
 #endif
