@@ -42,16 +42,16 @@ typedef struct fog_column {
 
 /* ---- where it applies ------------------------------------------------------------------------ */
 
-/* The optical depth at 550 nm of the cloud layer on the ground that holds the observer, or 0; its
- * top (m) in *top. */
+/* The extinction coefficient at 550 nm (m^-1) of the cloud layer on the ground that holds the
+ * observer, or 0; its top (m) in *top. */
 static double fog_around_observer(const fm_sky *sky, double *top)
 {
     const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
     for (int i = 0; i < sky->composition.cloud_count; i++) {
         const double base = sky->composition.cloud[i].base_m, h = sky->composition.cloud[i].thickness_m;
-        if (base <= 0.0 && altitude < base + h) {
+        if (base <= 0.0 && altitude < base + h && h > 0.0) {
             *top = base + h;
-            return sky->composition.cloud[i].tau550;
+            return sky->composition.cloud[i].tau550 / h;
         }
     }
     return 0.0;
@@ -62,7 +62,7 @@ int fog_table_applies(const render_job *job)
     double top;
     return !job->twilight && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
            job->sky->sun_dir.z >= sin(FOG_TABLE_MIN_SUN_DEG * FM_DEG) &&
-           fog_around_observer(job->sky, &top) >= FOG_TABLE_MIN_TAU;
+           fog_around_observer(job->sky, &top) >= 3.912 / FOG_TABLE_MAX_VISIBILITY_M;
 }
 
 void fog_table_size(quality_settings *q)

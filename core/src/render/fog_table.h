@@ -16,14 +16,15 @@
 
 struct render_job;
 
-/* Fog of at least this optical depth at 550 nm (visibility under about 1 km) takes the column. */
-#define FOG_TABLE_MIN_TAU 1.0
+/* Fog of this visibility or less (extinction 3.912 / V at 550 nm) takes the column: a view in it sees
+ * a few hundred metres, where the sphere does not matter. */
+#define FOG_TABLE_MAX_VISIBILITY_M 1000.0
 /* The sun at least this high (the beam's slant path through the fog and the air above it stays
  * within a percent of the plane-parallel one, once dimmed as in the sphere above the fog). */
 #define FOG_TABLE_MIN_SUN_DEG 10.0
 
 /* Whether the job's table comes from the column: by day, not in the reference mode, no deck above,
- * the observer in a fog layer (a cloud layer from the ground up) of FOG_TABLE_MIN_TAU or more, the
+ * the observer in a fog layer (a cloud layer from the ground up) of FOG_TABLE_MAX_VISIBILITY_M or less, the
  * sun FOG_TABLE_MIN_SUN_DEG or more up.  The ground's irradiance then takes orders >= 2 from the
  * column too (build it without paths). */
 int fog_table_applies(const struct render_job *job);
