@@ -81,6 +81,53 @@ fm_status live_smooth_day(fm_sky_live *live, const unsigned char *fresh, double 
     return FM_OK;
 }
 
+/* The weights h[0..n) that give node k's value from the nodes at[0..n): the least-squares quadratic in
+ * the sun elevation, weighted by a Gaussian of width_deg, without node `out` (-1: with every node);
+ * 0 where they do not make one. */
+static int deep_weights(const fm_sky_live *live, const int *at, int n, int k, int out, double width_deg, double *x,
+                        double *w, double *h)
+{
+    for (int j = 0; j < n; j++) {
+        const double d = (live->nodes[at[j]].sun_elevation_deg - live->nodes[at[k]].sun_elevation_deg) / width_deg;
+        x[j] = d;
+        w[j] = j == out ? 0.0 : exp(-0.5 * d * d);
+    }
+    return live_quadratic_weights(x, w, n, h);
+}
+
+static int value_lit(const fm_sky_live *live, const int *at, int n, size_t i)
+{
+    int lit = 1;
+    for (int j = 0; j < n; j++)
+        lit &= live->nodes[at[j]].ms.values[i] > 0.0f;
+    return lit;
+}
+
+/* The leave-one-out score of a width: the squared error of each inner deep node's logarithms (a
+ * node with others on both sides) predicted from the other nodes, summed over the lit values. */
+static double deep_width_score(const fm_sky_live *live, const int *at, int n, double width_deg, double *x,
+                               double *w, double *h)
+{
+    const int C = live->channels, lum = C == 3 ? 1 : 0;
+    const size_t values = (size_t)sky_grid_nodes(&live->nodes[at[0]].ms);
+    double score = 0.0;
+    for (int k = 1; k + 1 < n; k++) {
+        if (!twilight_deep(live->nodes[at[k]].sun_elevation_deg))
+            continue;
+        if (!deep_weights(live, at, n, k, k, width_deg, x, w, h))
+            return INFINITY;
+        for (size_t v = 0; v < values; v++) {
+            if (!value_lit(live, at, n, v * C + lum))
+                continue;
+            double z = -log(live->nodes[at[k]].ms.values[v * C + lum]);
+            for (int j = 0; j < n; j++)
+                z += h[j] * log(live->nodes[at[j]].ms.values[v * C + lum]);
+            score += z * z;
+        }
+    }
+    return score;
+}
+
 fm_status live_smooth_deep_twilight(fm_sky_live *live, const unsigned char *fresh)
 {
     int *at = malloc(sizeof(int) * (size_t)live->count), n = 0;
@@ -92,26 +139,28 @@ fm_status live_smooth_deep_twilight(fm_sky_live *live, const unsigned char *fres
     }
     double *w = x + live->count, *h = w + live->count, *ratio = h + live->count;
     for (int i = 0; i < live->count; i++)
-        if (fresh[i] && twilight_deep(live->nodes[i].sun_elevation_deg))
+        if (fresh[i] && (twilight_deep(live->nodes[i].sun_elevation_deg) ||
+                         live->nodes[i].sun_elevation_deg <= LIVE_SMOOTH_DEEP_WITH_DEG))
             at[n++] = i;
     const int C = live->channels, lum = C == 3 ? 1 : 0; /* CIE Y, or the one value */
-    const size_t values = n ? (size_t)sky_grid_nodes(&live->nodes[at[0]].ms) : 0;
-    for (size_t v = 0; v < values && n >= LIVE_SMOOTH_DEEP_MIN; v++) {
-        int lit = 1;
-        for (int j = 0; j < n; j++)
-            lit &= live->nodes[at[j]].ms.values[v * C + lum] > 0.0f;
+    const size_t values = n >= LIVE_SMOOTH_DEEP_MIN ? (size_t)sky_grid_nodes(&live->nodes[at[0]].ms) : 0;
+    const double widths[] = LIVE_SMOOTH_DEEP_WIDTHS;
+    double width = widths[0], best = INFINITY;
+    for (size_t c = 0; c < sizeof widths / sizeof widths[0] && values; c++) {
+        double score = deep_width_score(live, at, n, widths[c], x, w, h);
+        if (score < best) {
+            best = score;
+            width = widths[c];
+        }
+    }
+    for (size_t v = 0; v < values; v++) {
+        const int lit = value_lit(live, at, n, v * C + lum);
         for (int k = 0; k < n && lit; k++) {
-            for (int j = 0; j < n; j++) {
-                const double d = (live->nodes[at[j]].sun_elevation_deg - live->nodes[at[k]].sun_elevation_deg) /
-                                 LIVE_SMOOTH_DEEP_DEG;
-                x[j] = d;
-                w[j] = exp(-0.5 * d * d);
-            }
-            double z = 0.0;
-            if (!live_quadratic_weights(x, w, n, h)) {
-                ratio[k] = 1.0;
+            ratio[k] = 1.0; /* the nodes above deep twilight take part as they are */
+            if (!twilight_deep(live->nodes[at[k]].sun_elevation_deg) ||
+                !deep_weights(live, at, n, k, -1, width, x, w, h))
                 continue;
-            }
+            double z = 0.0;
             for (int j = 0; j < n; j++)
                 z += h[j] * log(live->nodes[at[j]].ms.values[v * C + lum]);
             ratio[k] = exp(z) / live->nodes[at[k]].ms.values[v * C + lum];
