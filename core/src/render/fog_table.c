@@ -37,6 +37,7 @@ typedef struct fog_column {
     int n_mu;
     double mu[512];                /* the sky rows' view cosines, then the ground rows' (looking down) */
     double top_radius;             /* the fog's top, m from the planet's centre */
+    double top_m[PLANE_COLUMN_MAX_LAYERS]; /* each layer's top, m above the ground */
     double ground[FM_MAX_WAVELENGTHS]; /* what the column adds to the ground's irradiance */
 } fog_column;
 
@@ -132,6 +133,7 @@ static void column_layers(fog_column *fc, const fm_sky *sky, double fog_top)
     fc->on_ground = fc->level == fc->layers;
     for (int l = 0; l < fc->layers; l++) {
         const double z0 = z[n - 2 - l], z1 = z[n - 1 - l]; /* top first */
+        fc->top_m[l] = z1;
         for (int c = 0; c < atm->species_count; c++)
             fc->column[l][c] = column_between(&atm->species[c].profile, z0, z1);
     }
@@ -280,21 +282,42 @@ static double single_top(double tau, double ssa_phase, double mu, double mu0)
  * order 1 (one scattering by the truncated phase function, at the true optical depths; the rest of
  * the scaled order 1 was also scattered within the peak): the single-scattering table holds it.
  * Looking up (down 0) the layers above the observer scatter it, looking down those below. */
-static double node_radiance(const fog_column *fc, const scaled_layer *sl, const double *above, const double *modes,
-                            double mu, double phi, double mu0, int down)
+static double node_radiance(const fog_column *fc, const scaled_layer *sl, const plane_layer *pl, const double *above,
+                            const double *modes, double mu, double phi, double mu_sun, int down)
 {
     double L = modes[0];
     for (int m = 1; m < FOG_MOMENTS; m++)
         L += 2.0 * modes[m] * cos(m * phi);
-    const double x = (down ? -mu : mu) * mu0 + sqrt(fmax(0.0, (1.0 - mu * mu) * (1.0 - mu0 * mu0))) * cos(phi);
     double between = 0.0; /* optical depth from the layer to the observer */
     for (int l = down ? fc->level : fc->level - 1; down ? l < fc->layers : l >= 0; l += down ? 1 : -1) {
+        const double mu0 = pl[l].mu0 > 0.0 ? pl[l].mu0 : mu_sun; /* the layer's beam, as the column's */
+        const double x = (down ? -mu : mu) * mu0 + sqrt(fmax(0.0, (1.0 - mu * mu) * (1.0 - mu0 * mu0))) * cos(phi);
         const double sp = sl[l].ssa * (1.0 - sl[l].f) * scaled_phase(sl[l].chi, x);
-        L -= exp(-above[l] / mu0 - between / mu) *
+        L -= exp(-above[l] / mu_sun - between / mu) *
              (down ? single_top(sl[l].tau, sp, mu, mu0) : single_bottom(sl[l].tau, sp, mu, mu0));
         between += sl[l].tau;
     }
     return L;
+}
+
+/* Pseudo-spherical beam in the air above the fog (as DISORT's): each layer's beam cosine is its
+ * optical depth over the sphere's slant optical depth across it (from the sun table, at the layer's
+ * top and bottom), so the beam reaching and crossing it is dimmed as in the sphere.  At a low sun
+ * the plane's 1 / mu0 overstates the slant path high up, where the air scatters the light that
+ * enters the fog (1 / mu0 is 5.8 air masses at 10 degrees, the sphere's 5.6; at 1 degree 57 against 26). */
+static void air_beam_cosines(const fog_column *fc, const fm_sky *sky, int k, const scaled_layer *sl, plane_layer *pl)
+{
+    const atmosphere *atm = &sky->atm;
+    const double mu0 = sky->sun_dir.z;
+    double T_top[FM_MAX_WAVELENGTHS], T_bottom[FM_MAX_WAVELENGTHS];
+    sun_irradiance_lookup(&sky->sun_table, atm, &sky->sun, atm->top_radius_m, mu0, T_top);
+    for (int l = 0; l < fc->layers - fc->fog_layers; l++) {
+        sun_irradiance_lookup(&sky->sun_table, atm, &sky->sun, atm->bottom_radius_m + fc->top_m[l + 1], mu0, T_bottom);
+        const double slant = log(T_top[k]) - log(T_bottom[k]);
+        if (sl[l].tau > 1e-9 && slant > 0.0 && T_bottom[k] > 0.0)
+            pl[l].mu0 = fmin(1.0, sl[l].tau / slant);
+        memcpy(T_top, T_bottom, sizeof T_top);
+    }
 }
 
 /* Work item: the table's sums at one grid wavelength. */
@@ -313,13 +336,16 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         plane_layer pl[PLANE_COLUMN_MAX_LAYERS];
         double above[PLANE_COLUMN_MAX_LAYERS + 1], lambda = 0.0, above_fog = 0.0;
         above[0] = 0.0;
-        for (int l = 0; l < fc->layers; l++) {
+        for (int l = 0; l < fc->layers; l++)
             layer_at(fc, atm, l, (int)k, &sl[l], &pl[l]);
-            above[l + 1] = above[l] + sl[l].tau;
+        air_beam_cosines(fc, sky, (int)k, sl, pl);
+        for (int l = 0; l < fc->layers; l++) {
+            const double mu_l = pl[l].mu0 > 0.0 ? pl[l].mu0 : mu0; /* the beam's depth: tau mu0 / mu_l */
+            above[l + 1] = above[l] + sl[l].tau * mu0 / mu_l;
             if (l < fc->level)
-                lambda += sl[l].ssa * sl[l].f * sl[l].tau / mu0;
+                lambda += sl[l].ssa * sl[l].f * sl[l].tau / mu_l;
             if (l < fc->layers - fc->fog_layers)
-                above_fog += sl[l].tau;
+                above_fog += sl[l].tau * mu0 / mu_l;
         }
         plane_column col = {.streams = FOG_STREAMS, .layer_count = fc->layers, .layer = pl,
                             .ground_albedo = atm->ground_albedo[k], .mu0 = mu0, .n_mu = fc->n_mu, .mu = fc->mu};
@@ -330,7 +356,8 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
             atomic_store(&job->no_memory, 1);
             return;
         }
-        /* the beam above the fog as in the sphere: its plane-parallel dimming replaced */
+        /* the beam at the fog's top the sun table's (the layers' cosines make it so but for the
+         * table's interpolation) */
         double T_sph[FM_MAX_WAVELENGTHS];
         sun_irradiance_lookup(&sky->sun_table, atm, &sky->sun, fc->top_radius, mu0, T_sph);
         const double scale = atm->grid.solar_irradiance[k] * T_sph[k] / exp(-above_fog / mu0);
@@ -339,7 +366,7 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
                 double e, phi;
                 sky_grid_node_angles(&t->grid, r * cols + c, &e, &phi);
                 const int looking_down = r >= rows;
-                double L = node_radiance(fc, sl, above, (looking_down ? up : down) + r * M, fc->mu[r], phi, mu0,
+                double L = node_radiance(fc, sl, pl, above, (looking_down ? up : down) + r * M, fc->mu[r], phi, mu0,
                                          looking_down);
                 /* looking down: less the ground's light the single-scattering table reflects (the
                  * column's irradiance there, all of it, seen through the air below) */

@@ -19,9 +19,10 @@ struct render_job;
 /* Fog of this visibility or less (extinction 3.912 / V at 550 nm) takes the column: a view in it sees
  * a few hundred metres, where the sphere does not matter. */
 #define FOG_TABLE_MAX_VISIBILITY_M 1000.0
-/* The sun at least this high (the beam's slant path through the fog and the air above it stays
- * within a percent of the plane-parallel one, once dimmed as in the sphere above the fog). */
-#define FOG_TABLE_MIN_SUN_DEG 10.0
+/* The sun at least this high: with the beam pseudo-spherical above the fog the column is within 2 %
+ * (plus 3 standard errors) of the path tracer at sun 8 degrees, 3-5 % too bright at 5 and 3
+ * (docs/decisions/2026-12-06-fog-column.md). */
+#define FOG_TABLE_MIN_SUN_DEG 8.0
 
 /* Whether the job's table comes from the column: by day, not in the reference mode, no deck above,
  * the observer in a fog layer (a cloud layer from the ground up) of FOG_TABLE_MAX_VISIBILITY_M or less, the

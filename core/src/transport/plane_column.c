@@ -307,6 +307,24 @@ static void over_reflector(work *W, double *rb)
             rb[i * nc + j] = W->r[i * nc + j] + W->e[i] * u[i * nc + j] + v[i * nc + j];
 }
 
+/* The layer's beam cosine in the sun's row and its Legendre functions, doubled, and its sun column
+ * put per unit of the column's mu0 F0 (a layer's beam response is per unit of its own mu0 F0). */
+static void layer_with_beam(work *W, const plane_column *c, const plane_layer *layer, int m, int M)
+{
+    const double mu = layer->mu0 > 0.0 ? layer->mu0 : c->mu0;
+    if (W->xs[W->sun] != mu) {
+        W->xs[W->sun] = mu;
+        assoc_legendre(m, M - 1, mu, W->lam + W->sun * M);
+    }
+    phase_kernels(W, layer->chi, m, M);
+    layer_doubled(W, layer->tau, layer->ssa);
+    if (mu != c->mu0)
+        for (int i = 0; i < W->n; i++) {
+            W->r[i * W->nc + W->nq] *= mu / c->mu0;
+            W->t[i * W->nc + W->nq] *= mu / c->mu0;
+        }
+}
+
 static int column_valid(const plane_column *c)
 {
     if (!c || c->streams < 2 || c->streams > MAX_STREAMS || c->layer_count < 1 ||
@@ -317,7 +335,8 @@ static int column_valid(const plane_column *c)
         if (!(c->mu[k] > 0.0 && c->mu[k] <= 1.0))
             return 0;
     for (int l = 0; l < c->layer_count; l++)
-        if (!(c->layer[l].tau >= 0.0) || !(c->layer[l].ssa >= 0.0 && c->layer[l].ssa <= 1.0) || !c->layer[l].chi)
+        if (!(c->layer[l].tau >= 0.0) || !(c->layer[l].ssa >= 0.0 && c->layer[l].ssa <= 1.0) || !c->layer[l].chi ||
+            !(c->layer[l].mu0 >= 0.0 && c->layer[l].mu0 <= 1.0))
             return 0;
     return 1;
 }
@@ -359,6 +378,7 @@ fm_status plane_column_level(const plane_column *c, int level, double *down, dou
 
     const int modes = down || up ? M : 1; /* the flux alone is the azimuthal mean's */
     for (int m = 0; m < modes; m++) {
+        W.xs[W.sun] = c->mu0; /* layer_with_beam changes it */
         for (int i = 0; i < n; i++)
             assoc_legendre(m, M - 1, W.xs[i], W.lam + i * M);
         /* below the level: the layers laid over the ground from the bottom up (the Lambertian
@@ -366,8 +386,7 @@ fm_status plane_column_level(const plane_column *c, int level, double *down, dou
         for (size_t i = 0; i < nn; i++)
             rb[i] = m == 0 ? c->ground_albedo : 0.0;
         for (int l = c->layer_count - 1; l >= level; l--) {
-            phase_kernels(&W, c->layer[l].chi, m, M);
-            layer_doubled(&W, c->layer[l].tau, c->layer[l].ssa);
+            layer_with_beam(&W, c, &c->layer[l], m, M);
             over_reflector(&W, rb);
         }
         /* above it: the layers added from the top down (none: the beam alone) */
@@ -376,8 +395,7 @@ fm_status plane_column_level(const plane_column *c, int level, double *down, dou
         for (int i = 0; i < n; i++)
             W.ec[i] = 1.0;
         for (int l = 0; l < level; l++) {
-            phase_kernels(&W, c->layer[l].chi, m, M);
-            layer_doubled(&W, c->layer[l].tau, c->layer[l].ssa);
+            layer_with_beam(&W, c, &c->layer[l], m, M);
             if (l == 0) {
                 memcpy(W.rs, W.r, sizeof(double) * nn);
                 memcpy(W.ec, W.e, sizeof(double) * (size_t)n);

@@ -23,6 +23,9 @@ typedef struct plane_layer {
     double tau;        /* vertical optical depth */
     double ssa;        /* single-scattering albedo, [0, 1] */
     const double *chi; /* Legendre moments chi_0 .. chi_{2N-1} of the phase function (chi_0 = 1) */
+    double mu0;        /* the beam's cosine within this layer, (0, 1], or 0 for the column's: pseudo-spherical
+                        * (its slant optical depth across the layer, tau / mu0, the sphere's); the
+                        * beam's direction and the radiances' normalisation stay the column's mu0 */
 } plane_layer;
 
 typedef struct plane_column {
