@@ -3,7 +3,8 @@
  *    (adding_doubling.c, written apart) for one Henyey-Greenstein layer over a Lambertian ground,
  *    whole and cut into two and three layers: the bottom radiance's Fourier modes, the flux there and
  *    the reflection at the top to 1e-4 (they start doubling at 1e-6 and 1e-9), and between the cuts
- *    of a layer that absorbs nothing the net flux equal to the bottom's;
+ *    of a layer that absorbs nothing the net flux equal to the bottom's; with every layer's beam
+ *    cosine (pseudo-spherical) other than the sun's, the radiances of the column at that cosine;
  *  - the fast path's fog sky (the multiple-scattering table from the column, render/fog_table.h)
  *    against the reference estimator's plain path tracing of every order, fog of 200 m visibility
  *    (0-200 m), sun 30 degrees up, 550 nm: in a plane alone and in the built-in atmosphere, the
@@ -14,7 +15,7 @@
  * Faults it fails on: the air above the fog left out of the column (the irradiance 17 % high), the
  * ground's reflection left out of the column (every check), the ground's light not taken from the
  * views looking down (the observer at 100 m), the air's beam cosines not pseudo-spherical (the low
- * sun).  About 45 s of CPU, nearly all of it the path tracer. */
+ * sun), a layer's or the ground's beam response left per its own cosine (the layers' cosines).  About 45 s of CPU, nearly all of it the path tracer. */
 #include "check.h"
 
 #include "adding_doubling.h"
@@ -87,6 +88,30 @@ static void layer_as_column(double tau, double g, double ssa, double albedo, int
             check_rel(net, (1.0 - albedo) * flux, 1e-4, what);
         }
     }
+    ad_free(&s);
+}
+
+/* Every layer's beam cosine mu' (pseudo-spherical) in a column of the sun's mu0: the beam is the
+ * plane column's at mu', so the radiances per unit F0 must be that column's. */
+static void layer_cosines_as_the_sun(void **state)
+{
+    (void)state;
+    double g = 0.85;
+    ad_problem p = {.tau = 3.9, .ssa = 0.99, .ground_albedo = 0.2, .mu0 = 0.3, .phase = ad_phase_hg,
+                    .phase_ctx = &g, .streams = 12, .delta_m = 1, .n_mu = N_MU, .mu = view_mu};
+    ad_solution s;
+    assert_int_equal(ad_solve(&p, &s), 0);
+    plane_layer layer[2] = {{.tau = 0.4 * s.tau_scaled, .ssa = s.ssa_scaled, .chi = s.moments, .mu0 = 0.3},
+                            {.tau = 0.6 * s.tau_scaled, .ssa = s.ssa_scaled, .chi = s.moments, .mu0 = 0.3}};
+    plane_column at = {.streams = p.streams, .layer_count = 2, .layer = layer, .ground_albedo = 0.2, .mu0 = 0.3,
+                       .n_mu = N_MU, .mu = view_mu};
+    plane_column pseudo = at;
+    pseudo.mu0 = 0.1;
+    double want[N_MU * 24], got[N_MU * 24];
+    assert_int_equal(plane_column_level(&at, 1, want, NULL, NULL), FM_OK);
+    assert_int_equal(plane_column_level(&pseudo, 1, got, NULL, NULL), FM_OK);
+    for (int i = 0; i < N_MU * s.modes; i++)
+        check_abs(got[i], want[i], 1e-9 * fabs(want[i - i % s.modes]) + 1e-15, "layers' cosines 0.3, the sun's 0.1");
     ad_free(&s);
 }
 
@@ -268,6 +293,7 @@ int main(void)
         cmocka_unit_test(fog_above_the_ground_against_the_path_tracer),
         cmocka_unit_test(fog_at_a_low_sun_against_the_path_tracer),
         cmocka_unit_test(column_matches_adding_doubling),
+        cmocka_unit_test(layer_cosines_as_the_sun),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -383,8 +383,10 @@ fm_status plane_column_level(const plane_column *c, int level, double *down, dou
             assoc_legendre(m, M - 1, W.xs[i], W.lam + i * M);
         /* below the level: the layers laid over the ground from the bottom up (the Lambertian
          * ground reflects the azimuthal mean only: its kernel is the albedo in mode 0) */
+        const plane_layer *bottom = &c->layer[c->layer_count - 1];
+        const double beam_on_ground = bottom->mu0 > 0.0 ? bottom->mu0 / c->mu0 : 1.0; /* per column mu0 F0 */
         for (size_t i = 0; i < nn; i++)
-            rb[i] = m == 0 ? c->ground_albedo : 0.0;
+            rb[i] = m == 0 ? c->ground_albedo * ((int)(i % (size_t)nc) == nq ? beam_on_ground : 1.0) : 0.0;
         for (int l = c->layer_count - 1; l >= level; l--) {
             layer_with_beam(&W, c, &c->layer[l], m, M);
             over_reflector(&W, rb);
