@@ -215,6 +215,17 @@ static void maps_match_final_quality(void **state)
     fm_sky_live_destroy(live);
 }
 
+/* The clear sky between the grid elevations -8 and -6 (issue 46: <= 3% below -6): there the
+ * zenith's single scattering bends fast in its logarithm (its scattering heights leave the air
+ * toward -10), and a slope at the node -8 that leans to the steep side makes the zenith 9% bright. */
+static void clear_deep_twilight_between_nodes(void **state)
+{
+    fm_sky_params p = test_params(10.0, 0.0);
+    fm_sky_live *live = live_around(&p, -7.0, -7.0);
+    check_against_final(live, p, -7.0, 180.0, 64, 0.03);
+    fm_sky_live_destroy(live);
+}
+
 /* Urban haze at one sun, the live sky's nodes around it against the final path within 1%. */
 static void urban_matches_final_quality(double sun_deg, double azimuth_deg, int width)
 {
@@ -582,6 +593,7 @@ int main(void)
         cmocka_unit_test(key_is_the_atmosphere_not_the_sun),
         cmocka_unit_test(bad_sun_is_refused),
         cmocka_unit_test(maps_match_final_quality),
+        cmocka_unit_test(clear_deep_twilight_between_nodes),
         cmocka_unit_test(hazy_aureole_matches_final_quality),
         cmocka_unit_test(hazy_day_matches_final_quality),
         cmocka_unit_test(high_sun_matches_final_quality),

@@ -264,16 +264,19 @@ static grid_place place_on_grid(const fm_sky_live *live, double elevation_deg)
     return g;
 }
 
-/* The slope at a node from its neighbours' values (ym at hm before, yp at hp after), limited so
- * that the curve never overshoots its nodes (Fritsch & Carlson, SIAM J. Numer. Anal. 17 (1980) 238):
- * 0 at a local extremum, at most 3 times the smaller secant. */
+/* The slope at a node from its neighbours' values (ym at hm before, yp at hp after) so that the
+ * curve never overshoots its nodes: 0 at a local extremum, else the weighted harmonic mean of the
+ * two secants (Fritsch & Butland, SIAM J. Sci. Stat. Comput. 5 (1984) 300), which leans to the
+ * smaller one.  Where the sky's logarithm bends fast, as the zenith's single scattering as the sun
+ * sinks toward -10 degrees (its scattering heights leave the air), an arithmetic mean of the secants
+ * takes too much of the steep side and overshoots between the nodes. */
 static double limited_slope(double ym, double y, double yp, double hm, double hp)
 {
     double sm = (y - ym) / hm, sp = (yp - y) / hp;
     if (sm * sp <= 0.0)
         return 0.0;
-    double d = (hm * sp + hp * sm) / (hm + hp), most = 3.0 * fmin(fabs(sm), fabs(sp));
-    return fabs(d) > most ? copysign(most, d) : d;
+    double wm = 2.0 * hp + hm, wp = hp + 2.0 * hm;
+    return (wm + wp) / (wm / sm + wp / sp);
 }
 
 /* The monotone cubic Hermite interpolant through y[0..3] (at the nodes of g) at g's place; a slope
