@@ -341,73 +341,94 @@ static int column_valid(const plane_column *c)
     return 1;
 }
 
+/* The work space of a column's solution (freed as the returned block), its nodes and view cosines
+ * set: the Gauss nodes, the views and the sun; rb, d and u are matrices / vectors of it. */
+static double *work_alloc(work *W, const plane_column *c, double **rb, double **d, double **u)
+{
+    *W = (work){.nq = c->streams, .nc = c->streams + 1};
+    const int nq = W->nq, nc = W->nc, M = 2 * nq, nv = c->n_mu, n = nq + nv + 1;
+    W->n = n;
+    W->sun = n - 1;
+    const size_t nn = (size_t)n * (size_t)nc;
+    double *block = calloc((size_t)n * (7 + (size_t)M) + nn * 11 + (size_t)(2 * nc * nc), sizeof(double));
+    if (!block)
+        return NULL;
+    double *next = block;
+    W->w = next, next += n;
+    W->xs = next, next += n;
+    W->lam = next, next += (size_t)n * (size_t)M;
+    double **mats[] = {&W->pt, &W->pr, &W->r, &W->t, &W->rs, &W->q, &W->s, &W->d, &W->u, &W->v, rb};
+    for (size_t i = 0; i < sizeof mats / sizeof mats[0]; i++)
+        *mats[i] = next, next += nn;
+    W->e = next, next += n;
+    W->tc = next, next += n;
+    W->ec = next, next += n;
+    *d = next, next += n;
+    *u = next, next += n;
+    W->a = next;
+    gauss_rule g;
+    gauss_legendre(nq, &g);
+    for (int i = 0; i < nq; i++) {
+        W->xs[i] = 0.5 * (1.0 + g.x[i]);
+        W->w[i] = 2.0 * W->xs[i] * 0.5 * g.w[i];
+    }
+    for (int k = 0; k < nv; k++)
+        W->xs[nq + k] = c->mu[k];
+    W->xs[W->sun] = c->mu0;
+    return block;
+}
+
+/* Fourier mode m of the light at the level (between layers level - 1 and level): the layers below
+ * laid over the ground into rb, those above added from the top down, then down d and up u. */
+static void level_mode(work *W, const plane_column *c, int level, int m, double *rb, double *d, double *u)
+{
+    const int nq = W->nq, nc = W->nc, M = 2 * nq, n = W->n;
+    const size_t nn = (size_t)n * (size_t)nc;
+    W->xs[W->sun] = c->mu0; /* layer_with_beam changes it */
+    for (int i = 0; i < n; i++)
+        assoc_legendre(m, M - 1, W->xs[i], W->lam + i * M);
+    /* below the level: the layers laid over the ground from the bottom up (the Lambertian
+     * ground reflects the azimuthal mean only: its kernel is the albedo in mode 0) */
+    const plane_layer *bottom = &c->layer[c->layer_count - 1];
+    const double beam_on_ground = bottom->mu0 > 0.0 ? bottom->mu0 / c->mu0 : 1.0; /* per column mu0 F0 */
+    for (size_t i = 0; i < nn; i++)
+        rb[i] = m == 0 ? c->ground_albedo * ((int)(i % (size_t)nc) == nq ? beam_on_ground : 1.0) : 0.0;
+    for (int l = c->layer_count - 1; l >= level; l--) {
+        layer_with_beam(W, c, &c->layer[l], m, M);
+        over_reflector(W, rb);
+    }
+    /* above it: the layers added from the top down (none: the beam alone) */
+    memset(W->rs, 0, sizeof(double) * nn);
+    memset(W->tc, 0, sizeof(double) * (size_t)n);
+    for (int i = 0; i < n; i++)
+        W->ec[i] = 1.0;
+    for (int l = 0; l < level; l++) {
+        layer_with_beam(W, c, &c->layer[l], m, M);
+        if (l == 0) {
+            memcpy(W->rs, W->r, sizeof(double) * nn);
+            memcpy(W->ec, W->e, sizeof(double) * (size_t)n);
+            for (int i = 0; i < n; i++)
+                W->tc[i] = W->t[i * nc + nq];
+        } else {
+            add_layer(W);
+        }
+    }
+    level_light(W, rb, d, u);
+}
+
 fm_status plane_column_level(const plane_column *c, int level, double *down, double *up, double *flux_down)
 {
     if (!column_valid(c) || level < 0 || level > c->layer_count)
         return FM_ERR_INVALID_ARGUMENT;
-    work W = {.nq = c->streams, .nc = c->streams + 1};
-    const int nq = W.nq, nc = W.nc, M = 2 * nq, nv = c->n_mu, n = nq + nv + 1;
-    W.n = n;
-    W.sun = n - 1;
-    const size_t nn = (size_t)n * (size_t)nc;
-    double *block = calloc((size_t)n * (7 + (size_t)M) + nn * 11 + (size_t)(2 * nc * nc), sizeof(double));
+    work W;
+    double *rb, *d, *u;
+    double *block = work_alloc(&W, c, &rb, &d, &u);
     if (!block)
         return FM_ERR_OUT_OF_MEMORY;
-    double *next = block, *rb, *d, *u;
-    W.w = next, next += n;
-    W.xs = next, next += n;
-    W.lam = next, next += (size_t)n * (size_t)M;
-    double **mats[] = {&W.pt, &W.pr, &W.r, &W.t, &W.rs, &W.q, &W.s, &W.d, &W.u, &W.v, &rb};
-    for (size_t i = 0; i < sizeof mats / sizeof mats[0]; i++)
-        *mats[i] = next, next += nn;
-    W.e = next, next += n;
-    W.tc = next, next += n;
-    W.ec = next, next += n;
-    d = next, next += n;
-    u = next, next += n;
-    W.a = next;
-    gauss_rule g;
-    gauss_legendre(nq, &g);
-    for (int i = 0; i < nq; i++) {
-        W.xs[i] = 0.5 * (1.0 + g.x[i]);
-        W.w[i] = 2.0 * W.xs[i] * 0.5 * g.w[i];
-    }
-    for (int k = 0; k < nv; k++)
-        W.xs[nq + k] = c->mu[k];
-    W.xs[W.sun] = c->mu0;
-
+    const int nq = W.nq, M = 2 * nq, nv = c->n_mu;
     const int modes = down || up ? M : 1; /* the flux alone is the azimuthal mean's */
     for (int m = 0; m < modes; m++) {
-        W.xs[W.sun] = c->mu0; /* layer_with_beam changes it */
-        for (int i = 0; i < n; i++)
-            assoc_legendre(m, M - 1, W.xs[i], W.lam + i * M);
-        /* below the level: the layers laid over the ground from the bottom up (the Lambertian
-         * ground reflects the azimuthal mean only: its kernel is the albedo in mode 0) */
-        const plane_layer *bottom = &c->layer[c->layer_count - 1];
-        const double beam_on_ground = bottom->mu0 > 0.0 ? bottom->mu0 / c->mu0 : 1.0; /* per column mu0 F0 */
-        for (size_t i = 0; i < nn; i++)
-            rb[i] = m == 0 ? c->ground_albedo * ((int)(i % (size_t)nc) == nq ? beam_on_ground : 1.0) : 0.0;
-        for (int l = c->layer_count - 1; l >= level; l--) {
-            layer_with_beam(&W, c, &c->layer[l], m, M);
-            over_reflector(&W, rb);
-        }
-        /* above it: the layers added from the top down (none: the beam alone) */
-        memset(W.rs, 0, sizeof(double) * nn);
-        memset(W.tc, 0, sizeof(double) * (size_t)n);
-        for (int i = 0; i < n; i++)
-            W.ec[i] = 1.0;
-        for (int l = 0; l < level; l++) {
-            layer_with_beam(&W, c, &c->layer[l], m, M);
-            if (l == 0) {
-                memcpy(W.rs, W.r, sizeof(double) * nn);
-                memcpy(W.ec, W.e, sizeof(double) * (size_t)n);
-                for (int i = 0; i < n; i++)
-                    W.tc[i] = W.t[i * nc + nq];
-            } else {
-                add_layer(&W);
-            }
-        }
-        level_light(&W, rb, d, u);
+        level_mode(&W, c, level, m, rb, d, u);
         for (int k = 0; k < nv; k++) {
             if (down)
                 down[k * M + m] = c->mu0 / PC_PI * d[nq + k];
