@@ -9,13 +9,14 @@
  *    against the reference estimator's plain path tracing of every order, fog of 200 m visibility
  *    (0-200 m), sun 30 degrees up, 550 nm: in a plane alone and in the built-in atmosphere, the
  *    observer on the ground (the diffuse irradiance there and radiances across the sky) and at 100 m
- *    (radiances up and down), within 1 % plus 3 standard errors of the path tracer, and within 15 %
- *    plus 3 standard errors 8 degrees from the sun (delta-M's limit there, stated in the decision);
+ *    (radiances up and down), within 1 % plus 3 standard errors of the path tracer, and within 3 %
+ *    plus 3 standard errors 4 to 9 degrees from the sun (the peak's light there);
  *    and with the sun 8 degrees up (FOG_TABLE_MIN_SUN_DEG), within 2 % plus 3 standard errors.
  * Faults it fails on: the air above the fog left out of the column (the irradiance 17 % high), the
  * ground's reflection left out of the column (every check), the ground's light not taken from the
  * views looking down (the observer at 100 m), the air's beam cosines not pseudo-spherical (the low
- * sun), a layer's or the ground's beam response left per its own cosine (the layers' cosines).  About 45 s of CPU, nearly all of it the path tracer. */
+ * sun), a layer's or the ground's beam response left per its own cosine (the layers' cosines), the
+ * peak's light beyond its first zero left out (8 degrees from the sun: +13 % at 100 m, +7 % in the plane).  About 45 s of CPU, nearly all of it the path tracer. */
 #include "check.h"
 
 #include "adding_doubling.h"
@@ -178,13 +179,15 @@ static void free_tables(render_job *job, ms_table *ms)
     fm_image_destroy(job->img);
 }
 
-/* Views (elevation, azimuth from the sun's, degrees): across the sky, and the first NEAR_SUN 8
- * degrees from the sun, where the tolerance is NEAR_SUN_TOLERANCE: there delta-M with 24 moments
- * (the droplets' first ~10 degrees counted as unscattered) leaves the column 3-12 % too bright. */
+/* Views (elevation, azimuth from the sun's, degrees): across the sky, and NEAR_SUN 4 to 9 degrees
+ * from the sun (the first three and the last), where the tolerance is NEAR_SUN_TOLERANCE: there the
+ * light scattered several times within the droplets' truncated peak (fog_table.c, peak_light) is
+ * positive within about 5 degrees and takes light back beyond, and the multiple-scattering table's
+ * nodes, 2-3 degrees apart, smooth it by up to 2 % of the sky. */
 static const double views[][2] = {{30, 10}, {38, 0}, {22, 0}, {30, 30}, {50, 0}, {30, 90},
-                                  {60, 180}, {10, 180}, {80, 0}, {3, 90}};
-#define NEAR_SUN 3
-#define NEAR_SUN_TOLERANCE 0.15
+                                  {60, 180}, {10, 180}, {80, 0}, {3, 90}, {34, 0}};
+#define NEAR_SUN(i) ((i) < 3 || (i) == 10)
+#define NEAR_SUN_TOLERANCE 0.03
 /* and, from inside the fog, looking down */
 static const double views_down[][2] = {{-3, 90}, {-10, 0}, {-30, 180}, {-50, 90}, {-85, 0}};
 
@@ -232,9 +235,10 @@ static void fog_against_the_path_tracer(int plane, double altitude_m)
     }
     path_context all = sky_path_context(sky, 1, 0);
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
-        /* on the ground all but two the low sun checks, else one view near the sun and two away */
-        if (!(plane || altitude_m > 0.0) ? i != 6 && i != 8 : i == 1 || i == 5 || i == 6)
-            compare_view(sky, &job, &all, views[i], i, i < NEAR_SUN ? NEAR_SUN_TOLERANCE : 0.01, name);
+        /* on the ground all but two the low sun checks, else two views near the sun (one in the plane) and
+         * two away */
+        if (!(plane || altitude_m > 0.0) ? i != 6 && i != 8 : i == 1 || i == 5 || i == 6 || (i == 10 && !plane))
+            compare_view(sky, &job, &all, views[i], i, NEAR_SUN(i) ? NEAR_SUN_TOLERANCE : 0.01, name);
     for (size_t i = 0; i < sizeof views_down / sizeof views_down[0] && altitude_m > 0.0; i++)
         compare_view(sky, &job, &all, views_down[i], 100 + i, 0.01, name);
     free_tables(&job, &ms);

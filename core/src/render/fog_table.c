@@ -235,40 +235,139 @@ static double single_bottom(double tau, double ssa_phase, double mu, double mu0)
 }
 
 /* The light scattered two or more times within the truncated peak and never wider: the scaled
- * column counts it as unscattered.  The number of peak scatterings along the beam is Poisson with
- * mean lambda (sum of ssa f tau / mu0); each turns the light by a small angle, so n of them spread it
- * about the sun as a Gaussian of n times the peak's mean square angle (small-angle approximation).
- * The peak is the forward-most fraction f of the scattering in the layer where it scatters most. */
-static void peak_light(fog_column *fc, const scaled_layer *sl, int k, double lambda, double beam)
+ * column counts it as unscattered.  Along the beam each layer's peak scatterings are Poisson with
+ * mean lambda_i = ssa f tau / mu0 and turn the light by the peak's residual phase function P''_i
+ * (P = f P'' + (1 - f) P*: Legendre moments 1 below FOG_MOMENTS, chi_l / f above), so n of them by
+ * its n-fold convolution, whose moments are powers; the light's moments are then
+ * exp(Lambda_l) - 1 - Lambda_l with Lambda_l = sum_i lambda_i g_i,l (all n >= 2; Nakajima & Tanaka's
+ * 1988 IMS correction is its n = 2 term).  Light scattered both in and outside the peak the column
+ * holds as it should (P'' leaves the column's band of moments unchanged).  Within a few degrees of
+ * the sun the sum is positive; beyond it, negative: it takes back what the truncated phase function's
+ * smooth forward lobe put there (about 5 % of the sky 8 degrees from the sun). */
+#define FOG_PEAK_ANGLES 512          /* the table ms_table.peak: uniform in sin(theta / 2) */
+#define PEAK_PANELS 1200            /* 0.15 degrees: the droplets' peak and P_l up to PEAK_MOMENTS */
+#define PEAK_MOMENTS 2048
+/* The sum tabulated to PEAK_MAX_DEG from the sun, tapered to 0 from PEAK_TAPER_DEG: beyond, it is a
+ * ripple of a few tenths of a percent of the sky. */
+#define PEAK_TAPER_DEG 30.0
+#define PEAK_MAX_DEG 45.0
+#define PEAK_U_MAX 0.38268343236508977 /* sin(PEAK_MAX_DEG / 2) */
+static double peak_taper(double theta)
 {
-    const atmosphere *atm = &fc->job->sky->atm;
-    ms_table *t = fc->job->ms;
-    int top = 0;
-    for (int l = 1; l < fc->level; l++)
-        if (sl[l].ssa * sl[l].f * sl[l].tau > sl[top].ssa * sl[top].f * sl[top].tau)
-            top = l;
-    double s[FM_MAX_SPECIES], ts = 0.0;
-    for (int c = 0; c < atm->scattering_count; c++)
-        ts += s[c] = fc->column[top][c] * atm->species[c].sigma_s[k];
+    const double t = (theta / FM_DEG - PEAK_TAPER_DEG) / (PEAK_MAX_DEG - PEAK_TAPER_DEG);
+    return t <= 0.0 ? 1.0 : t >= 1.0 ? 0.0 : 0.5 * (1.0 + cos(FM_PI * t));
+}
+
+/* M_l = exp(Lambda_l) - 1 - Lambda_l for l < *L (returned): Lambda_l = lambda below FOG_MOMENTS, above
+ * it the Legendre moments of the phase functions weighted by w (the species' slant scattering
+ * optical depths), by quadrature; they end where Lambda_l has vanished for a while. */
+static void peak_moments(const atmosphere *atm, int k, const double *w, double lambda, double *work, double *M, int *L)
+{
+    enum { Q = 4 * PEAK_PANELS };
+    double *x = work, *v = x + Q, *p0 = v + Q, *p1 = p0 + Q;
     const gauss_rule *g = gauss_legendre_cached(4);
-    const double h = FM_PI / MOMENT_PANELS, f = sl[top].f;
-    double cum = 0.0, m2 = 0.0;
-    for (int i = 0; i < MOMENT_PANELS && cum < f && ts > 0.0; i++)
+    const double h = FM_PI / PEAK_PANELS;
+    for (int i = 0; i < PEAK_PANELS; i++)
         for (int q = 0; q < 4; q++) {
-            const double th = h * (i + 0.5 * (1.0 + g->x[q])), x = cos(th);
+            const double th = h * (i + 0.5 * (1.0 + g->x[q]));
             double p = 0.0;
             for (int c = 0; c < atm->scattering_count; c++)
-                p += s[c] > 0.0 ? s[c] / ts * phase_evaluate(&atm->species[c].phase, k, x) : 0.0;
-            const double w = 2.0 * FM_PI * sin(th) * 0.5 * h * g->w[q] * p;
-            cum += w;
-            m2 += w * th * th;
+                p += w[c] > 0.0 ? w[c] * phase_evaluate(&atm->species[c].phase, k, cos(th)) : 0.0;
+            x[4 * i + q] = p1[4 * i + q] = cos(th);
+            v[4 * i + q] = 2.0 * FM_PI * sin(th) * 0.5 * h * g->w[q] * p;
+            p0[4 * i + q] = 1.0;
         }
-    t->peak_beam[k] = beam;
-    t->peak_count[k] = lambda;
-    t->peak_angle2[k] = cum > 0.0 ? m2 / cum : 0.0;
-    /* its flux on the ground, which the table's nodes do not hold */
+    *L = PEAK_MOMENTS;
+    for (int l = 0, small = 0; l < PEAK_MOMENTS; l++) {
+        double Lam = lambda;
+        if (l >= FOG_MOMENTS) {
+            Lam = 0.0;
+            for (int q = 0; q < Q; q++)
+                Lam += v[q] * p1[q];
+        }
+        M[l] = expm1(Lam) - Lam;
+        small = fabs(Lam) < 1e-6 * lambda ? small + 1 : 0;
+        if (small == 8) {
+            *L = l + 1;
+            return;
+        }
+        for (int q = 0; q < Q; q++) { /* p0, p1 <- P_l, P_{l+1} */
+            const double next = ((2.0 * l + 3.0) * x[q] * p1[q] - (l + 1.0) * p0[q]) / (l + 2.0);
+            p0[q] = p1[q];
+            p1[q] = next;
+        }
+    }
+}
+
+/* sum_l (2l + 1) M_l P_l(cos theta_j) at the table's angles, uniform in sin(theta / 2). */
+static void peak_sum(const double *M, int L, double *work, double *out)
+{
+    double *x = work, *c0 = x + FOG_PEAK_ANGLES, *c1 = c0 + FOG_PEAK_ANGLES;
+    for (int j = 0; j < FOG_PEAK_ANGLES; j++) {
+        const double u = PEAK_U_MAX * j / (FOG_PEAK_ANGLES - 1.0);
+        x[j] = c1[j] = 1.0 - 2.0 * u * u;
+        c0[j] = 1.0;
+        out[j] = M[0];
+    }
+    for (int l = 1; l < L; l++)
+        for (int j = 0; j < FOG_PEAK_ANGLES; j++) {
+            out[j] += (2.0 * l + 1.0) * M[l] * c1[j];
+            const double next = ((2.0 * l + 1.0) * x[j] * c1[j] - l * c0[j]) / (l + 1.0);
+            c0[j] = c1[j];
+            c1[j] = next;
+        }
+}
+
+/* The peak's light at wavelength k (beam: the unscattered beam's radiance scale at the observer) in
+ * ms_table.peak, parted where it first falls to zero: the positive part about the sun for the
+ * single-scattering table, the rest for the multiple-scattering table's nodes. */
+static fm_status peak_light(fog_column *fc, const scaled_layer *sl, const plane_layer *pl, int k, double beam)
+{
+    const atmosphere *atm = &fc->job->sky->atm;
     const double mu0 = fc->job->sky->sun_dir.z;
+    double w[FM_MAX_SPECIES] = {0}, lambda = 0.0;
+    for (int l = 0; l < fc->level; l++) {
+        if (!(sl[l].f > 0.0))
+            continue;
+        const double mu_l = pl[l].mu0 > 0.0 ? pl[l].mu0 : mu0;
+        lambda += sl[l].ssa * sl[l].f * sl[l].tau / mu_l;
+        for (int c = 0; c < atm->scattering_count; c++)
+            w[c] += fc->column[l][c] * atm->species[c].sigma_s[k] / mu_l;
+    }
+    const int K = atm->grid.count;
+    double *out = fc->job->ms->peak + (size_t)k * FOG_PEAK_ANGLES, *rest = out + (size_t)K * FOG_PEAK_ANGLES;
+    /* its flux on the ground, which the table's nodes do not hold */
     fc->ground[k] = mu0 * beam * (expm1(lambda) - lambda);
+    if (!(lambda > 0.0 && beam > 0.0))
+        return FM_OK;
+    double *work = malloc(sizeof(double) * (16 * (size_t)PEAK_PANELS + PEAK_MOMENTS));
+    if (!work)
+        return FM_ERR_OUT_OF_MEMORY;
+    double *M = work + 16 * (size_t)PEAK_PANELS;
+    int L;
+    peak_moments(atm, k, w, lambda, work, M, &L);
+    peak_sum(M, L, work, out);
+    int zero = 0;
+    while (zero < FOG_PEAK_ANGLES && out[zero] > 0.0)
+        zero++;
+    for (int j = 0; j < FOG_PEAK_ANGLES; j++) {
+        out[j] *= beam / (4.0 * FM_PI) * peak_taper(2.0 * asin(PEAK_U_MAX * j / (FOG_PEAK_ANGLES - 1.0)));
+        rest[j] = j < zero ? 0.0 : out[j];
+        out[j] -= rest[j];
+    }
+    free(work);
+    return FM_OK;
+}
+
+/* One of the peak's two tables (peak_light) at wavelength k, at cosine x from the sun. */
+static double peak_at(const double *table, int k, double x)
+{
+    const double f = sqrt(fmax(0.0, 0.5 * (1.0 - x))) / PEAK_U_MAX * (FOG_PEAK_ANGLES - 1.0);
+    const int j = (int)f;
+    if (j >= FOG_PEAK_ANGLES - 1)
+        return 0.0;
+    const double *t = table + (size_t)k * FOG_PEAK_ANGLES;
+    return t[j] + (f - j) * (t[j + 1] - t[j]);
 }
 
 /* Single scattering looking down along mu from the top of one homogeneous layer lit at its top,
@@ -334,7 +433,7 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
     for (int64_t k = begin; k < end; k++) {
         scaled_layer sl[PLANE_COLUMN_MAX_LAYERS];
         plane_layer pl[PLANE_COLUMN_MAX_LAYERS];
-        double above[PLANE_COLUMN_MAX_LAYERS + 1], lambda = 0.0, above_fog = 0.0;
+        double above[PLANE_COLUMN_MAX_LAYERS + 1], above_fog = 0.0;
         above[0] = 0.0;
         for (int l = 0; l < fc->layers; l++)
             layer_at(fc, atm, l, (int)k, &sl[l], &pl[l]);
@@ -342,8 +441,6 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         for (int l = 0; l < fc->layers; l++) {
             const double mu_l = pl[l].mu0 > 0.0 ? pl[l].mu0 : mu0; /* the beam's depth: tau mu0 / mu_l */
             above[l + 1] = above[l] + sl[l].tau * mu0 / mu_l;
-            if (l < fc->level)
-                lambda += sl[l].ssa * sl[l].f * sl[l].tau / mu_l;
             if (l < fc->layers - fc->fog_layers)
                 above_fog += sl[l].tau * mu0 / mu_l;
         }
@@ -361,6 +458,12 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         double T_sph[FM_MAX_WAVELENGTHS];
         sun_irradiance_lookup(&sky->sun_table, atm, &sky->sun, fc->top_radius, mu0, T_sph);
         const double scale = atm->grid.solar_irradiance[k] * T_sph[k] / exp(-above_fog / mu0);
+        if (peak_light(fc, sl, pl, (int)k, exp(-above[fc->level] / mu0) * scale)) {
+            free(down);
+            atomic_store(&job->no_memory, 1);
+            return;
+        }
+        const double *rest = t->peak + (size_t)K * FOG_PEAK_ANGLES;
         for (int r = 0; r < rows + (fc->on_ground ? 0 : t->grid.rows_ground); r++)
             for (int c = 0; c < cols; c++) {
                 double e, phi;
@@ -372,9 +475,10 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
                  * column's irradiance there, all of it, seen through the air below) */
                 if (looking_down)
                     L -= atm->ground_albedo[k] / FM_PI * mu0 * ground * exp(-(above[fc->layers] - above[fc->level]) / fc->mu[r]);
+                else /* the peak's light beyond its first zero */
+                    L += peak_at(rest, (int)k, v3_dot(render_view_direction(sky, e, phi), sky->sun_dir)) / scale;
                 t->sum[(size_t)(r * cols + c) * K + k] = L * scale;
             }
-        peak_light(fc, sl, (int)k, lambda, exp(-above[fc->level] / mu0) * scale);
         /* above the ground, its diffuse irradiance comes from the column (the peak's light in it): all
          * of it but the direct beam and order 1, which the ground's own quadrature holds */
         if (!fc->on_ground)
@@ -414,6 +518,9 @@ fm_status fog_table_fill(render_job *job)
     column_layers(fc, sky, fog_top);
     view_cosines(fc, &t->grid);
     fm_status s = species_moments(fc, atm);
+    free(t->peak);
+    if (!s && !(t->peak = calloc(2 * (size_t)K * FOG_PEAK_ANGLES, sizeof(double))))
+        s = FM_ERR_OUT_OF_MEMORY;
     if (!s) {
         memset(t->sum, 0, sizeof(double) * (size_t)nodes * K);
         const fm_render_params *p = job->params;
@@ -445,32 +552,20 @@ fm_status fog_table_fill(render_job *job)
     return s;
 }
 
-/* The peak's light (peak_light) added to the single-scattering table's sky nodes: a few degrees
- * about the sun, where the table's nodes are a degree or two apart (the multiple-scattering table's,
- * ten). */
-#define PEAK_TERMS 60
+/* The peak's light (peak_light) about the sun, to its first zero, added to the single-scattering
+ * table's sky nodes: they are a degree or two apart (the multiple-scattering table's, a few). */
 void fog_table_add_peak(render_job *job)
 {
     const fm_sky *sky = job->sky;
     const atmosphere *atm = &sky->atm;
     const ms_table *t = job->ms;
     const int K = atm->grid.count, C = job->channels, n = job->ss.rows_sky * job->ss.cols;
-    for (int i = 0; i < n; i++) {
-        double e, phi, L[FM_MAX_WAVELENGTHS] = {0};
+    for (int i = 0; i < n && t->peak; i++) {
+        double e, phi, L[FM_MAX_WAVELENGTHS];
         sky_grid_node_angles(&job->ss, i, &e, &phi);
-        const double x = v3_dot(render_view_direction(sky, e, phi), sky->sun_dir), th2 = 2.0 * (1.0 - x);
-        for (int k = 0; k < K; k++) {
-            const double lambda = t->peak_count[k], a2 = t->peak_angle2[k];
-            if (!(t->peak_beam[k] > 0.0 && a2 > 0.0))
-                continue;
-            /* sum over n >= 2 of Poisson(n; lambda) e^lambda times a Gaussian of mean square angle n a2 */
-            double term = lambda, sum = 0.0;
-            for (int m = 2; m < PEAK_TERMS; m++) {
-                term *= lambda / m;
-                sum += term * exp(-th2 / (m * a2)) / (FM_PI * m * a2);
-            }
-            L[k] = t->peak_beam[k] * sum;
-        }
+        const double x = v3_dot(render_view_direction(sky, e, phi), sky->sun_dir);
+        for (int k = 0; k < K; k++)
+            L[k] = peak_at(t->peak, k, x);
         float add[FM_MAX_WAVELENGTHS];
         render_channels(atm, C, L, add);
         for (int c = 0; c < C; c++) {

@@ -42,8 +42,9 @@ void fog_table_size(struct quality_settings *q);
  * irradiance reads, one "path" per node), in place of its paths and fit. */
 fm_status fog_table_fill(struct render_job *job);
 
-/* Adds the light scattered several times within the droplets' truncated peak, a few degrees about
- * the sun, to the single-scattering table (once it is filled; its flux on the ground is already in). */
+/* Adds the light scattered several times within the droplets' truncated peak, within a few degrees
+ * of the sun, to the single-scattering table (once it is filled; the table from the column holds its
+ * negative part beyond, and its flux on the ground is already in). */
 void fog_table_add_peak(struct render_job *job);
 
 #endif

@@ -68,6 +68,7 @@ void ms_table_free(ms_table *t)
     free(t->block);
     free(t->moments);
     free(t->orders);
+    free(t->peak);
     memset(t, 0, sizeof *t);
 }
 

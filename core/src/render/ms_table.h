@@ -34,10 +34,10 @@ typedef struct ms_table {
     /* twilight in colour only (else NULL): per node X / Y and Z / Y and their variances */
     double *ratio[2], *ratio_var[2];
     double *block;          /* the one allocation behind the per-node arrays of doubles */
-    /* fog around the observer (fog_table.h), else zero: the light scattered two or more times within
-     * the droplets' truncated peak, per grid wavelength: the unscattered beam's radiance scale, the
-     * mean number of peak scatterings and the peak's mean square angle (rad^2) */
-    double peak_beam[FM_MAX_WAVELENGTHS], peak_count[FM_MAX_WAVELENGTHS], peak_angle2[FM_MAX_WAVELENGTHS];
+    /* fog around the observer (fog_table.h), else NULL: the light scattered two or more times within
+     * the droplets' truncated peak by angle from the sun, per grid wavelength, in two parts (the
+     * layout is fog_table.c's) */
+    double *peak;
 } ms_table;
 
 /* The table of a quality level (its rows, columns and paths), below the horizon at `horizon` (rad),
