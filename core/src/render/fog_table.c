@@ -19,9 +19,12 @@
 /* Panels uniform in scattering angle for the moments: 0.09 degrees, a fifth of the droplets'
  * diffraction peak at 380 nm. */
 #define MOMENT_PANELS 2000
-/* The air above the fog in layers broken here (m above the ground): the aerosols' share of the
- * scattering falls with height, and a layer's mixture is one phase function. */
-static const double air_breaks_m[] = {1000.0, 3000.0, 10000.0};
+/* The air above the fog in layers broken here (m above the fog's top).  A layer is one mixture (one
+ * phase function, its scattering and absorption spread evenly) under one beam cosine, while the
+ * aerosols thin out within a kilometre or two and the ozone lies at 15-35 km above most of the air
+ * that scatters: at a low sun the beam through a thick layer lights its scattering as if it were
+ * all halfway down the ozone. */
+static const double air_breaks_m[] = {1000.0, 2000.0, 4000.0, 7000.0, 11000.0, 16000.0, 22000.0, 30000.0};
 /* The horizon row's view cosine: the plane-parallel radiance at grazing views tends to the source
  * function at the bottom, reached within a milliradian. */
 #define VIEW_MU_MIN 1e-3
@@ -112,15 +115,16 @@ static void column_layers(fog_column *fc, const fm_sky *sky, double fog_top)
     int n = fog_top < toa ? 3 : 2;
     if (n == 2)
         z[1] = toa;
-    for (size_t i = 0; i < sizeof air_breaks_m / sizeof air_breaks_m[0]; i++)
-        n = add_break(z, n, fog_top + air_breaks_m[i], fog_top, toa);
+    /* the observer's level and the clouds' edges first: the air's breaks take what room is left */
+    const double altitude = v3_length(sky->observer) - atm->bottom_radius_m;
+    n = add_break(z, n, altitude, 0.0, fog_top);
     for (int i = 0; i < sky->composition.cloud_count; i++) {
         const double base = sky->composition.cloud[i].base_m;
         n = add_break(z, n, base, fog_top, toa);
         n = add_break(z, n, base + sky->composition.cloud[i].thickness_m, fog_top, toa);
     }
-    const double altitude = v3_length(sky->observer) - atm->bottom_radius_m;
-    n = add_break(z, n, altitude, 0.0, fog_top);
+    for (size_t i = 0; i < sizeof air_breaks_m / sizeof air_breaks_m[0]; i++)
+        n = add_break(z, n, fog_top + air_breaks_m[i], fog_top, toa);
     qsort(z, (size_t)n, sizeof z[0], ascending);
     fc->layers = n - 1;
     fc->fog_layers = 1;

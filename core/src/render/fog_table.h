@@ -19,10 +19,11 @@ struct render_job;
 /* Fog of this visibility or less (extinction 3.912 / V at 550 nm) takes the column: a view in it sees
  * a few hundred metres, where the sphere does not matter. */
 #define FOG_TABLE_MAX_VISIBILITY_M 1000.0
-/* The sun at least this high: with the beam pseudo-spherical above the fog the column is within 2 %
- * (plus 3 standard errors) of the path tracer at sun 8 degrees, 3-5 % too bright at 5 and 3
- * (docs/decisions/2026-12-06-fog-column.md). */
-#define FOG_TABLE_MIN_SUN_DEG 8.0
+/* The sun at least this high: with the beam pseudo-spherical above the fog and the air in thin
+ * layers the column is within 2 % (plus 3 standard errors) of the path tracer from sun 1 degree up
+ * but for a few views opposite the sun, 2-3.5 % bright (docs/decisions/2026-12-06-fog-column.md);
+ * at the horizon the plane's beam has no cosine. */
+#define FOG_TABLE_MIN_SUN_DEG 1.0
 
 /* Whether the job's table comes from the column: by day, not in the reference mode, no deck above,
  * the observer in a fog layer (a cloud layer from the ground up) of FOG_TABLE_MAX_VISIBILITY_M or less, the

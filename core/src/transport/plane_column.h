@@ -17,7 +17,7 @@
 
 #include "firmament/firmament.h"
 
-#define PLANE_COLUMN_MAX_LAYERS 16
+#define PLANE_COLUMN_MAX_LAYERS 24
 
 typedef struct plane_layer {
     double tau;        /* vertical optical depth */
