@@ -322,6 +322,9 @@ static void peak_sum(const double *M, int L, double *work, double *out)
         }
 }
 
+/* More peak scatterings along the beam than this on average: the peak's light is nil (above). */
+#define PEAK_MAX_COUNT 600.0
+
 /* The peak's light at wavelength k (beam: the unscattered beam's radiance scale at the observer) in
  * ms_table.peak, parted where it first falls to zero: the positive part about the sun for the
  * single-scattering table, the rest for the multiple-scattering table's nodes. */
@@ -340,9 +343,12 @@ static fm_status peak_light(fog_column *fc, const scaled_layer *sl, const plane_
     }
     const int K = atm->grid.count;
     double *out = fc->job->ms->peak + (size_t)k * FOG_PEAK_ANGLES, *rest = out + (size_t)K * FOG_PEAK_ANGLES;
-    /* its flux on the ground, which the table's nodes do not hold */
-    fc->ground[k] = mu0 * beam * (expm1(lambda) - lambda);
-    if (!(lambda > 0.0 && beam > 0.0))
+    /* its flux on the ground, which the table's nodes do not hold; with the sun near the horizon
+     * beam e^lambda is the beam dimmed by (1 - 2 ssa f) of the fog's slant depth, nil (e^-200) long
+     * before e^lambda overflows */
+    const int nil = !(lambda > 0.0 && beam > 0.0) || lambda > PEAK_MAX_COUNT;
+    fc->ground[k] = nil ? 0.0 : mu0 * beam * (expm1(lambda) - lambda);
+    if (nil)
         return FM_OK;
     double *work = malloc(sizeof(double) * (16 * (size_t)PEAK_PANELS + PEAK_MOMENTS));
     if (!work)

@@ -20,10 +20,10 @@ struct render_job;
  * a few hundred metres, where the sphere does not matter. */
 #define FOG_TABLE_MAX_VISIBILITY_M 1000.0
 /* The sun at least this high: with the beam pseudo-spherical above the fog and the air in thin
- * layers the column is within 2 % (plus 3 standard errors) of the path tracer from sun 1 degree up
- * but for a few views opposite the sun, 2-3.5 % bright (docs/decisions/2026-12-06-fog-column.md);
- * at the horizon the plane's beam has no cosine. */
-#define FOG_TABLE_MIN_SUN_DEG 1.0
+ * layers the column is within 2 % (plus 3 standard errors) of the path tracer from sun 0.2 degrees
+ * up but for a view or two (docs/decisions/2026-12-06-fog-column.md); at the horizon the plane's
+ * beam has no cosine. */
+#define FOG_TABLE_MIN_SUN_DEG 0.2
 
 /* Whether the job's table comes from the column: by day, not in the reference mode, no deck above,
  * the observer in a fog layer (a cloud layer from the ground up) of FOG_TABLE_MAX_VISIBILITY_M or less, the
