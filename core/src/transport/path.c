@@ -131,13 +131,14 @@ typedef struct waiting_path {
 } waiting_path;
 
 /* What stays the same over one call of path_trace: the context, the hero wavelength, the random
- * numbers, where contributions go, and the waiting paths. */
+ * numbers, where contributions go (for each of the walk's suns, path_context.suns), and the waiting
+ * paths. */
 typedef struct tracer {
     const path_context *ctx;
     const atmosphere *atm;
     int K, h;
     rng *r;
-    double *L, *L_later;
+    double *const *L, *const *L_later;
     int light_led;      /* deep twilight's roulette at the new vertex (path_context.light_led_roulette) */
     double min_survive; /* the roulette's floor: LIGHT_LED_MIN_SURVIVAL when light-led, else 0 */
     int placed;         /* deep twilight's shadow flights place every collision: no path leaves */
@@ -190,8 +191,12 @@ static double survival_cap(const tracer *tr, const path_state *p)
 /* The path's throughput is W / mean(q) q_k w_k: its scale here. */
 static double throughput_scale(const tracer *tr, const path_state *p) { return p->W / spectral_mean(p->q, tr->K); }
 
-/* Where the contributions of `order` go: L, or L_later for orders 3 and up when it is given. */
-static double *light_sink(tracer *tr, int order) { return tr->L_later && order > 2 ? tr->L_later : tr->L; }
+/* Where the contributions of `order` for the walk's sun s go: L, or L_later for orders 3 and up when
+ * it is given. */
+static double *light_sink(tracer *tr, int order, int s)
+{
+    return tr->L_later && order > 2 ? tr->L_later[s] : tr->L[s];
+}
 
 static void medium_at(const atmosphere *atm, double radius, vertex_medium *m)
 {
@@ -362,16 +367,20 @@ static flight free_flight(tracer *tr, path_state *p, const ray_segment *seg, col
 
 static int leave_scatter_vertex(tracer *tr, path_state *p);
 
-/* The sunlight a scattering at x (arrived along p->d) passes on: E0 phase Tbar (sun_irradiance.h). */
+/* The sunlight a scattering at x (arrived along p->d) passes on: E0 phase Tbar (sun_irradiance.h),
+ * for each of the walk's suns. */
 static void add_sunlight(tracer *tr, const path_state *p, vec3 x)
 {
     const path_context *ctx = tr->ctx;
-    double rad = v3_length(x), mu_s = v3_dot(x, ctx->sun_dir) / rad;
-    spectral tbar, phase;
-    sun_irradiance_lookup(ctx->sun_table, tr->atm, ctx->sun, rad, mu_s, tbar);
-    medium_phase(tr->atm, p->medium.n, v3_dot(p->d, ctx->sun_dir), phase, NULL);
-    spectral_add_product5(light_sink(tr, p->order), throughput_scale(tr, p), p->q, p->w, phase,
-                          tr->atm->grid.solar_irradiance, tbar, tr->K);
+    const double rad = v3_length(x);
+    for (int s = 0; s < path_sun_count(ctx); s++) {
+        const vec3 sun_dir = path_sun(ctx, s);
+        spectral tbar, phase;
+        sun_irradiance_lookup(ctx->sun_table, tr->atm, ctx->sun, rad, v3_dot(x, sun_dir) / rad, tbar);
+        medium_phase(tr->atm, p->medium.n, v3_dot(p->d, sun_dir), phase, NULL);
+        spectral_add_product5(light_sink(tr, p->order, s), throughput_scale(tr, p), p->q, p->w, phase,
+                              tr->atm->grid.solar_irradiance, tbar, tr->K);
+    }
 }
 
 /* The sunlight the Lambertian ground at the point of outward normal `normal` reflects:
@@ -380,12 +389,15 @@ static void add_ground_sunlight(tracer *tr, const path_state *p, vec3 normal)
 {
     const path_context *ctx = tr->ctx;
     const int K = tr->K;
-    spectral tbar, thor, c;
-    sun_irradiance_lookup_ground(ctx->sun_table, tr->atm, ctx->sun, v3_dot(normal, ctx->sun_dir), tbar, thor);
+    spectral c;
     spectral_product(c, throughput_scale(tr, p), p->q, p->w, K);
     spectral_mul(c, tr->atm->ground_albedo, K);
     spectral_divide(c, FM_PI, K);
-    spectral_add_product(light_sink(tr, p->order), 1.0, c, tr->atm->grid.solar_irradiance, thor, K);
+    for (int s = 0; s < path_sun_count(ctx); s++) {
+        spectral tbar, thor;
+        sun_irradiance_lookup_ground(ctx->sun_table, tr->atm, ctx->sun, v3_dot(normal, path_sun(ctx, s)), tbar, thor);
+        spectral_add_product(light_sink(tr, p->order, s), 1.0, c, tr->atm->grid.solar_irradiance, thor, K);
+    }
 }
 
 /* A scattering at x in p->medium, arrived along p->d.  along: the segment's sunlight was counted
@@ -495,7 +507,7 @@ static int segment_sunlight_along(tracer *tr, const path_state *p, const ray_seg
         return 0;
     spectral S = {0};
     segment_sunlight(ctx, seg, umbra0, umbra1, tr->r, S);
-    spectral_add_product(light_sink(tr, p->order + 1), throughput_scale(tr, p), p->q, p->w, S, tr->K);
+    spectral_add_product(light_sink(tr, p->order + 1, 0), throughput_scale(tr, p), p->q, p->w, S, tr->K);
     return ctx->max_order > 0 && p->order + 1 >= ctx->max_order ? -1 : 1;
 }
 
@@ -508,7 +520,7 @@ static void add_deck_light(tracer *tr, const path_state *p, vec3 x)
         return;
     spectral base = {0};
     deck_base_radiance(ctx->deck, x, p->d, ctx->sun_dir, 1.0, base);
-    spectral_add_product(light_sink(tr, 3), throughput_scale(tr, p), p->q, p->w, base, tr->K);
+    spectral_add_product(light_sink(tr, 3, 0), throughput_scale(tr, p), p->q, p->w, base, tr->K);
 }
 
 /* One segment from p->pos along p->d and the event that ends it.  Russian roulette plays once the
@@ -571,9 +583,13 @@ static void trace(tracer *tr, path_state *p)
 /* A path from origin along dir (unit), with weights `weight` (or 1), at `stage`; returns the
  * copies it split into. */
 static int trace_from(const path_context *ctx, vec3 origin, vec3 dir, const double *weight, path_stage stage,
-                       int hero, rng *r, double *L, double *L_later)
+                       int hero, rng *r, double *const *L, double *const *L_later)
 {
     assert(is_unit(dir));
+    /* a shared walk must not depend on the sun (path_context.suns) */
+    assert(ctx->suns <= PATH_SUNS_MAX &&
+           (ctx->suns <= 1 || (ctx->segment_sunlight == SEGMENT_SUNLIGHT_NONE && !ctx->deck && !ctx->sky_guide &&
+                               !ctx->shadow_flights)));
     const int K = ctx->atm->grid.count;
     tracer tr; /* field by field: its stack is large and needs no zeros */
     tr.ctx = ctx;
@@ -614,11 +630,19 @@ static int trace_from(const path_context *ctx, vec3 origin, vec3 dir, const doub
 
 int path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r, double *L)
 {
-    return trace_from(ctx, origin, dir, NULL, STAGE_FLIGHT, hero, r, L, NULL);
+    assert(ctx->suns <= 1);
+    return trace_from(ctx, origin, dir, NULL, STAGE_FLIGHT, hero, r, &L, NULL);
 }
 
 int path_trace_from(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r, double *L,
                     double *L_later)
+{
+    assert(ctx->suns <= 1);
+    return trace_from(ctx, x, dir, weight, STAGE_VERTEX, hero, r, &L, L_later ? &L_later : NULL);
+}
+
+int path_trace_from_suns(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r,
+                         double *const *L, double *const *L_later)
 {
     return trace_from(ctx, x, dir, weight, STAGE_VERTEX, hero, r, L, L_later);
 }

@@ -56,4 +56,9 @@ int path_trace(const path_context *ctx, vec3 origin, vec3 dir, int hero, rng *r,
 int path_trace_from(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r, double *L,
                     double *L_later);
 
+/* path_trace_from for a walk shared by the suns of ctx (path_context.suns): sun s's light goes to
+ * L[s] and, if L_later is not NULL, its orders 3 and up to L_later[s]. */
+int path_trace_from_suns(const path_context *ctx, vec3 x, vec3 dir, const double *weight, int hero, rng *r,
+                         double *const *L, double *const *L_later);
+
 #endif

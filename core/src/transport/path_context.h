@@ -60,6 +60,18 @@ typedef struct path_context {
      * base ends there and counts the light coming down from it (orders >= 3); no flight is forced
      * (none leaves the atmosphere).  NULL otherwise. */
     const struct deck_base *deck;
+    /* Shared walks: with suns > 0 one walk serves the suns sun_dirs[0..suns-1] (PATH_SUNS_MAX at
+     * most), each vertex's sunlight counted for each into its own sums (path_trace_from_suns) and
+     * the sun guide drawing about each with an equal share of sun_guide_fraction; 0: sun_dir alone.
+     * The walk then must not depend on the sun: no segment sunlight, deck, twilight sampling. */
+    int suns;
+    const vec3 *sun_dirs;
 } path_context;
+
+#define PATH_SUNS_MAX 4
+
+/* The suns a walk serves (path_context.suns) and the s-th of them. */
+static inline int path_sun_count(const path_context *c) { return c->suns > 0 ? c->suns : 1; }
+static inline vec3 path_sun(const path_context *c, int s) { return c->suns > 0 ? c->sun_dirs[s] : c->sun_dir; }
 
 #endif

@@ -41,11 +41,11 @@ static vec3 rotate_direction(vec3 d, double cos_theta, double phi)
     return v3_normalize(frame_to_world(&f, v3(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta)));
 }
 
-/* A direction drawn from the sun guide (path.h) about the sun, at the hero wavelength h. */
-static vec3 sun_guide_direction(const path_context *ctx, int h, rng *r)
+/* A direction drawn from the sun guide (path.h) about the sun sun_dir, at the hero wavelength h. */
+static vec3 sun_guide_direction(const path_context *ctx, vec3 sun_dir, int h, rng *r)
 {
     double cos_sun = phase_sample(ctx->sun_guide, h, rng_uniform(r));
-    return rotate_direction(ctx->sun_dir, cos_sun, 2.0 * FM_PI * rng_uniform(r));
+    return rotate_direction(sun_dir, cos_sun, 2.0 * FM_PI * rng_uniform(r));
 }
 
 /* The sun guide's share of the directions at x: sun_guide_fraction where the sun's transmittance
@@ -58,18 +58,60 @@ static vec3 sun_guide_direction(const path_context *ctx, int h, rng *r)
 /* Air thinner than this (m^-1: an optical depth of 1 per km; haze, not cloud or fog) keeps the full
  * share without the lookup: no path there takes enough vertices for the guide's weights to matter. */
 #define GUIDE_DENSE_SIGMA 1e-3
-static double sun_guide_share(const path_context *ctx, vec3 x, int h, double sigma_s)
+static double sun_guide_share(const path_context *ctx, vec3 sun_dir, vec3 x, int h, double sigma_s)
 {
     if (!ctx->sun_guide)
         return 0.0;
     if (sigma_s < GUIDE_DENSE_SIGMA)
         return ctx->sun_guide_fraction;
     double r = v3_length(x), depth;
-    if (!sun_irradiance_lookup_some_depths(ctx->sun_table, ctx->atm, ctx->sun, r, v3_dot(x, ctx->sun_dir) / r, 1, &h,
+    if (!sun_irradiance_lookup_some_depths(ctx->sun_table, ctx->atm, ctx->sun, r, v3_dot(x, sun_dir) / r, 1, &h,
                                            &depth) ||
         depth <= GUIDE_FULL_DEPTH)
         return ctx->sun_guide_fraction;
     return ctx->sun_guide_fraction * exp(GUIDE_FULL_DEPTH - depth);
+}
+
+/* The sun guide's share about each of the walk's suns (path_context.suns) at x, each sun's
+ * sun_guide_share divided by their number (0 where usable says a sun may not guide); returns their
+ * sum. */
+static double sun_guide_shares(const path_context *ctx, vec3 x, int h, double sigma_s, const int *usable,
+                               double *share)
+{
+    const int S = path_sun_count(ctx);
+    double total = 0.0;
+    for (int s = 0; s < S; s++) {
+        share[s] = usable[s] ? sun_guide_share(ctx, path_sun(ctx, s), x, h, sigma_s) / S : 0.0;
+        total += share[s];
+    }
+    return total;
+}
+
+/* A direction from the sun guide about the sun whose share holds u (in [0, the shares' sum)). */
+static vec3 shared_sun_guide_direction(const path_context *ctx, const double *share, double u, int h, rng *r)
+{
+    int s = 0;
+    while (s + 1 < path_sun_count(ctx) && u >= share[s]) {
+        u -= share[s];
+        s++;
+    }
+    return sun_guide_direction(ctx, path_sun(ctx, s), h, r);
+}
+
+/* The sun guides' density toward nd, each weighted by its share, summed into guide (K values). */
+static void sun_guide_pdf(const path_context *ctx, const double *share, vec3 nd, double *guide)
+{
+    const int K = ctx->atm->grid.count;
+    double one[FM_MAX_WAVELENGTHS];
+    for (int k = 0; k < K; k++)
+        guide[k] = 0.0;
+    for (int s = 0; s < path_sun_count(ctx); s++) {
+        if (!(share[s] > 0.0))
+            continue;
+        phase_evaluate_all(ctx->sun_guide, K, clamp_cosine(v3_dot(nd, path_sun(ctx, s))), one);
+        for (int k = 0; k < K; k++)
+            guide[k] += share[s] * one[k];
+    }
 }
 
 /* One-sample MIS over the techniques of a direction, balance heuristic: with f[k] the directional
@@ -93,14 +135,16 @@ vec3 scatter_direction(const path_context *ctx, vec3 x, const double *n, const d
 {
     const atmosphere *atm = ctx->atm;
     const int K = atm->grid.count;
-    const double a = sun_guide_share(ctx, x, h, sig_s[h]);
+    static const int every[PATH_SUNS_MAX] = {1, 1, 1, 1};
+    double share[PATH_SUNS_MAX];
+    const double a = sun_guide_shares(ctx, x, h, sig_s[h], every, share);
     const double b = ctx->sky_guide ? ctx->sky_guide_fraction : 0.0;
     assert(is_probability(a) && is_probability(b) && is_probability(a + b) && is_unit(d));
     double cos_theta, phase[FM_MAX_WAVELENGTHS];
     vec3 nd;
     double technique = (a > 0.0 || b > 0.0) ? rng_uniform(r) : 1.0;
     if (technique < a) {
-        nd = sun_guide_direction(ctx, h, r);
+        nd = shared_sun_guide_direction(ctx, share, technique, h, r);
         cos_theta = clamp_cosine(v3_dot(d, nd));
     } else if (technique < a + b) {
         double u1 = rng_uniform(r), u2 = rng_uniform(r), u3 = rng_uniform(r);
@@ -122,10 +166,10 @@ vec3 scatter_direction(const path_context *ctx, vec3 x, const double *n, const d
     if (a > 0.0 || b > 0.0) {
         double guide[FM_MAX_WAVELENGTHS] = {0}, pdf[FM_MAX_WAVELENGTHS];
         if (a > 0.0)
-            phase_evaluate_all(ctx->sun_guide, K, clamp_cosine(v3_dot(nd, ctx->sun_dir)), guide);
+            sun_guide_pdf(ctx, share, nd, guide);
         double sky = b > 0.0 ? sky_guide_pdf(ctx->sky_guide, x, ctx->sun_dir, nd) : 0.0;
         for (int k = 0; k < K; k++)
-            pdf[k] = (1.0 - a - b) * phase[k] + a * guide[k] + b * sky;
+            pdf[k] = (1.0 - a - b) * phase[k] + guide[k] + b * sky;
         mis_weigh(K, h, phase, pdf, q, w);
     } else {
         spectral_mul_ratio(q, phase, phase[h], K);
@@ -149,13 +193,16 @@ int ground_direction(const path_context *ctx, vec3 normal, int h, rng *r, double
 {
     const atmosphere *atm = ctx->atm;
     const int K = atm->grid.count;
-    const double a = v3_dot(normal, ctx->sun_dir) > GROUND_GUIDE_MIN_SINE
-                         ? sun_guide_share(ctx, v3_scale(normal, ctx->atm->bottom_radius_m), h, INFINITY)
-                         : 0.0;
+    int high[PATH_SUNS_MAX];
+    double share[PATH_SUNS_MAX];
+    for (int s = 0; s < path_sun_count(ctx); s++)
+        high[s] = v3_dot(normal, path_sun(ctx, s)) > GROUND_GUIDE_MIN_SINE;
+    const double a = sun_guide_shares(ctx, v3_scale(normal, ctx->atm->bottom_radius_m), h, INFINITY, high, share);
     assert(is_probability(a) && is_unit(normal));
     vec3 d;
-    if (a > 0.0 && rng_uniform(r) < a) {
-        d = sun_guide_direction(ctx, h, r);
+    double u = a > 0.0 ? rng_uniform(r) : 1.0;
+    if (u < a) {
+        d = shared_sun_guide_direction(ctx, share, u, h, r);
     } else {
         double u1 = rng_uniform(r), u2 = rng_uniform(r);
         frame f = frame_from_normal(normal);
@@ -166,10 +213,10 @@ int ground_direction(const path_context *ctx, vec3 normal, int h, rng *r, double
         return 0;
     if (a > 0.0) {
         double guide[FM_MAX_WAVELENGTHS], pdf[FM_MAX_WAVELENGTHS], f[FM_MAX_WAVELENGTHS], lambert = cos_n / FM_PI;
-        phase_evaluate_all(ctx->sun_guide, K, clamp_cosine(v3_dot(d, ctx->sun_dir)), guide);
+        sun_guide_pdf(ctx, share, d, guide);
         for (int k = 0; k < K; k++) {
             f[k] = atm->ground_albedo[k] * lambert;
-            pdf[k] = (1.0 - a) * lambert + a * guide[k];
+            pdf[k] = (1.0 - a) * lambert + guide[k];
         }
         mis_weigh(K, h, f, pdf, q, w);
     } else {

@@ -96,10 +96,43 @@ static void deck_light_through(const view_ray_vertices *v, const path_context *p
     spectral_mul(L, T, pc->atm->grid.count);
 }
 
+/* One path's light into a node's sums (node_sums), as path p of `paths`: own holds all its orders,
+ * or, when parted (out->orders), order 2 alone, and then later those above (own gets them). */
+static void add_path(const fm_sky *sky, double *own, const double *later, const node_sums *out, int p, int paths)
+{
+    const int K = sky->atm.grid.count;
+    if (out->orders) {
+        double y2 = spectral_grid_luminance(&sky->atm.grid, own);
+        double y3 = spectral_grid_luminance(&sky->atm.grid, later);
+        out->orders->yy[0] += y2 * y2;
+        out->orders->yy[1] += y3 * y3;
+        spectral_add(out->orders->later, later, K);
+        spectral_add(own, later, K);
+    }
+    spectral_add(out->L, own, K);
+    if (out->m) {
+        double xyz[3] = {0.0, own[0], 0.0}; /* Y: the luminance, or a monochromatic sky's value */
+        if (sky->atm.grid.colour) {
+            double *batch = out->m->batch_xyz[(int)((int64_t)p * NODE_BATCHES / paths)];
+            spectral_grid_to_xyz(&sky->atm.grid, own, xyz);
+            for (int c = 0; c < 3; c++)
+                batch[c] += xyz[c];
+        }
+        out->m->yy += xyz[1] * xyz[1];
+    }
+}
+
 void table_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
                       uint64_t item, int offset, double *L, node_moments *m, double *shape, node_orders *orders)
 {
-    const int K = sky->atm.grid.count;
+    const node_sums out = {L, m, orders};
+    table_node_paths_suns(sky, pc, d, paths, seed, item, offset, &out, shape);
+}
+
+void table_node_paths_suns(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
+                           uint64_t item, int offset, const node_sums *out, double *shape)
+{
+    const int K = sky->atm.grid.count, S = path_sun_count(pc);
     /* First vertices stratified along the view ray (view_ray_vertices.h), by day too: less noise in
      * less time than delta tracking from the observer (docs/decisions/2026-12-06-twilight-thresholds.md). */
     view_ray_vertices v;
@@ -117,31 +150,19 @@ void table_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int pat
     for (int p = 0; p < paths; p++) {
         rng r = rng_for_qmc(seed, item, (uint64_t)p, (uint64_t)paths);
         rng_use_scramble(&r, &scramble);
-        double own[FM_MAX_WAVELENGTHS] = {0}, later[FM_MAX_WAVELENGTHS] = {0}, *Lp = m || orders ? own : L;
+        double own[PATH_SUNS_MAX][FM_MAX_WAVELENGTHS], later[PATH_SUNS_MAX][FM_MAX_WAVELENGTHS];
+        double *owns[PATH_SUNS_MAX], *laters[PATH_SUNS_MAX];
+        for (int s = 0; s < S; s++) {
+            spectral_fill(owns[s] = own[s], 0.0, K);
+            spectral_fill(laters[s] = later[s], 0.0, K);
+        }
         double weight[FM_MAX_WAVELENGTHS];
         vec3 x = view_ray_vertex(&v, pc, (p + rng_uniform(&r)) / paths, weight);
-        path_trace_from(pc, x, d, weight, (p + offset) % K, &r, Lp, orders ? later : NULL);
-        if (v.at_deck)
-            spectral_add(orders ? later : Lp, deck, K);
-        if (orders) {
-            double y2 = spectral_grid_luminance(&sky->atm.grid, own);
-            double y3 = spectral_grid_luminance(&sky->atm.grid, later);
-            orders->yy[0] += y2 * y2;
-            orders->yy[1] += y3 * y3;
-            spectral_add(orders->later, later, K);
-            spectral_add(own, later, K);
-        }
-        if (Lp == own)
-            spectral_add(L, own, K);
-        if (m) {
-            double xyz[3] = {0.0, own[0], 0.0}; /* Y: the luminance, or a monochromatic sky's value */
-            if (sky->atm.grid.colour) {
-                double *batch = m->batch_xyz[(int)((int64_t)p * NODE_BATCHES / paths)];
-                spectral_grid_to_xyz(&sky->atm.grid, own, xyz);
-                for (int c = 0; c < 3; c++)
-                    batch[c] += xyz[c];
-            }
-            m->yy += xyz[1] * xyz[1];
+        path_trace_from_suns(pc, x, d, weight, (p + offset) % K, &r, owns, out->orders ? laters : NULL);
+        for (int s = 0; s < S; s++) {
+            if (v.at_deck)
+                spectral_add(out[s].orders ? later[s] : own[s], deck, K);
+            add_path(sky, own[s], later[s], &out[s], p, paths);
         }
     }
     sobol_scramble_free(&scramble);

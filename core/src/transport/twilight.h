@@ -72,6 +72,19 @@ typedef struct node_orders {
 void table_node_paths(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
                       uint64_t item, int offset, double *L, node_moments *m, double *shape, node_orders *orders);
 
+/* Where table_node_paths_suns puts one sun's light of a node: L as table_node_paths' L, m and
+ * orders as its m and orders (each may be NULL; orders is given for every sun or for none). */
+typedef struct node_sums {
+    double *L;
+    node_moments *m;
+    node_orders *orders;
+} node_sums;
+
+/* table_node_paths for every sun of a walk shared by several (path_context.suns): sun s's light
+ * into out[s]. */
+void table_node_paths_suns(const fm_sky *sky, const path_context *pc, vec3 d, int paths, uint64_t seed,
+                           uint64_t item, int offset, const node_sums *out, double *shape);
+
 /* The node's ratio of means X / Y (c = 0) or Z / Y (c = 2) and its variance by the jackknife over
  * the batches (deleting one at a time); NAN for both when a batch's deletion leaves no light. */
 void node_moments_ratio(const node_moments *m, int c, double *ratio, double *var);
