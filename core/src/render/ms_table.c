@@ -135,6 +135,45 @@ static void node_paths(void *ctx, int64_t begin, int64_t end, int thread)
     }
 }
 
+/* One pass over the nodes of several tables that share their walks (ms_table_fill_shared). */
+typedef struct shared_pass {
+    render_job *const *jobs;
+    int count;
+    vec3 suns[PATH_SUNS_MAX];
+} shared_pass;
+
+/* Work item: one node of every table of the pass, from one set of walks (the first table's seed)
+ * scored for every table's sun. */
+static void shared_node_paths(void *ctx, int64_t begin, int64_t end, int thread)
+{
+    const shared_pass *pass = ctx;
+    const render_job *first = pass->jobs[0];
+    const fm_sky *sky = first->sky;
+    const int K = sky->atm.grid.count;
+    (void)thread;
+    path_context pc = scattering_path_context(sky, NULL, 2, 0);
+    pc.skip_ground_first = 1;
+    pc.segment_sunlight = SEGMENT_SUNLIGHT_NONE; /* its estimator would depend on the sun */
+    pc.suns = pass->count;
+    pc.sun_dirs = pass->suns;
+    for (int64_t i = begin; i < end; i++) {
+        double e, phi;
+        sky_grid_node_angles(&first->ms->grid, (int)i, &e, &phi);
+        vec3 d = render_view_direction(sky, e, phi); /* every table's: their suns share an azimuth */
+        node_sums out[PATH_SUNS_MAX];
+        for (int s = 0; s < pass->count; s++) {
+            ms_table *t = pass->jobs[s]->ms;
+            out[s] = (node_sums){&t->sum[i * K], &t->moments[i], &t->orders[i]};
+        }
+        uint64_t offset = mix64(first->seed ^ (uint64_t)i);
+        double shape;
+        table_node_paths_suns(sky, &pc, d, first->q.ms_paths, first->seed, ITEM_MS_NODE + (uint64_t)i,
+                              (int)(offset % (uint64_t)K), out, &shape);
+        for (int s = 0; s < pass->count; s++)
+            pass->jobs[s]->ms->shape[i] = shape;
+    }
+}
+
 /* A luminance's variance of the mean over n paths from the sum of its squares over them, yy. */
 static double variance_of_mean(double yy, double y, double n)
 {
@@ -243,6 +282,31 @@ fm_status ms_table_fill(render_job *job, double sun_elevation_deg)
     finish_nodes(job, job->q.ms_paths + extra);
     job->paths_per_node = job->q.ms_paths + extra;
     return FM_OK;
+}
+
+int ms_table_walk_shareable(const render_job *job)
+{
+    return !job->twilight && !job->under_deck && !rising_segments(job->sky, NULL);
+}
+
+fm_status ms_table_fill_shared(render_job *const *jobs, int count)
+{
+    shared_pass pass = {.jobs = jobs, .count = count};
+    const render_job *first = jobs[0];
+    assert(count >= 1 && count <= PATH_SUNS_MAX);
+    for (int s = 0; s < count; s++) {
+        assert(ms_table_walk_shareable(jobs[s]) && jobs[s]->ms->orders && jobs[s]->q.ms_paths == first->q.ms_paths &&
+               jobs[s]->seed == first->seed && sky_grid_nodes(&jobs[s]->ms->grid) == sky_grid_nodes(&first->ms->grid));
+        pass.suns[s] = jobs[s]->sky->sun_dir;
+        jobs[s]->ms->rising_segments = 0;
+    }
+    fm_status s = parallel_for(first->params->threads, sky_grid_nodes(&first->ms->grid), 1, shared_node_paths, &pass,
+                               first->params->cancel, NULL);
+    for (int j = 0; j < count && !s; j++) {
+        finish_nodes(jobs[j], first->q.ms_paths);
+        jobs[j]->paths_per_node = first->q.ms_paths;
+    }
+    return s;
 }
 
 /* Observer on the ground: the diffuse irradiance of orders >= 2 there is the integral of the

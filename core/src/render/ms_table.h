@@ -54,6 +54,15 @@ int ms_table_parted(const twilight_sampling *tw);
  * image's paths per node. */
 fm_status ms_table_fill(struct render_job *job, double sun_elevation_deg);
 
+/* Whether a table's paths may be shared with other suns' (ms_table_fill_shared): by day, without
+ * the rising segments' estimator (ms_table.c) or a deck, whose estimates depend on the sun. */
+int ms_table_walk_shareable(const struct render_job *job);
+
+/* ms_table_fill for the tables of `count` jobs (PATH_SUNS_MAX at most) whose skies differ only in
+ * the sun's elevation, all shareable, with one seed and number of paths: each node's walks are
+ * traced once and scored for every job's sun (path_context.suns), so the tables share their noise. */
+fm_status ms_table_fill_shared(struct render_job *const *jobs, int count);
+
 /* Observer on the ground: adds the table's sky half to the diffuse ground irradiance (orders >= 2). */
 fm_status ms_table_add_to_ground(struct render_job *job);
 

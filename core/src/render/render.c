@@ -295,10 +295,7 @@ static fm_status build_ground(render_job *job, int from_table)
  * paths add what the thin air below the base scatters (docs/decisions/2026-12-06-deck-base.md). */
 #define DECK_PATH_SHARE 4
 
-/* The fast path's tables: the multiple-scattering table first (on the ground it completes the
- * ground's irradiance, which the single-scattering table's downward rows reflect), then the
- * single-scattering table and the fit. */
-fm_status render_fast_tables(render_job *job, double sun_elevation, fm_error *err)
+fm_status render_fast_tables_begin(render_job *job, fm_error *err)
 {
     const fm_render_params *params = job->params;
     const quality_settings *q = &job->q;
@@ -325,9 +322,34 @@ fm_status render_fast_tables(render_job *job, double sun_elevation, fm_error *er
         s = build_ground(job, on_ground || fog);
     if (s == FM_ERR_OUT_OF_MEMORY)
         return fm_fail(err, s, "out of memory for the ground irradiance");
+    return s ? render_failed(s, err) : FM_OK;
+}
+
+fm_status render_fast_tables_fill(render_job *job, double sun_elevation, fm_error *err)
+{
+    fm_status s = fog_table_applies(job) ? fog_table_fill(job) : ms_table_fill(job, sun_elevation / FM_DEG);
+    return s ? render_failed(s, err) : FM_OK;
+}
+
+int render_fast_tables_shareable(const render_job *job)
+{
+    return !fog_table_applies(job) && ms_table_walk_shareable(job);
+}
+
+fm_status render_fast_tables_fill_shared(render_job *const *jobs, int count, fm_error *err)
+{
+    fm_status s = ms_table_fill_shared(jobs, count);
+    return s ? render_failed(s, err) : FM_OK;
+}
+
+fm_status render_fast_tables_end(render_job *job, double sun_elevation, fm_error *err)
+{
+    const fm_render_params *params = job->params;
+    double visible, theta_s;
+    const int on_ground = ground_from_table(job->sky, &visible, &theta_s), fog = fog_table_applies(job);
     parallel_progress pss = {params->progress, params->progress_user, "single scattering", 0.80, 0.10};
-    if (s || (s = fog ? fog_table_fill(job) : ms_table_fill(job, sun_elevation / FM_DEG)) ||
-        (on_ground && (s = ms_table_add_to_ground(job))) ||
+    fm_status s;
+    if ((on_ground && (s = ms_table_add_to_ground(job))) ||
         (s = parallel_for(params->threads, job->ss.rows_sky + job->ss.rows_ground, 1, ss_rows, job, params->cancel,
                           &pss)) ||
         (s = atomic_load(&job->no_memory) ? FM_ERR_OUT_OF_MEMORY : FM_OK) ||
@@ -337,6 +359,14 @@ fm_status render_fast_tables(render_job *job, double sun_elevation, fm_error *er
         fog_table_add_peak(job);
     sky_grid_average_poles(&job->ms->grid);
     return FM_OK;
+}
+
+fm_status render_fast_tables(render_job *job, double sun_elevation, fm_error *err)
+{
+    fm_status s;
+    if ((s = render_fast_tables_begin(job, err)) || (s = render_fast_tables_fill(job, sun_elevation, err)))
+        return s;
+    return render_fast_tables_end(job, sun_elevation, err);
 }
 
 fm_status render_fast_pixels(render_job *job, const sky_grid *ms, fm_error *err)

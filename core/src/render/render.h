@@ -27,6 +27,17 @@ fm_status render_twilight(render_job *job, twilight_sampling **tw, fm_error *err
 /* The fast path's tables into job->ss and job->ms (the caller frees them, and job->ground): needs
  * the job's sky, parameters, quality settings, seed, channels and twilight sampling, not its image. */
 fm_status render_fast_tables(render_job *job, double sun_elevation, fm_error *err);
+/* render_fast_tables in its three steps, the multiple-scattering table first (on the ground it
+ * completes the ground's irradiance, which the single-scattering table's downward rows reflect):
+ * begin (the deck, the tables' memory, the ground's irradiance), fill (the multiple-scattering
+ * table, or fog's), end (the single-scattering table and the fit).  Jobs whose tables are
+ * shareable (by day, no fog, ms_table_walk_shareable) may instead be filled together, their skies
+ * differing only in the sun's elevation: their walks shared (ms_table_fill_shared). */
+fm_status render_fast_tables_begin(render_job *job, fm_error *err);
+fm_status render_fast_tables_fill(render_job *job, double sun_elevation, fm_error *err);
+int render_fast_tables_shareable(const render_job *job);
+fm_status render_fast_tables_fill_shared(render_job *const *jobs, int count, fm_error *err);
+fm_status render_fast_tables_end(render_job *job, double sun_elevation, fm_error *err);
 /* The fast path's pixels: footprint averages of job->ss and the multiple-scattering table ms. */
 fm_status render_fast_pixels(render_job *job, const sky_grid *ms, fm_error *err);
 /* The sun disk after a render that went well (status s FM_OK): the image goes to *out; else it is
