@@ -15,6 +15,7 @@
 #include "transport/twilight.h"
 #include "sky.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -131,51 +132,162 @@ static int aureole_read(const fm_sky_live *live, const live_node *node, double h
     return k + 2 >= live->count || aureole_seen(live->nodes[k + 2].sun_elevation_deg * FM_DEG, horizon);
 }
 
-/* The tables of one node: the fast path's, for a sun at the node's elevation; in deep twilight its
- * guided flights' light from the columns shared by every node (shadow_flight_build.h). */
+/* One node's tables in the making: its sky (the sun at the node's elevation), the fast path's job
+ * and what the job points to (build_node). */
+typedef struct node_build {
+    live_node *node;
+    fm_sky *sky;
+    fm_render_params rp;
+    ms_table ms;
+    render_job job;
+    twilight_sampling *twilight;
+} node_build;
+
+/* The node's job up to its multiple-scattering paths (render_fast_tables_begin); in deep twilight
+ * its guided flights' light from the columns shared by every node (shadow_flight_build.h).  b stays
+ * where it is until node_build_free (the job points into it). */
+static fm_status node_begin(const fm_sky_live *live, live_node *node, const shadow_flight_columns *flights,
+                            const atomic_int *cancel, node_build *b, fm_error *err)
+{
+    memset(b, 0, sizeof *b);
+    b->node = node;
+    fm_status s = sky_with_sun(live, node->sun_elevation_deg, 180.0, &b->sky, err);
+    if (s)
+        return s;
+    b->rp = fm_render_params_default();
+    b->rp.quality = live->quality;
+    b->rp.sample_scale = live->sample_scale;
+    b->rp.threads = live->params.threads;
+    b->rp.cancel = cancel;
+    render_job *job = &b->job;
+    job->sky = b->sky;
+    job->params = &b->rp;
+    job->ms = &b->ms;
+    job->channels = live->channels;
+    job->shared_flights = flights;
+    job->q = live->q;
+    if (node->sun_elevation_deg >= HIGH_SUN_DEG)
+        job->q.ms_paths = (int)fmax(1.0, round(job->q.ms_paths * HIGH_SUN_PATH_SCALE));
+    if (node->sun_elevation_deg < 0.0) {
+        job->q.ms_paths = (int)fmax(1.0, round(job->q.ms_paths * TWILIGHT_PATH_SCALE));
+        job->q.ground_paths = (int)fmax(1.0, round(job->q.ground_paths * TWILIGHT_PATH_SCALE));
+    }
+    const int own_seed = node->sun_elevation_deg >= OWN_SEED_FROM_DEG || twilight_deep(node->sun_elevation_deg);
+    job->seed = own_seed ? mix64((uint64_t)(node - live->nodes) + 1) : mix64(0);
+    if (!(s = render_twilight(job, &b->twilight, err))) {
+        job->twilight = b->twilight;
+        s = render_fast_tables_begin(job, err);
+    }
+    return s;
+}
+
+/* The node's job after its multiple-scattering paths: the rest of its tables, its aureole, and
+ * the tables into the node. */
+static fm_status node_end(const fm_sky_live *live, node_build *b, fm_error *err)
+{
+    live_node *node = b->node;
+    render_job *job = &b->job;
+    fm_status s = render_fast_tables_end(job, node->sun_elevation_deg * FM_DEG, err);
+    if (!s && aureole_read(live, node, job->ss.horizon_elevation) &&
+        (s = aureole_fill(&node->aureole, job, asin(clamp_cosine(b->sky->sun_dir.z)))))
+        s = s == FM_ERR_CANCELLED ? s : fm_fail(err, s, "the live sky's aureole: %s", fm_status_name(s));
+    if (!s) {
+        memcpy(node->ss.values, job->ss.values, sizeof(float) * (size_t)sky_grid_nodes(&node->ss) * live->channels);
+        memcpy(node->ms.values, b->ms.grid.values, sizeof(float) * (size_t)sky_grid_nodes(&node->ms) * live->channels);
+        node->paths_per_node = job->paths_per_node;
+    }
+    return s;
+}
+
+static void node_build_free(node_build *b)
+{
+    free(b->twilight);
+    sky_grid_free(&b->job.ss);
+    ms_table_free(&b->ms);
+    ground_irradiance_free(&b->job.ground);
+    deck_base_free(&b->job.deck);
+    free(b->sky);
+    b->twilight = NULL;
+    b->sky = NULL;
+}
+
+/* The tables of one node: the fast path's, for a sun at the node's elevation. */
 static fm_status build_node(fm_sky_live *live, live_node *node, const shadow_flight_columns *flights,
                             const atomic_int *cancel, fm_error *err)
 {
-    fm_sky *sky = NULL;
-    fm_status built = sky_with_sun(live, node->sun_elevation_deg, 180.0, &sky, err);
-    if (built)
-        return built;
-    fm_render_params rp = fm_render_params_default();
-    rp.quality = live->quality;
-    rp.sample_scale = live->sample_scale;
-    rp.threads = live->params.threads;
-    rp.cancel = cancel;
-    ms_table ms = {0};
-    render_job job = {.sky = sky, .params = &rp, .ms = &ms, .channels = live->channels, .shared_flights = flights};
-    job.q = live->q;
-    if (node->sun_elevation_deg >= HIGH_SUN_DEG)
-        job.q.ms_paths = (int)fmax(1.0, round(job.q.ms_paths * HIGH_SUN_PATH_SCALE));
-    if (node->sun_elevation_deg < 0.0) {
-        job.q.ms_paths = (int)fmax(1.0, round(job.q.ms_paths * TWILIGHT_PATH_SCALE));
-        job.q.ground_paths = (int)fmax(1.0, round(job.q.ground_paths * TWILIGHT_PATH_SCALE));
+    node_build b;
+    fm_status s = node_begin(live, node, flights, cancel, &b, err);
+    if (!s && !(s = render_fast_tables_fill(&b.job, node->sun_elevation_deg * FM_DEG, err)))
+        s = node_end(live, &b, err);
+    node_build_free(&b);
+    return s;
+}
+
+/* The day nodes SHARED_WALK_STRIDE apart (by index) from SHARED_FROM_DEG up trace their
+ * multiple-scattering walks once for all their suns (ms_table_fill_shared): the walk from the
+ * observer does not depend on the sun by day, and in sun-relative coordinates neither does a
+ * table's view direction.  A map reads four nodes' tables, each smoothed over five nodes
+ * (live_smooth.h): eight nodes apart, no map reads two tables with the same walks.  The group takes
+ * the paths of its node below HIGH_SUN_DEG, and shares only when it has one: the sun guide's share
+ * is split among the suns, which costs a high sun's table about half its paths' worth, so high
+ * nodes gain from the walks of a node with twice their paths, and a group of high nodes alone would
+ * gain nothing (docs/decisions/2026-12-06-live-shared-walks.md). */
+#define SHARED_FROM_DEG 0.0
+#define SHARED_WALK_STRIDE 8
+
+/* The nodes of one group (group[0..count-1], their builds begun): the shareable ones filled
+ * together when one of them draws more paths than the others, the rest alone; then all finished. */
+static fm_status fill_group(const fm_sky_live *live, node_build *group, int count, fm_error *err)
+{
+    render_job *jobs[PATH_SUNS_MAX];
+    int shareable = 0, most = 0, fewer = 0;
+    fm_status s = FM_OK;
+    for (int j = 0; j < count; j++)
+        if (render_fast_tables_shareable(&group[j].job)) {
+            jobs[shareable++] = &group[j].job;
+            most = most > group[j].job.q.ms_paths ? most : group[j].job.q.ms_paths;
+        }
+    for (int j = 0; j < shareable; j++)
+        fewer += jobs[j]->q.ms_paths < most;
+    const int share = fewer > 0 && fewer + 1 == shareable;
+    for (int j = 0; j < count && !s; j++)
+        if (!share || !render_fast_tables_shareable(&group[j].job))
+            s = render_fast_tables_fill(&group[j].job, group[j].node->sun_elevation_deg * FM_DEG, err);
+    if (share && !s) {
+        for (int j = 0; j < shareable; j++) {
+            jobs[j]->q.ms_paths = most;
+            jobs[j]->seed = jobs[0]->seed;
+        }
+        s = render_fast_tables_fill_shared(jobs, shareable, err);
     }
-    const int own_seed = node->sun_elevation_deg >= OWN_SEED_FROM_DEG || twilight_deep(node->sun_elevation_deg);
-    job.seed = own_seed ? mix64((uint64_t)(node - live->nodes) + 1) : mix64(0);
-    twilight_sampling *twilight = NULL;
-    fm_status s = render_twilight(&job, &twilight, err);
-    if (!s) {
-        job.twilight = twilight;
-        s = render_fast_tables(&job, node->sun_elevation_deg * FM_DEG, err);
+    for (int j = 0; j < count && !s; j++)
+        s = node_end(live, &group[j], err);
+    return s;
+}
+
+/* The day nodes from from_deg to to_deg (SHARED_FROM_DEG up) by groups of shared walks; fresh[i]
+ * set for each node built. */
+static fm_status build_shared_nodes(fm_sky_live *live, double from_deg, double to_deg, const atomic_int *cancel,
+                                    unsigned char *fresh, fm_error *err)
+{
+    fm_status s = FM_OK;
+    for (int g = 0; g < SHARED_WALK_STRIDE && !s; g++) {
+        node_build group[PATH_SUNS_MAX];
+        int count = 0;
+        for (int i = g; i < live->count && !s; i += SHARED_WALK_STRIDE) {
+            const double e = live->nodes[i].sun_elevation_deg;
+            if (e < SHARED_FROM_DEG || e < from_deg || e > to_deg)
+                continue;
+            assert(count < PATH_SUNS_MAX);
+            s = node_begin(live, &live->nodes[i], NULL, cancel, &group[count++], err);
+        }
+        if (!s && count)
+            s = fill_group(live, group, count, err);
+        for (int j = 0; j < count; j++) {
+            fresh[group[j].node - live->nodes] = !s;
+            node_build_free(&group[j]);
+        }
     }
-    if (!s && aureole_read(live, node, job.ss.horizon_elevation) &&
-        (s = aureole_fill(&node->aureole, &job, asin(clamp_cosine(sky->sun_dir.z)))))
-        s = s == FM_ERR_CANCELLED ? s : fm_fail(err, s, "the live sky's aureole: %s", fm_status_name(s));
-    if (!s) {
-        memcpy(node->ss.values, job.ss.values, sizeof(float) * (size_t)sky_grid_nodes(&node->ss) * live->channels);
-        memcpy(node->ms.values, ms.grid.values, sizeof(float) * (size_t)sky_grid_nodes(&node->ms) * live->channels);
-        node->paths_per_node = job.paths_per_node;
-    }
-    free(twilight);
-    sky_grid_free(&job.ss);
-    ms_table_free(&ms);
-    ground_irradiance_free(&job.ground);
-    deck_base_free(&job.deck);
-    free(sky);
     return s;
 }
 
@@ -216,11 +328,14 @@ fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, co
     shadow_flight_columns flights;
     fm_status s = shared_flights(live, from_deg, to_deg, cancel, &flights, err);
     for (int i = 0; i < live->count && !s; i++)
-        if (live->nodes[i].sun_elevation_deg >= from_deg && live->nodes[i].sun_elevation_deg <= to_deg) {
+        if (live->nodes[i].sun_elevation_deg >= from_deg && live->nodes[i].sun_elevation_deg <= to_deg &&
+            live->nodes[i].sun_elevation_deg < SHARED_FROM_DEG) {
             s = build_node(live, &live->nodes[i], &flights, cancel, err);
             fresh[i] = !s;
         }
     shadow_flight_columns_free(&flights);
+    if (!s)
+        s = build_shared_nodes(live, from_deg, to_deg, cancel, fresh, err);
     if (!s && (live_smooth_day(live, fresh, SMOOTH_FROM_DEG) || live_smooth_deep_twilight(live, fresh)))
         s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
     free(fresh);
