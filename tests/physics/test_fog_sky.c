@@ -16,7 +16,7 @@
  * ground's reflection left out of the column (every check), the ground's light not taken from the
  * views looking down (the observer at 100 m), the air's beam cosines not pseudo-spherical (the low
  * sun), the air in thick layers (the lowest sun), a layer's or the ground's beam response left per its
- * own cosine (the layers' cosines), the peak's light beyond its first zero left out (8 degrees from
+ * own cosine (the layers' cosines), the negative lobe of the peak's light left out (8 degrees from
  * the sun: +13 % at 100 m, +7 % in the plane).  About 60 s of CPU, nearly all of it the path tracer. */
 #include "check.h"
 
@@ -183,8 +183,8 @@ static void free_tables(render_job *job, ms_table *ms)
 /* Views (elevation, azimuth from the sun's, degrees): across the sky, and NEAR_SUN 4 to 9 degrees
  * from the sun (the first three and the last), where the tolerance is NEAR_SUN_TOLERANCE: there the
  * light scattered several times within the droplets' truncated peak (fog_table.c, peak_light) is
- * positive within about 5 degrees and takes light back beyond, and the multiple-scattering table's
- * nodes, 2-3 degrees apart, smooth it by up to 2 % of the sky. */
+ * positive within about 5 degrees and takes light back beyond; with the observer at 100 m the views
+ * there are still 1-3 % bright (the decision record). */
 static const double views[][2] = {{30, 10}, {38, 0}, {22, 0}, {30, 30}, {50, 0}, {30, 90},
                                   {60, 180}, {10, 180}, {80, 0}, {3, 90}, {34, 0}};
 #define NEAR_SUN(i) ((i) < 3 || (i) == 10)

@@ -256,6 +256,16 @@ static double single_bottom(double tau, double ssa_phase, double mu, double mu0)
 #define PEAK_TAPER_DEG 30.0
 #define PEAK_MAX_DEG 45.0
 #define PEAK_U_MAX 0.38268343236508977 /* sin(PEAK_MAX_DEG / 2) */
+/* The bump: a Gaussian of PEAK_BUMP_DEG about the sun (u = sin(theta / 2)), PEAK_LEND times what
+ * the lobe needs at its deepest. */
+#define PEAK_BUMP_DEG 15.0
+#define PEAK_LEND 1.25
+static double peak_bump(double u)
+{
+    const double s = sin(0.5 * PEAK_BUMP_DEG * FM_DEG);
+    return exp(-0.5 * u * u / (s * s));
+}
+
 static double peak_taper(double theta)
 {
     const double t = (theta / FM_DEG - PEAK_TAPER_DEG) / (PEAK_MAX_DEG - PEAK_TAPER_DEG);
@@ -322,12 +332,32 @@ static void peak_sum(const double *M, int L, double *work, double *out)
         }
 }
 
+/* The irradiance on the ground of a table of radiance by angle from the sun (uniform in
+ * sin(theta / 2), as ms_table.peak) over the sky: each ring about the sun by the mean of the
+ * cosine of its zenith angle over its part above the horizon. */
+static double sky_flux(const double *table, double mu0)
+{
+    const double s0 = sqrt(fmax(0.0, 1.0 - mu0 * mu0));
+    double sum = 0.0;
+    for (int j = 0; j < FOG_PEAK_ANGLES; j++) {
+        const double u = PEAK_U_MAX * j / (FOG_PEAK_ANGLES - 1.0), th = 2.0 * asin(u);
+        const double a = mu0 * cos(th), b = s0 * sin(th); /* cos z = a + b cos(psi) on the ring */
+        const double psi = b > fabs(a) ? acos(-a / b) : a > 0.0 ? FM_PI : 0.0;
+        const double ring = 2.0 * (a * psi + b * sin(psi)); /* 2 pi times the ring's mean */
+        /* d(solid angle) = 2 pi sin(theta) d(theta), d(theta) = 2 du / cos(theta / 2) */
+        const double w = (j == 0 || j == FOG_PEAK_ANGLES - 1 ? 0.5 : 1.0) * PEAK_U_MAX / (FOG_PEAK_ANGLES - 1.0);
+        sum += table[j] * ring * sin(th) * 2.0 / sqrt(1.0 - u * u) * w;
+    }
+    return sum;
+}
+
 /* More peak scatterings along the beam than this on average: the peak's light is nil (above). */
 #define PEAK_MAX_COUNT 600.0
 
 /* The peak's light at wavelength k (beam: the unscattered beam's radiance scale at the observer) in
- * ms_table.peak, parted where it first falls to zero: the positive part about the sun for the
- * single-scattering table, the rest for the multiple-scattering table's nodes. */
+ * ms_table.peak, in two parts: the single-scattering table's nodes (a degree or two apart, in
+ * logarithms: positive) take its shape, the multiple-scattering table's (a few degrees apart) a
+ * smooth negative remainder. */
 static fm_status peak_light(fog_column *fc, const scaled_layer *sl, const plane_layer *pl, int k, double beam)
 {
     const atmosphere *atm = &fc->job->sky->atm;
@@ -357,14 +387,20 @@ static fm_status peak_light(fog_column *fc, const scaled_layer *sl, const plane_
     int L;
     peak_moments(atm, k, w, lambda, work, M, &L);
     peak_sum(M, L, work, out);
-    int zero = 0;
-    while (zero < FOG_PEAK_ANGLES && out[zero] > 0.0)
-        zero++;
+    /* a smooth bump b added (it keeps the sum positive for the logarithms) and taken from the
+     * multiple-scattering table's nodes, which interpolate it well where they would smooth the lobe */
+    double lend = 0.0;
     for (int j = 0; j < FOG_PEAK_ANGLES; j++) {
-        out[j] *= beam / (4.0 * FM_PI) * peak_taper(2.0 * asin(PEAK_U_MAX * j / (FOG_PEAK_ANGLES - 1.0)));
-        rest[j] = j < zero ? 0.0 : out[j];
-        out[j] -= rest[j];
+        out[j] *= beam / (4.0 * FM_PI);
+        lend = fmax(lend, -PEAK_LEND * out[j] / peak_bump(PEAK_U_MAX * j / (FOG_PEAK_ANGLES - 1.0)));
     }
+    for (int j = 0; j < FOG_PEAK_ANGLES; j++) {
+        const double u = PEAK_U_MAX * j / (FOG_PEAK_ANGLES - 1.0), taper = peak_taper(2.0 * asin(u));
+        rest[j] = -lend * peak_bump(u) * taper;
+        out[j] = out[j] * taper - rest[j];
+    }
+    /* on the ground the table's sky half counts its part of the flux already */
+    fc->ground[k] -= sky_flux(rest, mu0);
     free(work);
     return FM_OK;
 }
@@ -485,7 +521,7 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
                  * column's irradiance there, all of it, seen through the air below) */
                 if (looking_down)
                     L -= atm->ground_albedo[k] / FM_PI * mu0 * ground * exp(-(above[fc->layers] - above[fc->level]) / fc->mu[r]);
-                else /* the peak's light beyond its first zero */
+                else /* the peak's light: its smooth negative part */
                     L += peak_at(rest, (int)k, v3_dot(render_view_direction(sky, e, phi), sky->sun_dir)) / scale;
                 t->sum[(size_t)(r * cols + c) * K + k] = L * scale;
             }
@@ -562,8 +598,8 @@ fm_status fog_table_fill(render_job *job)
     return s;
 }
 
-/* The peak's light (peak_light) about the sun, to its first zero, added to the single-scattering
- * table's sky nodes: they are a degree or two apart (the multiple-scattering table's, a few). */
+/* The peak's light (peak_light), its part with the shape, added to the single-scattering table's sky
+ * nodes. */
 void fog_table_add_peak(render_job *job)
 {
     const fm_sky *sky = job->sky;
