@@ -73,15 +73,15 @@ static double sun_guide_share(const path_context *ctx, vec3 sun_dir, vec3 x, int
 }
 
 /* The sun guide's share about each of the walk's suns (path_context.suns) at x, each sun's
- * sun_guide_share divided by their number (0 where usable says a sun may not guide); returns their
- * sum. */
+ * sun_guide_share divided by their number (0 where usable, if given, says a sun may not guide);
+ * returns their sum. */
 static double sun_guide_shares(const path_context *ctx, vec3 x, int h, double sigma_s, const int *usable,
                                double *share)
 {
     const int S = path_sun_count(ctx);
     double total = 0.0;
     for (int s = 0; s < S; s++) {
-        share[s] = usable[s] ? sun_guide_share(ctx, path_sun(ctx, s), x, h, sigma_s) / S : 0.0;
+        share[s] = !usable || usable[s] ? sun_guide_share(ctx, path_sun(ctx, s), x, h, sigma_s) / S : 0.0;
         total += share[s];
     }
     return total;
@@ -135,9 +135,8 @@ vec3 scatter_direction(const path_context *ctx, vec3 x, const double *n, const d
 {
     const atmosphere *atm = ctx->atm;
     const int K = atm->grid.count;
-    static const int every[PATH_SUNS_MAX] = {1, 1, 1, 1};
     double share[PATH_SUNS_MAX];
-    const double a = sun_guide_shares(ctx, x, h, sig_s[h], every, share);
+    const double a = sun_guide_shares(ctx, x, h, sig_s[h], NULL, share);
     const double b = ctx->sky_guide ? ctx->sky_guide_fraction : 0.0;
     assert(is_probability(a) && is_probability(b) && is_probability(a + b) && is_unit(d));
     double cos_theta, phase[FM_MAX_WAVELENGTHS];
