@@ -249,7 +249,7 @@ static double single_bottom(double tau, double ssa_phase, double mu, double mu0)
  * the sun the sum is positive; beyond it, negative: it takes back what the truncated phase function's
  * smooth forward lobe put there (about 5 % of the sky 8 degrees from the sun). */
 #define FOG_PEAK_ANGLES 512          /* the table ms_table.peak: uniform in sin(theta / 2) */
-#define PEAK_PANELS 1200            /* 0.15 degrees: the droplets' peak and P_l up to PEAK_MOMENTS */
+#define PEAK_PANELS 600             /* 0.3 degrees: the droplets' peak and P_l to the moments that count */
 #define PEAK_MOMENTS 2048
 /* The sum tabulated to PEAK_MAX_DEG from the sun, tapered to 0 from PEAK_TAPER_DEG: beyond, it is a
  * ripple of a few tenths of a percent of the sky. */
