@@ -314,7 +314,8 @@ static fm_status shared_flights(const fm_sky_live *live, double from_deg, double
         return built;
     path_context single = sky_path_context(sky, 1, 1);
     double up_to = (hi + (SHADOW_FLIGHT_SUNS - 1)) * FM_DEG;
-    fm_status s = shadow_flight_columns_build(c, &single, sky->observer, up_to, live->params.threads, cancel);
+    fm_status s = shadow_flight_columns_build(c, &single, sky->observer, up_to, SHADOW_FLIGHT_COLUMN_STEP,
+                                              live->params.threads, cancel);
     free(sky);
     return s && s != FM_ERR_CANCELLED ? fm_fail(err, s, "the twilight guide: %s", fm_status_name(s)) : s;
 }

@@ -106,10 +106,10 @@ static double observer_sun(const path_context *single, vec3 observer)
 }
 
 fm_status shadow_flight_columns_build(shadow_flight_columns *c, const path_context *single, vec3 observer,
-                                      double up_to, int threads, const atomic_int *cancel)
+                                      double up_to, double sun_step, int threads, const atomic_int *cancel)
 {
     const atmosphere *atm = single->atm;
-    *c = (shadow_flight_columns){.sun0 = observer_sun(single, observer), .sun_step = SHADOW_FLIGHT_SUN_STEP};
+    *c = (shadow_flight_columns){.sun0 = observer_sun(single, observer), .sun_step = sun_step};
     c->suns = (int)ceil((up_to - c->sun0) / c->sun_step) + 1;
     if (c->suns < 2)
         c->suns = 2;
