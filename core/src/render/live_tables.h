@@ -11,7 +11,7 @@
 
 /* Part of every key: a change of what the tables hold or how they are laid out makes old files
  * another atmosphere's. */
-#define LIVE_TABLE_VERSION 7
+#define LIVE_TABLE_VERSION 8
 
 /* The tables of one sun elevation. */
 typedef struct live_node {
