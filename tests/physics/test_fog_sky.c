@@ -11,13 +11,15 @@
  *    observer on the ground (the diffuse irradiance there and radiances across the sky) and at 100 m
  *    (radiances up and down), within 1 % plus 3 standard errors of the path tracer, and within 3 %
  *    plus 3 standard errors 4 to 9 degrees from the sun (the peak's light there);
- *    and with the sun 8 and 0.2 degrees up (FOG_TABLE_MIN_SUN_DEG), within 2 % plus 3 standard errors.
+ *    and with the sun 8 and 0.2 degrees up (FOG_TABLE_MIN_SUN_DEG), within 2 % plus 3 standard errors;
+ *  - where the column applies (fog alone from 0.2 degrees, under another cloud from 8).
  * Faults it fails on: the air above the fog left out of the column (the irradiance 17 % high), the
  * ground's reflection left out of the column (every check), the ground's light not taken from the
  * views looking down (the observer at 100 m), the air's beam cosines not pseudo-spherical (the low
  * sun), the air in thick layers (the lowest sun), a layer's or the ground's beam response left per its
- * own cosine (the layers' cosines), the negative lobe of the peak's light left out (8 degrees from
- * the sun: +13 % at 100 m, +7 % in the plane).  About 60 s of CPU, nearly all of it the path tracer. */
+ * own cosine (the layers' cosines), the clouds' threshold left out (where it applies), the negative
+ * lobe of the peak's light left out (8 degrees from the sun: +13 % at 100 m, +7 % in the plane).
+ * About 60 s of CPU, nearly all of it the path tracer. */
 #include "check.h"
 
 #include "adding_doubling.h"
@@ -301,6 +303,37 @@ static void fog_at_a_low_sun_against_the_path_tracer(void **state)
     fog_at_a_low_sun(FOG_TABLE_MIN_SUN_DEG, 19, 300);
 }
 
+/* Where the column applies: fog alone from FOG_TABLE_MIN_SUN_DEG up; with a cirrostratus above it
+ * from FOG_TABLE_MIN_SUN_DEG_CLOUDS (below that the sun table under the cloud puts the air layers'
+ * beam cosines off: the column at sun 3 degrees came out 56 times the paths' diffuse light). */
+static void where_the_column_applies(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *clouds;
+        double sun_deg;
+        int applies;
+    } cases[] = {{NULL, FOG_TABLE_MIN_SUN_DEG, 1},
+                 {NULL, FOG_TABLE_MIN_SUN_DEG - 0.01, 0},
+                 {"cirrostratus", FOG_TABLE_MIN_SUN_DEG_CLOUDS, 1},
+                 {"cirrostratus", FOG_TABLE_MIN_SUN_DEG_CLOUDS - 0.1, 0},
+                 {"cirrostratus", 3.0, 0}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        fm_sky_params p = fm_sky_params_default();
+        p.fog_visibility_m = 200.0;
+        p.wavelength_nm = 550.0;
+        p.sun_elevation_deg = cases[i].sun_deg;
+        p.clouds = cases[i].clouds;
+        fm_sky *sky = test_sky(&p);
+        fm_render_params rp = fm_render_params_default();
+        render_job job = {.sky = sky, .params = &rp};
+        print_message("fog%s%s, sun %.2f: the column %s\n", cases[i].clouds ? " under " : "",
+                      cases[i].clouds ? cases[i].clouds : "", cases[i].sun_deg, fog_table_applies(&job) ? "applies" : "does not");
+        assert_int_equal(fog_table_applies(&job), cases[i].applies);
+        fm_sky_destroy(sky);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -308,6 +341,7 @@ int main(void)
         cmocka_unit_test(fog_in_the_atmosphere_against_the_path_tracer),
         cmocka_unit_test(fog_above_the_ground_against_the_path_tracer),
         cmocka_unit_test(fog_at_a_low_sun_against_the_path_tracer),
+        cmocka_unit_test(where_the_column_applies),
         cmocka_unit_test(column_matches_adding_doubling),
         cmocka_unit_test(layer_cosines_as_the_sun),
     };

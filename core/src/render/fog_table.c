@@ -64,8 +64,9 @@ static double fog_around_observer(const fm_sky *sky, double *top)
 int fog_table_applies(const render_job *job)
 {
     double top;
+    const double min_sun = job->sky->composition.cloud_count > 1 ? FOG_TABLE_MIN_SUN_DEG_CLOUDS : FOG_TABLE_MIN_SUN_DEG;
     return !job->twilight && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
-           job->sky->sun_dir.z >= sin(FOG_TABLE_MIN_SUN_DEG * FM_DEG) &&
+           job->sky->sun_dir.z >= sin(min_sun * FM_DEG) &&
            fog_around_observer(job->sky, &top) >= 3.912 / FOG_TABLE_MAX_VISIBILITY_M;
 }
 

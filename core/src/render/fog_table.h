@@ -24,10 +24,15 @@ struct render_job;
  * up but for a view or two (docs/decisions/2026-12-06-fog-column.md); at the horizon the plane's
  * beam has no cosine. */
 #define FOG_TABLE_MIN_SUN_DEG 0.2
+/* With another cloud layer above the fog: the air layers' beam cosines come from the sun table's
+ * transmittance at their edges, whose interpolation under a cloud at a low sun is off by more than
+ * the layers' own slant depths (at 3 degrees under a cirrostratus the diffuse light came out 50
+ * times too bright), so a lower sun keeps the paths. */
+#define FOG_TABLE_MIN_SUN_DEG_CLOUDS 8.0
 
 /* Whether the job's table comes from the column: by day, not in the reference mode, no deck above,
  * the observer in a fog layer (a cloud layer from the ground up) of FOG_TABLE_MAX_VISIBILITY_M or less, the
- * sun FOG_TABLE_MIN_SUN_DEG or more up.  The ground's irradiance then takes orders >= 2 from the
+ * sun FOG_TABLE_MIN_SUN_DEG (FOG_TABLE_MIN_SUN_DEG_CLOUDS with other clouds) or more up.  The ground's irradiance then takes orders >= 2 from the
  * column too (build it without paths). */
 int fog_table_applies(const struct render_job *job);
 
