@@ -14,7 +14,10 @@
  *                                       azimuth 180): luminance RMS of the relative error, its mean
  *                                       (bias) and 99th percentile, and the mean and largest u'v'
  *                                       chromaticity distance; with "noise" after WIDTH, also the final
- *                                       path's own RMS from a second seed
+ *                                       path's own RMS from a second seed; with "seeds N" (after WIDTH
+ *                                       and "noise"), N builds whose nodes' seeds are moved (the live
+ *                                       sky's `seed`): the means over them (the largest u'v') and each
+ *                                       build's RMS
  *   live-bench sweep BIOME FROM TO STEP the zenith luminance (cd/m^2) of the live map from FROM to TO
  *                                       degrees in steps of STEP, and the largest step of its logarithm
  *                                       across a grid elevation against the largest elsewhere */
@@ -199,28 +202,57 @@ static void chromaticity(const fm_image *a, const fm_image *b, double *mean, dou
     *mean = used ? sum / used : 0.0;
 }
 
-static int accuracy(const char *biome, int width, int noise, int count, char **elevations)
+/* The live sky of BIOME with its nodes' seeds moved by `seed` (0: the product's). */
+static fm_sky_live *build_seeded(const char *biome, uint64_t seed)
 {
-    double build_s;
-    fm_sky_live *live = build(biome, &build_s);
-    printf("%-8s %7s %8s %8s %8s %9s %9s%s\n", "biome", "sun", "RMS %", "bias %", "p99 %", "u'v' mean", "u'v' max",
-           noise ? "  final noise RMS %" : "");
+    if (!seed) {
+        double build_s;
+        return build(biome, &build_s);
+    }
+    fm_sky_params p = params_for(biome);
+    fm_sky_live *live;
+    fm_error err;
+    if (live_alloc(&p, &live, &err) || (live->seed = seed, live_build_nodes(live, -90.0, 90.0, NULL, &err))) {
+        fprintf(stderr, "live-bench: %s\n", err.message);
+        exit(1);
+    }
+    return live;
+}
+
+static int accuracy(const char *biome, int width, int noise, int seeds, int count, char **elevations)
+{
+    fm_sky_live **live = malloc(sizeof *live * (size_t)seeds);
+    for (int s = 0; s < seeds; s++)
+        live[s] = build_seeded(biome, (uint64_t)s);
+    printf("%-8s %7s %8s %8s %8s %9s %9s%s%s\n", "biome", "sun", "RMS %", "bias %", "p99 %", "u'v' mean", "u'v' max",
+           noise ? "  final noise RMS %" : "", seeds > 1 ? "  RMS % of each build" : "");
     for (int i = 0; i < count; i++) {
         double e = atof(elevations[i]);
         fm_render_params rp = fm_render_params_default();
         rp.width = width;
         rp.sun_disk = 0;
-        fm_image *got, *want = final_map(biome, e, width, 0);
+        fm_image *want = final_map(biome, e, width, 0);
         fm_error err;
-        if (fm_sky_live_render(live, e, 180.0, &rp, &got, &err)) {
-            fprintf(stderr, "live-bench: %s\n", err.message);
-            return 1;
+        double rms[64], sum[4] = {0}, uv_max = 0.0;
+        for (int s = 0; s < seeds; s++) {
+            fm_image *got;
+            if (fm_sky_live_render(live[s], e, 180.0, &rp, &got, &err)) {
+                fprintf(stderr, "live-bench: %s\n", err.message);
+                return 1;
+            }
+            fm_comparison c;
+            fm_image_compare(got, want, 0.0, &c, &err);
+            double uv_mean, uv_largest;
+            chromaticity(got, want, &uv_mean, &uv_largest);
+            rms[s] = c.rms;
+            sum[0] += c.rms / seeds;
+            sum[1] += c.mean / seeds;
+            sum[2] += c.p99 / seeds;
+            sum[3] += uv_mean / seeds;
+            uv_max = fmax(uv_max, uv_largest);
+            fm_image_destroy(got);
         }
-        fm_comparison c;
-        fm_image_compare(got, want, 0.0, &c, &err);
-        double uv_mean, uv_max;
-        chromaticity(got, want, &uv_mean, &uv_max);
-        printf("%-8s %7.2f %8.3f %8.3f %8.3f %9.5f %9.5f", biome, e, 100 * c.rms, 100 * c.mean, 100 * c.p99, uv_mean,
+        printf("%-8s %7.2f %8.3f %8.3f %8.3f %9.5f %9.5f", biome, e, 100 * sum[0], 100 * sum[1], 100 * sum[2], sum[3],
                uv_max);
         if (noise) {
             fm_image *other = final_map(biome, e, width, 1);
@@ -229,12 +261,15 @@ static int accuracy(const char *biome, int width, int noise, int count, char **e
             printf("  %8.3f", 100 * n.rms);
             fm_image_destroy(other);
         }
+        for (int s = 0; s < seeds && seeds > 1; s++)
+            printf(" %6.2f", 100 * rms[s]);
         printf("\n");
         fflush(stdout);
-        fm_image_destroy(got);
         fm_image_destroy(want);
     }
-    fm_sky_live_destroy(live);
+    for (int s = 0; s < seeds; s++)
+        fm_sky_live_destroy(live[s]);
+    free(live);
     return 0;
 }
 
@@ -289,12 +324,19 @@ int main(int argc, char **argv)
     if (argc >= 3 && !strcmp(argv[1], "speed"))
         return speed(argv[2], argc > 3 ? atoi(argv[3]) : 40);
     if (argc >= 5 && !strcmp(argv[1], "accuracy")) {
-        int noise = !strcmp(argv[4], "noise");
-        return accuracy(argv[2], atoi(argv[3]), noise, argc - 4 - noise, argv + 4 + noise);
+        int at = 4, noise = !strcmp(argv[at], "noise"), seeds = 1;
+        at += noise;
+        if (at + 1 < argc && !strcmp(argv[at], "seeds")) {
+            seeds = atoi(argv[at + 1]);
+            at += 2;
+        }
+        if (seeds >= 1 && seeds <= 64 && at < argc)
+            return accuracy(argv[2], atoi(argv[3]), noise, seeds, argc - at, argv + at);
     }
     if (argc == 6 && !strcmp(argv[1], "sweep"))
         return sweep(argv[2], atof(argv[3]), atof(argv[4]), atof(argv[5]));
-    fprintf(stderr, "usage: live-bench speed BIOME [SUNS] | accuracy BIOME WIDTH [noise] E... | sweep BIOME FROM TO "
+    fprintf(stderr, "usage: live-bench speed BIOME [SUNS] | accuracy BIOME WIDTH [noise] [seeds N] E... | sweep BIOME FROM "
+                    "TO "
                     "STEP\n");
     return 2;
 }

@@ -173,7 +173,8 @@ static fm_status node_begin(const fm_sky_live *live, live_node *node, const shad
         job->q.ground_paths = (int)fmax(1.0, round(job->q.ground_paths * TWILIGHT_PATH_SCALE));
     }
     const int own_seed = node->sun_elevation_deg >= OWN_SEED_FROM_DEG || twilight_deep(node->sun_elevation_deg);
-    job->seed = own_seed ? mix64((uint64_t)(node - live->nodes) + 1) : mix64(0);
+    const uint64_t moved = LIVE_SEED_STRIDE * live->seed;
+    job->seed = own_seed ? mix64((uint64_t)(node - live->nodes) + 1 + moved) : mix64(moved);
     if (!(s = render_twilight(job, &b->twilight, err))) {
         job->twilight = b->twilight;
         s = render_fast_tables_begin(job, err);

@@ -13,6 +13,10 @@
  * another atmosphere's. */
 #define LIVE_TABLE_VERSION 8
 
+/* How far apart the seeds of builds with other `seed`s lie: more than the nodes, so that no node's
+ * seed is another build's. */
+#define LIVE_SEED_STRIDE 1000u
+
 /* The tables of one sun elevation. */
 typedef struct live_node {
     double sun_elevation_deg;
@@ -30,6 +34,8 @@ struct fm_sky_live {
     double sample_scale;
     int channels;         /* 3 (CIE XYZ) or 1 (a monochromatic sky) */
     int count;            /* nodes, by rising sun elevation */
+    uint64_t seed;        /* 0: the product's paths; n moves every node's seed by n * LIVE_SEED_STRIDE,
+                           * for measuring the spread of a build's noise (live-bench accuracy's seeds) */
     live_node *nodes;
 };
 
