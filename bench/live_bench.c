@@ -1,9 +1,10 @@
 /* The live sky's benchmark (bench/bench.sh --live runs it; docs/rendering.md "Live sky").
+ * BIOME is a biome's name (none, rural, urban, ...; the default sky otherwise), with "+fogV" after it
+ * for fog of visibility V metres on the ground (--fog-visibility V): rural+fog200.
  *
- *   live-bench speed BIOME [SUNS]       builds the live sky of BIOME (none, rural, urban, ...; the
- *                                       default sky otherwise) on every core, prints its build time and
- *                                       table memory, then renders SUNS (default 40) suns spread over
- *                                       -20..90 degrees and every azimuth to 512 x 256 maps written as
+ *   live-bench speed BIOME [SUNS]       builds the live sky of BIOME on every core, prints its build
+ *                                       time and table memory, then renders SUNS (default 40) suns
+ *                                       spread over -20..90 degrees and every azimuth to 512 x 256 maps written as
  *                                       EXR + sidecar (/tmp), twice: in half floats without the sun
  *                                       disk (the add-on's live maps), then in floats with it; prints
  *                                       the median and 90th percentile of the time per map, its
@@ -50,10 +51,18 @@ static double cpu_now(void)
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
+/* BIOME[+fogV]: the biome and the fog's visibility (m); the name is cut at the '+' in place. */
 static fm_sky_params params_for(const char *biome)
 {
+    static char name[64];
     fm_sky_params p = fm_sky_params_default();
-    p.biome = biome;
+    snprintf(name, sizeof name, "%s", biome);
+    char *fog = strstr(name, "+fog");
+    if (fog) {
+        *fog = '\0';
+        p.fog_visibility_m = atof(fog + 4);
+    }
+    p.biome = name;
     return p;
 }
 

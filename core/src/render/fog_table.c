@@ -61,13 +61,17 @@ static double fog_around_observer(const fm_sky *sky, double *top)
     return 0.0;
 }
 
-int fog_table_applies(const render_job *job)
+int fog_table_sky(const fm_sky *sky)
 {
     double top;
+    return fog_around_observer(sky, &top) >= 3.912 / FOG_TABLE_MAX_VISIBILITY_M;
+}
+
+int fog_table_applies(const render_job *job)
+{
     const double min_sun = job->sky->composition.cloud_count > 1 ? FOG_TABLE_MIN_SUN_DEG_CLOUDS : FOG_TABLE_MIN_SUN_DEG;
     return !job->twilight && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
-           job->sky->sun_dir.z >= sin(min_sun * FM_DEG) &&
-           fog_around_observer(job->sky, &top) >= 3.912 / FOG_TABLE_MAX_VISIBILITY_M;
+           job->sky->sun_dir.z >= sin(min_sun * FM_DEG) && fog_table_sky(job->sky);
 }
 
 void fog_table_size(quality_settings *q)

@@ -35,6 +35,9 @@ struct render_job;
  * sun FOG_TABLE_MIN_SUN_DEG (FOG_TABLE_MIN_SUN_DEG_CLOUDS with other clouds) or more up.  The ground's irradiance then takes orders >= 2 from the
  * column too (build it without paths). */
 int fog_table_applies(const struct render_job *job);
+/* Whether the sky holds the observer in such fog (the rest of fog_table_applies is the sun's and the
+ * job's): a live sky then sizes every node's table as the column's (fog_table_size). */
+int fog_table_sky(const fm_sky *sky);
 
 /* The multiple-scattering table's size where the column fills it: its values are exact at the
  * nodes, and the forward light about the sun, a few degrees wide, wants nodes 2.5 degrees apart

@@ -8,6 +8,7 @@
 #include "base/status.h"
 #include "base/units.h"
 #include "render/aureole_fill.h"
+#include "render/fog_table.h"
 #include "render/live_smooth.h"
 #include "render/ms_table.h"
 #include "render/render.h"
@@ -88,7 +89,11 @@ fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *e
     live->q = render_quality_settings(QUALITY, SAMPLE_SCALE);
     live->channels = sky->atm.grid.colour ? 3 : 1;
     live->count = NODES;
-    const quality_settings q = live->q;
+    /* in fog the column's nodes fill the finer table that the forward light about the sun wants
+     * (fog_table_size); the nodes of paths (twilight) keep theirs, resampled into it (node_end) */
+    quality_settings q = live->q;
+    if (fog_table_sky(sky))
+        fog_table_size(&q);
     const double horizon = asin(horizon_mu(&sky->atm, v3_length(sky->observer)));
     for (int i = 0; i < NODES && !s; i++) {
         live_node *n = &live->nodes[i];
@@ -164,6 +169,7 @@ static fm_status node_begin(const fm_sky_live *live, live_node *node, const shad
     job->params = &b->rp;
     job->ms = &b->ms;
     job->channels = live->channels;
+    job->fine_fog_table = 1;
     job->shared_flights = flights;
     job->q = live->q;
     if (node->sun_elevation_deg >= HIGH_SUN_DEG)
@@ -182,6 +188,21 @@ static fm_status node_begin(const fm_sky_live *live, live_node *node, const shad
     return s;
 }
 
+/* The job's multiple-scattering table into the node's: copied where they have the same size, else
+ * (a table of paths in fog, whose nodes take the column's finer one) read at the node's directions. */
+static void table_into_node(const sky_grid *from, sky_grid *to)
+{
+    if (from->rows_sky == to->rows_sky && from->rows_ground == to->rows_ground && from->cols == to->cols) {
+        memcpy(to->values, from->values, sizeof(float) * (size_t)sky_grid_nodes(to) * (size_t)to->channels);
+        return;
+    }
+    for (int i = 0; i < sky_grid_nodes(to); i++) {
+        double elevation, azimuth;
+        sky_grid_node_angles(to, i, &elevation, &azimuth);
+        sky_grid_lookup(from, elevation, azimuth, &to->values[(size_t)i * (size_t)to->channels]);
+    }
+}
+
 /* The node's job after its multiple-scattering paths: the rest of its tables, its aureole, and
  * the tables into the node. */
 static fm_status node_end(const fm_sky_live *live, node_build *b, fm_error *err)
@@ -194,7 +215,7 @@ static fm_status node_end(const fm_sky_live *live, node_build *b, fm_error *err)
         s = s == FM_ERR_CANCELLED ? s : fm_fail(err, s, "the live sky's aureole: %s", fm_status_name(s));
     if (!s) {
         memcpy(node->ss.values, job->ss.values, sizeof(float) * (size_t)sky_grid_nodes(&node->ss) * live->channels);
-        memcpy(node->ms.values, b->ms.grid.values, sizeof(float) * (size_t)sky_grid_nodes(&node->ms) * live->channels);
+        table_into_node(&b->ms.grid, &node->ms);
         node->paths_per_node = job->paths_per_node;
     }
     return s;
@@ -338,7 +359,9 @@ fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, co
     shadow_flight_columns_free(&flights);
     if (!s)
         s = build_shared_nodes(live, from_deg, to_deg, cancel, fresh, err);
-    if (!s && (live_smooth_day(live, fresh, SMOOTH_FROM_DEG) || live_smooth_deep_twilight(live, fresh)))
+    /* in fog the day nodes' tables are the column's, without noise (fog_table.h) */
+    const int smooth_day = !fog_table_sky(live->sky);
+    if (!s && ((smooth_day && live_smooth_day(live, fresh, SMOOTH_FROM_DEG)) || live_smooth_deep_twilight(live, fresh)))
         s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
     free(fresh);
     return s == FM_ERR_CANCELLED ? fm_fail(err, s, "live sky cancelled") : s;
