@@ -4,8 +4,8 @@
  *
  *   live-bench speed BIOME [SUNS]       builds the live sky of BIOME on every core, prints its build
  *                                       time and table memory, then renders SUNS (default 40) suns
- *                                       spread over -20..90 degrees and every azimuth to 512 x 256 maps written as
- *                                       EXR + sidecar (/tmp), twice: in half floats without the sun
+ *                                       spread over -20..90 degrees and every azimuth to 512 x 256
+ *                                       maps written as EXR + sidecar (/tmp), twice: in half floats without the sun
  *                                       disk (the add-on's live maps), then in floats with it; prints
  *                                       the median and 90th percentile of the time per map, its
  *                                       render and write parts, their CPU times, and the process's
