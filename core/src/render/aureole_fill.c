@@ -2,6 +2,7 @@
 
 #include "base/threads.h"
 #include "render/channels.h"
+#include "render/fog_table.h"
 #include "transport/single_scatter.h"
 #include "transport/sky_path.h"
 
@@ -42,11 +43,13 @@ static void fill_rows(void *ctx, int64_t begin, int64_t end, int thread)
             }
             single_scatter_ray_radiance(&ray, &pc, d, L);
             single_scatter_ray_free(&ray);
-            float v[FM_MAX_WAVELENGTHS];
+            float v[FM_MAX_WAVELENGTHS], peak[FM_MAX_WAVELENGTHS] = {0};
             render_channels(&sky->atm, fj->a->channels, L, v);
+            if (job->ms) /* in fog, what the single-scattering table holds besides (fog_table_add_peak) */
+                fog_table_peak(job, d, peak);
             float *out = &fj->a->values[((size_t)row * AUREOLE_COLS + col) * fj->a->channels];
             for (int c = 0; c < fj->a->channels; c++)
-                out[c] = logf(fmaxf(v[c], FM_GRID_FLOOR));
+                out[c] = logf(fmaxf(v[c] + peak[c], FM_GRID_FLOOR));
         }
 }
 

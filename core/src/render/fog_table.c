@@ -605,20 +605,26 @@ fm_status fog_table_fill(render_job *job)
 
 /* The peak's light (peak_light), its part with the shape, added to the single-scattering table's sky
  * nodes. */
+void fog_table_peak(const render_job *job, vec3 view, float *add)
+{
+    const atmosphere *atm = &job->sky->atm;
+    const double x = v3_dot(view, job->sky->sun_dir);
+    double L[FM_MAX_WAVELENGTHS];
+    for (int k = 0; k < atm->grid.count; k++)
+        L[k] = job->ms->peak ? peak_at(job->ms->peak, k, x) : 0.0;
+    render_channels(atm, job->channels, L, add);
+}
+
 void fog_table_add_peak(render_job *job)
 {
     const fm_sky *sky = job->sky;
-    const atmosphere *atm = &sky->atm;
     const ms_table *t = job->ms;
-    const int K = atm->grid.count, C = job->channels, n = job->ss.rows_sky * job->ss.cols;
+    const int C = job->channels, n = job->ss.rows_sky * job->ss.cols;
     for (int i = 0; i < n && t->peak; i++) {
-        double e, phi, L[FM_MAX_WAVELENGTHS];
+        double e, phi;
         sky_grid_node_angles(&job->ss, i, &e, &phi);
-        const double x = v3_dot(render_view_direction(sky, e, phi), sky->sun_dir);
-        for (int k = 0; k < K; k++)
-            L[k] = peak_at(t->peak, k, x);
         float add[FM_MAX_WAVELENGTHS];
-        render_channels(atm, C, L, add);
+        fog_table_peak(job, render_view_direction(sky, e, phi), add);
         for (int c = 0; c < C; c++) {
             float *v = &job->ss.values[(size_t)i * C + c];
             sky_grid_set(&job->ss, i, c, expf(*v) + add[c]);

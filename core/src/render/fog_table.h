@@ -12,6 +12,7 @@
 #ifndef FM_RENDER_FOG_TABLE_H
 #define FM_RENDER_FOG_TABLE_H
 
+#include "base/vec.h"
 #include "firmament/firmament.h"
 
 struct render_job;
@@ -55,5 +56,8 @@ fm_status fog_table_fill(struct render_job *job);
  * of the sun, to the single-scattering table (once it is filled; the table from the column holds its
  * negative part beyond, and its flux on the ground is already in). */
 void fog_table_add_peak(struct render_job *job);
+/* That light in view direction view, in the job's channels (0 without a peak): the live sky's
+ * aureole (aureole.h), read around the sun in place of the single-scattering table, adds it too. */
+void fog_table_peak(const struct render_job *job, vec3 view, float *add);
 
 #endif
