@@ -247,14 +247,15 @@ static void hazy_aureole_matches_final_quality(void **state)
  * multiple-scattering tables are the column's (fog_table.h), at its size, and the aureole, read
  * within 10 degrees of the sun in place of the single-scattering table, holds the light scattered
  * several times within the droplets' peak as that table does: without it the sky about the sun was
- * 1.5% RMS dark over the map. */
+ * 1.5% RMS dark over the map.  Both maps are deterministic there, so the bound is half the issue's
+ * 1%: the quality's coarser table at the nodes puts the map 0.75% off. */
 static void fog_matches_final_quality(void **state)
 {
     fm_sky_params p = test_params(10.0, 0.0);
     p.biome = "rural";
     p.fog_visibility_m = 200.0;
     fm_sky_live *live = live_around(&p, 30.0, 30.0);
-    check_against_final(live, p, 30.0, 180.0, 128, 0.01);
+    check_against_final(live, p, 30.0, 180.0, 128, 0.005);
     fm_sky_live_destroy(live);
 }
 
