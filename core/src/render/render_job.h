@@ -42,8 +42,8 @@ typedef struct render_job {
     deck_base deck;                    /* under a deck (deck_base_for_sky), else zeroed */
     const deck_base *under_deck;       /* &deck when built, else NULL: the paths' path_context.deck */
     int fine_fog_table;                /* the caller takes a multiple-scattering table finer than the
-                                        * quality's where fog fills it (fog_table_size; fm_render: the
-                                        * live sky's nodes keep the quality's) */
+                                        * quality's where fog fills it (fog_table_size; fm_render and
+                                        * the live sky's nodes) */
     fm_image *img;
     atomic_int no_memory; /* a worker could not allocate */
 } render_job;
