@@ -32,7 +32,7 @@ static const double air_breaks_m[] = {1000.0, 2000.0, 4000.0, 7000.0, 11000.0, 1
 typedef struct fog_column {
     render_job *job;
     int layers;                    /* top first */
-    int fog_layers;                /* the bottom fog_layers are the fog */
+    int fog_layers;                /* the bottom fog_layers are the cloud and the air below it */
     int level;                     /* the observer's: the boundary below the first `level` layers */
     int on_ground;                 /* the observer on the ground (level == layers) */
     double column[PLANE_COLUMN_MAX_LAYERS][FM_MAX_SPECIES]; /* m^-2 */
@@ -46,32 +46,43 @@ typedef struct fog_column {
 
 /* ---- where it applies ------------------------------------------------------------------------ */
 
-/* The extinction coefficient at 550 nm (m^-1) of the cloud layer on the ground that holds the
- * observer, or 0; its top (m) in *top. */
-static double fog_around_observer(const fm_sky *sky, double *top)
+/* The cloud layer the column is for, or -1: the one on the ground that holds the observer with a
+ * visibility of FOG_TABLE_MAX_VISIBILITY_M or less (fog), else the lowest whose top is above the
+ * observer (who is below or inside it) of optical depth FOG_TABLE_MIN_TAU or more. */
+static int column_cloud(const fm_sky *sky)
 {
     const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    int lowest = -1;
     for (int i = 0; i < sky->composition.cloud_count; i++) {
         const double base = sky->composition.cloud[i].base_m, h = sky->composition.cloud[i].thickness_m;
-        if (base <= 0.0 && altitude < base + h && h > 0.0) {
-            *top = base + h;
-            return sky->composition.cloud[i].tau550 / h;
-        }
+        const double tau = sky->composition.cloud[i].tau550;
+        if (!(h > 0.0) || altitude >= base + h)
+            continue;
+        if (base <= 0.0)
+            return tau / h >= 3.912 / FOG_TABLE_MAX_VISIBILITY_M ? i : -1;
+        if (tau >= FOG_TABLE_MIN_TAU && (lowest < 0 || base < sky->composition.cloud[lowest].base_m))
+            lowest = i;
     }
-    return 0.0;
+    return lowest;
 }
 
 int fog_table_sky(const fm_sky *sky)
 {
-    double top;
-    return fog_around_observer(sky, &top) >= 3.912 / FOG_TABLE_MAX_VISIBILITY_M;
+    if (column_cloud(sky) < 0)
+        return 0;
+    /* a deck that the deck base takes (from DECK_MIN_SUN_DEG up) leaves the day's nodes to paths */
+    const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    for (int i = 0; i < sky->composition.cloud_count && sky->truncated; i++)
+        if (sky->composition.cloud[i].tau550 >= SKY_TRUNCATE_TAU && sky->composition.cloud[i].base_m > altitude)
+            return 0;
+    return 1;
 }
 
 int fog_table_applies(const render_job *job)
 {
     const double min_sun = job->sky->composition.cloud_count > 1 ? FOG_TABLE_MIN_SUN_DEG_CLOUDS : FOG_TABLE_MIN_SUN_DEG;
     return !job->twilight && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
-           job->sky->sun_dir.z >= sin(min_sun * FM_DEG) && fog_table_sky(job->sky);
+           job->sky->sun_dir.z >= sin(min_sun * FM_DEG) && column_cloud(job->sky) >= 0;
 }
 
 void fog_table_size(quality_settings *q)
@@ -111,8 +122,9 @@ static int ascending(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* The layers' boundaries and every species' column in each (top layer first). */
-static void column_layers(fog_column *fc, const fm_sky *sky, double fog_top)
+/* The layers' boundaries and every species' column in each (top layer first): the column's cloud
+ * from base to fog_top (its top), the air below its base broken as above (none in fog). */
+static void column_layers(fog_column *fc, const fm_sky *sky, double base, double fog_top)
 {
     const atmosphere *atm = &sky->atm;
     const double toa = atm->top_radius_m - atm->bottom_radius_m;
@@ -124,12 +136,15 @@ static void column_layers(fog_column *fc, const fm_sky *sky, double fog_top)
     const double altitude = v3_length(sky->observer) - atm->bottom_radius_m;
     n = add_break(z, n, altitude, 0.0, fog_top);
     for (int i = 0; i < sky->composition.cloud_count; i++) {
-        const double base = sky->composition.cloud[i].base_m;
-        n = add_break(z, n, base, fog_top, toa);
-        n = add_break(z, n, base + sky->composition.cloud[i].thickness_m, fog_top, toa);
+        const double b = sky->composition.cloud[i].base_m;
+        n = add_break(z, n, b, 0.0, toa);
+        n = add_break(z, n, b + sky->composition.cloud[i].thickness_m, 0.0, toa);
     }
-    for (size_t i = 0; i < sizeof air_breaks_m / sizeof air_breaks_m[0]; i++)
+    n = add_break(z, n, base, 0.0, fog_top);
+    for (size_t i = 0; i < sizeof air_breaks_m / sizeof air_breaks_m[0]; i++) {
+        n = add_break(z, n, air_breaks_m[i], 0.0, base);
         n = add_break(z, n, fog_top + air_breaks_m[i], fog_top, toa);
+    }
     qsort(z, (size_t)n, sizeof z[0], ascending);
     fc->layers = n - 1;
     fc->fog_layers = 1;
@@ -563,10 +578,11 @@ fm_status fog_table_fill(render_job *job)
     if (!fc)
         return FM_ERR_OUT_OF_MEMORY;
     fc->job = job;
-    double fog_top = 0.0;
-    fog_around_observer(sky, &fog_top);
+    const int cloud = column_cloud(sky);
+    const double base = sky->composition.cloud[cloud].base_m;
+    const double fog_top = base + sky->composition.cloud[cloud].thickness_m;
     fc->top_radius = atm->bottom_radius_m + fog_top;
-    column_layers(fc, sky, fog_top);
+    column_layers(fc, sky, fmax(base, 0.0), fog_top);
     view_cosines(fc, &t->grid);
     fm_status s = species_moments(fc, atm);
     free(t->peak);

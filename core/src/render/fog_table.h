@@ -1,5 +1,6 @@
-/* Fog around the observer: the fast path's multiple-scattering table from a deterministic solution
- * of the plane-parallel column instead of paths (docs/decisions/2026-12-06-fog-column.md).
+/* Fog around the observer, or a cloud deck above or around the observer: the fast path's
+ * multiple-scattering table from a deterministic solution of the plane-parallel column instead of
+ * paths (docs/decisions/2026-12-06-fog-column.md, docs/decisions/2026-12-06-cloud-column.md).
  *
  * In fog of a few hundred metres' visibility the table's paths are heavy-tailed (the droplets'
  * forward peak through several scatterings) and a map keeps percents of noise.  The atmosphere is
@@ -7,7 +8,8 @@
  * matter, so the radiance at the observer is that of a plane-parallel column: the fog, the air and
  * any clouds above cut into homogeneous layers, solved by adding-doubling (transport/plane_column.h)
  * with the droplets' peak truncated (delta-M), per grid wavelength, with the beam dimmed above the
- * fog as in the spherical atmosphere.  Orders >= 2 are that solution less its single scattering;
+ * fog as in the spherical atmosphere.  Under a deck the paths random-walk through it just as in fog;
+ * the column holds the deck (its top where the fog's was) and the air below it in layers too.  Orders >= 2 are that solution less its single scattering;
  * single scattering stays the exact quadrature of the single-scattering table. */
 #ifndef FM_RENDER_FOG_TABLE_H
 #define FM_RENDER_FOG_TABLE_H
@@ -20,24 +22,29 @@ struct render_job;
 /* Fog of this visibility or less (extinction 3.912 / V at 550 nm) takes the column: a view in it sees
  * a few hundred metres, where the sphere does not matter. */
 #define FOG_TABLE_MAX_VISIBILITY_M 1000.0
+/* A cloud layer above the observer (or around an observer above the ground) of this optical depth
+ * at 550 nm or more takes the column too: its paths random-walk through the layer. */
+#define FOG_TABLE_MIN_TAU 2.0
 /* The sun at least this high: with the beam pseudo-spherical above the fog and the air in thin
  * layers the column is within 2 % (plus 3 standard errors) of the path tracer from sun 0.2 degrees
  * up but for a view or two (docs/decisions/2026-12-06-fog-column.md); at the horizon the plane's
  * beam has no cosine. */
 #define FOG_TABLE_MIN_SUN_DEG 0.2
-/* With another cloud layer above the fog: the air layers' beam cosines come from the sun table's
+/* With another cloud layer above the fog or the deck: the air layers' beam cosines come from the sun table's
  * transmittance at their edges, whose interpolation under a cloud at a low sun is off by more than
  * the layers' own slant depths (at 3 degrees under a cirrostratus the diffuse light came out 50
  * times too bright), so a lower sun keeps the paths. */
 #define FOG_TABLE_MIN_SUN_DEG_CLOUDS 8.0
 
-/* Whether the job's table comes from the column: by day, not in the reference mode, no deck above,
- * the observer in a fog layer (a cloud layer from the ground up) of FOG_TABLE_MAX_VISIBILITY_M or less, the
+/* Whether the job's table comes from the column: by day, not in the reference mode, no deck base
+ * (deck_base.h) built, the observer in a fog layer (a cloud layer from the ground up) of
+ * FOG_TABLE_MAX_VISIBILITY_M or less or below or inside a layer of FOG_TABLE_MIN_TAU or more, the
  * sun FOG_TABLE_MIN_SUN_DEG (FOG_TABLE_MIN_SUN_DEG_CLOUDS with other clouds) or more up.  The ground's irradiance then takes orders >= 2 from the
  * column too (build it without paths). */
 int fog_table_applies(const struct render_job *job);
-/* Whether the sky holds the observer in such fog (the rest of fog_table_applies is the sun's and the
- * job's): a live sky then sizes every node's table as the column's (fog_table_size). */
+/* Whether the sky holds such fog or cloud and no deck that the deck base takes by day (the rest of
+ * fog_table_applies is the sun's and the job's): a live sky then sizes every node's table as the
+ * column's (fog_table_size) and leaves its day nodes unsmoothed. */
 int fog_table_sky(const fm_sky *sky);
 
 /* The multiple-scattering table's size where the column fills it: its values are exact at the
