@@ -19,6 +19,11 @@
  *                                       and "noise"), N builds whose nodes' seeds are moved (the live
  *                                       sky's `seed`): the means over them (the largest u'v') and each
  *                                       build's RMS
+ *   live-bench bands BIOME              builds the live sky of BIOME band by band (deep twilight with its
+ *                                       shared flight columns, the twilight above it, the day: nodes at
+ *                                       0 degrees and up, whose shared walks stay within the band) and
+ *                                       prints each band's nodes, wall and CPU time: where the build's
+ *                                       time goes
  *   live-bench sweep BIOME FROM TO STEP the zenith luminance (cd/m^2) of the live map from FROM to TO
  *                                       degrees in steps of STEP, and the largest step of its logarithm
  *                                       across a grid elevation against the largest elsewhere */
@@ -34,6 +39,7 @@
 
 #include "base/platform.h"
 #include "render/live.h"
+#include "transport/twilight.h"
 
 static double now(void)
 {
@@ -52,11 +58,11 @@ static double cpu_now(void)
 }
 
 /* BIOME[+fogV]: the biome and the fog's visibility (m); the name is cut at the '+' in place. */
-static fm_sky_params params_for(const char *biome)
+static fm_sky_params params_for(const char *biome_arg)
 {
     static char name[64];
     fm_sky_params p = fm_sky_params_default();
-    snprintf(name, sizeof name, "%s", biome);
+    snprintf(name, sizeof name, "%s", biome_arg);
     char *fog = strstr(name, "+fog");
     if (fog) {
         *fog = '\0';
@@ -68,9 +74,9 @@ static fm_sky_params params_for(const char *biome)
 
 static double build_cpu_s; /* of the last build */
 
-static fm_sky_live *build(const char *biome, double *seconds)
+static fm_sky_live *build(const char *biome_arg, double *seconds)
 {
-    fm_sky_params p = params_for(biome);
+    fm_sky_params p = params_for(biome_arg);
     fm_sky_live *live;
     fm_error err;
     double t0 = now(), c0 = cpu_now();
@@ -109,7 +115,7 @@ static double percentile(double *v, int n, double q)
  * ZIP, no sun disk: the add-on's live maps) or as the default (32-bit floats, ZIP, the disk): the
  * median and 90th percentile of the wall time per map, its render and write parts, and the median
  * CPU time of each part. */
-static int maps(fm_sky_live *live, const char *biome, int suns, int half)
+static int maps(fm_sky_live *live, const char *biome_arg, int suns, int half)
 {
     double *v = malloc(sizeof(double) * suns * 6), *total = v, *render = v + suns, *write = v + 2 * suns,
            *cpu = v + 3 * suns, *cpu_render = v + 4 * suns, *cpu_write = v + 5 * suns;
@@ -138,7 +144,7 @@ static int maps(fm_sky_live *live, const char *biome, int suns, int half)
     }
     printf("%-8s 512 x 256 map per sun (%d suns, %s): median %5.1f ms (render %5.1f, write %5.1f), p90 %5.1f ms; "
            "CPU median %5.1f ms (render %5.1f, write %5.1f)\n",
-           biome, suns, half ? "half, no disk" : "float, disk", 1e3 * percentile(total, suns, 0.5),
+           biome_arg, suns, half ? "half, no disk" : "float, disk", 1e3 * percentile(total, suns, 0.5),
            1e3 * percentile(render, suns, 0.5), 1e3 * percentile(write, suns, 0.5), 1e3 * percentile(total, suns, 0.9),
            1e3 * percentile(cpu, suns, 0.5), 1e3 * percentile(cpu_render, suns, 0.5),
            1e3 * percentile(cpu_write, suns, 0.5));
@@ -146,23 +152,61 @@ static int maps(fm_sky_live *live, const char *biome, int suns, int half)
     return 0;
 }
 
-static int speed(const char *biome, int suns)
+static int speed(const char *biome_arg, int suns)
 {
     double build_s;
     double m0 = platform_peak_memory_mib();
-    fm_sky_live *live = build(biome, &build_s);
+    fm_sky_live *live = build(biome_arg, &build_s);
     printf("%-8s build %6.2f s wall, %6.2f s CPU  nodes %d  tables %6.2f MiB  peak after build %6.1f MiB (before "
            "%5.1f)\n",
-           biome, build_s, build_cpu_s, live->count, table_bytes(live) / 1048576.0, platform_peak_memory_mib(), m0);
-    int s = maps(live, biome, suns, 1) || maps(live, biome, suns, 0);
-    printf("%-8s peak %6.1f MiB\n", biome, platform_peak_memory_mib());
+           biome_arg, build_s, build_cpu_s, live->count, table_bytes(live) / 1048576.0, platform_peak_memory_mib(), m0);
+    int s = maps(live, biome_arg, suns, 1) || maps(live, biome_arg, suns, 0);
+    printf("%-8s peak %6.1f MiB\n", biome_arg, platform_peak_memory_mib());
     fm_sky_live_destroy(live);
     return s;
 }
 
-static fm_image *final_map(const char *biome, double e, int width, uint64_t seed)
+/* The band of a node's sun elevation: 0 deep twilight, 1 the twilight above it, 2 the day. */
+static int band_of(double e) { return e >= 0.0 ? 2 : (twilight_deep(e) ? 0 : 1); }
+
+static int bands(const char *biome_arg)
 {
-    fm_sky_params p = params_for(biome);
+    static const char *const name[] = {"deep twilight", "twilight", "day"};
+    fm_sky_params p = params_for(biome_arg);
+    double wall = 0.0, cpu = 0.0;
+    for (int b = 0; b < 3; b++) {
+        fm_sky_live *live;
+        fm_error err;
+        if (live_alloc(&p, &live, &err)) {
+            fprintf(stderr, "live-bench: %s\n", err.message);
+            return 1;
+        }
+        double lo = INFINITY, hi = -INFINITY;
+        int nodes = 0;
+        for (int i = 0; i < live->count; i++)
+            if (band_of(live->nodes[i].sun_elevation_deg) == b) {
+                lo = fmin(lo, live->nodes[i].sun_elevation_deg);
+                hi = fmax(hi, live->nodes[i].sun_elevation_deg);
+                nodes++;
+            }
+        double t0 = now(), c0 = cpu_now();
+        if (nodes && live_build_nodes(live, lo, hi, NULL, &err)) {
+            fprintf(stderr, "live-bench: %s\n", err.message);
+            return 1;
+        }
+        double w = now() - t0, c = cpu_now() - c0;
+        wall += w;
+        cpu += c;
+        printf("%-8s %-13s %2d nodes %6.1f..%5.1f  %6.2f s wall, %6.2f s CPU\n", biome_arg, name[b], nodes, lo, hi, w, c);
+        fm_sky_live_destroy(live);
+    }
+    printf("%-8s all bands               %6.2f s wall, %6.2f s CPU\n", biome_arg, wall, cpu);
+    return 0;
+}
+
+static fm_image *final_map(const char *biome_arg, double e, int width, uint64_t seed)
+{
+    fm_sky_params p = params_for(biome_arg);
     p.sun_elevation_deg = e;
     fm_sky *sky;
     fm_image *img;
@@ -212,13 +256,13 @@ static void chromaticity(const fm_image *a, const fm_image *b, double *mean, dou
 }
 
 /* The live sky of BIOME with its nodes' seeds moved by `seed` (0: the product's). */
-static fm_sky_live *build_seeded(const char *biome, uint64_t seed)
+static fm_sky_live *build_seeded(const char *biome_arg, uint64_t seed)
 {
     if (!seed) {
         double build_s;
-        return build(biome, &build_s);
+        return build(biome_arg, &build_s);
     }
-    fm_sky_params p = params_for(biome);
+    fm_sky_params p = params_for(biome_arg);
     fm_sky_live *live;
     fm_error err;
     if (live_alloc(&p, &live, &err) || (live->seed = seed, live_build_nodes(live, -90.0, 90.0, NULL, &err))) {
@@ -228,11 +272,11 @@ static fm_sky_live *build_seeded(const char *biome, uint64_t seed)
     return live;
 }
 
-static int accuracy(const char *biome, int width, int noise, int seeds, int count, char **elevations)
+static int accuracy(const char *biome_arg, int width, int noise, int seeds, int count, char **elevations)
 {
     fm_sky_live **live = malloc(sizeof *live * (size_t)seeds);
     for (int s = 0; s < seeds; s++)
-        live[s] = build_seeded(biome, (uint64_t)s);
+        live[s] = build_seeded(biome_arg, (uint64_t)s);
     printf("%-8s %7s %8s %8s %8s %9s %9s%s%s\n", "biome", "sun", "RMS %", "bias %", "p99 %", "u'v' mean", "u'v' max",
            noise ? "  final noise RMS %" : "", seeds > 1 ? "  RMS % of each build" : "");
     for (int i = 0; i < count; i++) {
@@ -240,7 +284,7 @@ static int accuracy(const char *biome, int width, int noise, int seeds, int coun
         fm_render_params rp = fm_render_params_default();
         rp.width = width;
         rp.sun_disk = 0;
-        fm_image *want = final_map(biome, e, width, 0);
+        fm_image *want = final_map(biome_arg, e, width, 0);
         fm_error err;
         double rms[64], sum[4] = {0}, uv_max = 0.0;
         for (int s = 0; s < seeds; s++) {
@@ -261,10 +305,10 @@ static int accuracy(const char *biome, int width, int noise, int seeds, int coun
             uv_max = fmax(uv_max, uv_largest);
             fm_image_destroy(got);
         }
-        printf("%-8s %7.2f %8.3f %8.3f %8.3f %9.5f %9.5f", biome, e, 100 * sum[0], 100 * sum[1], 100 * sum[2], sum[3],
+        printf("%-8s %7.2f %8.3f %8.3f %8.3f %9.5f %9.5f", biome_arg, e, 100 * sum[0], 100 * sum[1], 100 * sum[2], sum[3],
                uv_max);
         if (noise) {
-            fm_image *other = final_map(biome, e, width, 1);
+            fm_image *other = final_map(biome_arg, e, width, 1);
             fm_comparison n;
             fm_image_compare(other, want, 0.0, &n, &err);
             printf("  %8.3f", 100 * n.rms);
@@ -302,10 +346,10 @@ static double zenith(const fm_sky_live *live, double e)
     return y;
 }
 
-static int sweep(const char *biome, double from, double to, double step)
+static int sweep(const char *biome_arg, double from, double to, double step)
 {
     double build_s;
-    fm_sky_live *live = build(biome, &build_s);
+    fm_sky_live *live = build(biome_arg, &build_s);
     /* suns half a step off the grid's elevations, so that each of them lies inside one step */
     const int n = (int)floor((to - from) / step);
     double prev = zenith(live, from + 0.5 * step), across = 0.0, elsewhere = 0.0, worst_at = from;
@@ -323,7 +367,7 @@ static int sweep(const char *biome, double from, double to, double step)
     }
     printf("%-8s zenith luminance steps of %.2f deg: largest across a grid elevation %.4f (at %.2f), elsewhere "
            "%.4f (log)\n",
-           biome, step, across, worst_at, elsewhere);
+           biome_arg, step, across, worst_at, elsewhere);
     fm_sky_live_destroy(live);
     return 0;
 }
@@ -342,6 +386,8 @@ int main(int argc, char **argv)
         if (seeds >= 1 && seeds <= 64 && at < argc)
             return accuracy(argv[2], atoi(argv[3]), noise, seeds, argc - at, argv + at);
     }
+    if (argc == 3 && !strcmp(argv[1], "bands"))
+        return bands(argv[2]);
     if (argc == 6 && !strcmp(argv[1], "sweep"))
         return sweep(argv[2], atof(argv[3]), atof(argv[4]), atof(argv[5]));
     fprintf(stderr, "usage: live-bench speed BIOME [SUNS] | accuracy BIOME WIDTH [noise] [seeds N] E... | sweep BIOME FROM "
