@@ -379,8 +379,11 @@ static double *work_alloc(work *W, const plane_column *c, double **rb, double **
 }
 
 /* Fourier mode m of the light at the level (between layers level - 1 and level): the layers below
- * laid over the ground into rb, those above added from the top down, then down d and up u. */
-static void level_mode(work *W, const plane_column *c, int level, int m, double *rb, double *d, double *u)
+ * laid over the ground into rb, those above added from the top down, then down d and up u.  With
+ * incident (n values: the mode of a diffuse field at the top on the Gauss rows, 0 on the others) the
+ * beam is off and that field is the light entering the top. */
+static void level_mode(work *W, const plane_column *c, int level, int m, const double *incident, double *rb, double *d,
+                       double *u)
 {
     const int nq = W->nq, nc = W->nc, M = 2 * nq, n = W->n;
     const size_t nn = (size_t)n * (size_t)nc;
@@ -402,9 +405,13 @@ static void level_mode(work *W, const plane_column *c, int level, int m, double 
     memset(W->tc, 0, sizeof(double) * (size_t)n);
     for (int i = 0; i < n; i++)
         W->ec[i] = 1.0;
+    if (incident) { /* an empty column that lets the field through, and no beam */
+        memcpy(W->tc, incident, sizeof(double) * (size_t)n);
+        W->ec[W->sun] = 0.0;
+    }
     for (int l = 0; l < level; l++) {
         layer_with_beam(W, c, &c->layer[l], m, M);
-        if (l == 0) {
+        if (l == 0 && !incident) {
             memcpy(W->rs, W->r, sizeof(double) * nn);
             memcpy(W->ec, W->e, sizeof(double) * (size_t)n);
             for (int i = 0; i < n; i++)
@@ -416,7 +423,9 @@ static void level_mode(work *W, const plane_column *c, int level, int m, double 
     level_light(W, rb, d, u);
 }
 
-fm_status plane_column_level(const plane_column *c, int level, double *down, double *up, double *flux_down)
+/* plane_column_level (incident NULL) and plane_column_diffuse_level. */
+static fm_status column_level(const plane_column *c, int level, const double *incident, double *down, double *up,
+                              double *flux_down)
 {
     if (!column_valid(c) || level < 0 || level > c->layer_count)
         return FM_ERR_INVALID_ARGUMENT;
@@ -427,23 +436,47 @@ fm_status plane_column_level(const plane_column *c, int level, double *down, dou
         return FM_ERR_OUT_OF_MEMORY;
     const int nq = W.nq, M = 2 * nq, nv = c->n_mu;
     const int modes = down || up ? M : 1; /* the flux alone is the azimuthal mean's */
+    /* the beam's radiances are per unit F0 (d per mu0 F0 / pi), the field's in its own units */
+    const double scale = incident ? 1.0 : c->mu0 / PC_PI;
+    double in[MAX_POINTS] = {0};
     for (int m = 0; m < modes; m++) {
-        level_mode(&W, c, level, m, rb, d, u);
+        for (int j = 0; j < nq && incident; j++)
+            in[j] = incident[j * M + m];
+        level_mode(&W, c, level, m, incident ? in : NULL, rb, d, u);
         for (int k = 0; k < nv; k++) {
             if (down)
-                down[k * M + m] = c->mu0 / PC_PI * d[nq + k];
+                down[k * M + m] = scale * d[nq + k];
             if (up)
-                up[k * M + m] = c->mu0 / PC_PI * u[nq + k];
+                up[k * M + m] = scale * u[nq + k];
         }
         if (m == 0 && flux_down) {
             double flux = W.ec[W.sun];
             for (int i = 0; i < nq; i++)
                 flux += W.w[i] * d[i];
-            *flux_down = flux;
+            *flux_down = incident ? PC_PI * flux : flux;
         }
     }
     free(block);
     return FM_OK;
+}
+
+fm_status plane_column_level(const plane_column *c, int level, double *down, double *up, double *flux_down)
+{
+    return column_level(c, level, NULL, down, up, flux_down);
+}
+
+fm_status plane_column_diffuse_level(const plane_column *c, int level, const double *incident, double *down,
+                                     double *up, double *flux_down)
+{
+    return incident ? column_level(c, level, incident, down, up, flux_down) : FM_ERR_INVALID_ARGUMENT;
+}
+
+void plane_column_nodes(int streams, double *mu)
+{
+    gauss_rule g;
+    gauss_legendre(streams, &g);
+    for (int i = 0; i < streams; i++)
+        mu[i] = 0.5 * (1.0 + g.x[i]);
 }
 
 fm_status plane_column_bottom(const plane_column *c, double *modes, double *flux_down)

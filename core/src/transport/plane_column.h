@@ -51,4 +51,16 @@ fm_status plane_column_bottom(const plane_column *c, double *modes, double *flux
  * level in *flux_down (may be NULL). */
 fm_status plane_column_level(const plane_column *c, int level, double *down, double *up, double *flux_down);
 
+/* The same lit from above by a diffuse field instead of the beam (c->mu0 and the layers' mu0 then
+ * play no part): incident[j * 2N + m] the Fourier modes of the downward radiance at the column's top
+ * at Gauss node j (plane_column_nodes), in the outputs' convention (L = I_0 + 2 sum_m I_m cos(m phi),
+ * phi from the same azimuth).  down and up as plane_column_level's, in the field's units, hold only
+ * light scattered at least once or reflected by the ground: the field seen through the layers along
+ * a view, exp(-tau / mu) I(mu, phi), is the caller's to add.  *flux_down is the whole downward flux
+ * at the level (the field's own transmitted part included), in the field's units times sr. */
+fm_status plane_column_diffuse_level(const plane_column *c, int level, const double *incident, double *down,
+                                     double *up, double *flux_down);
+/* The column's Gauss nodes (zenith cosines, ascending), streams of them. */
+void plane_column_nodes(int streams, double *mu);
+
 #endif
