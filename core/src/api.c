@@ -262,7 +262,10 @@ static fm_status add_clouds(fm_sky *sky, const fm_sky_params *p, fm_error *err)
     int count;
     fm_status s = cloud_layers_from_params(p, layers, &count, err);
     fm_composition *c = &sky->composition;
-    for (int i = 0; i < count && !s; i++) {
+    int kept = 0;
+    for (int i = 0, j = 0; i < count && !s; i++) {
+        if (i == sky->skip_cloud - 1)
+            continue;
         const cloud_layer *l = &layers[i];
         s = cloud_add_layer(&sky->atm, l->type, l->base_m, l->thickness_m, l->tau550, p->threads, p->cache_dir,
                             sky->truncate_peaks && l->tau550 >= SKY_TRUNCATE_TAU, err);
@@ -271,13 +274,14 @@ static fm_status add_clouds(fm_sky *sky, const fm_sky_params *p, fm_error *err)
             snprintf(what, sizeof what, "%s", err->message);
             s = fm_fail_parameter(err, "clouds", "%s", what);
         }
-        snprintf(c->cloud[i].type, sizeof c->cloud[i].type, "%s", l->type->name);
-        c->cloud[i].tau550 = l->tau550;
-        c->cloud[i].base_m = l->base_m;
-        c->cloud[i].thickness_m = l->thickness_m;
-        c->cloud_count = i + 1;
+        snprintf(c->cloud[j].type, sizeof c->cloud[j].type, "%s", l->type->name);
+        c->cloud[j].tau550 = l->tau550;
+        c->cloud[j].base_m = l->base_m;
+        c->cloud[j].thickness_m = l->thickness_m;
+        c->cloud_count = ++j;
+        kept = j;
     }
-    if (!s && count > 0)
+    if (!s && kept > 0)
         atmosphere_update_majorants(&sky->atm);
     return s;
 }
@@ -376,6 +380,29 @@ fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err
     }
     *out = sky;
     return s;
+}
+
+fm_status sky_create_without_cloud(const fm_sky *sky, int cloud, double altitude_m, fm_sky **out, fm_error *err)
+{
+    fm_sky_params p = sky->params;
+    p.observer_altitude_m = altitude_m;
+    fm_sky *copy;
+    fm_status s = new_sky(&p, &copy, err);
+    if (s)
+        return s;
+    copy->skip_cloud = cloud + 1;
+    if (!(s = build_sky(copy, &copy->params, NULL, err)) && has_deck(copy) && !(s = new_sky(&p, &copy->truncated, err))) {
+        copy->truncated->skip_cloud = cloud + 1;
+        copy->truncated->truncate_peaks = 1;
+        s = build_sky(copy->truncated, &copy->truncated->params, &copy->columns, err);
+    }
+    if (s) {
+        fm_sky_destroy(copy);
+        return s;
+    }
+    copy->sun_dir = sky->sun_dir; /* fm_sky_set_sun may have moved it */
+    *out = copy;
+    return FM_OK;
 }
 
 fm_status fm_composition_compute(const fm_sky_params *params, fm_composition *out, fm_error *err)

@@ -34,6 +34,7 @@ struct fm_sky {
      * (delta-M with exact single scattering: Nakajima & Tanaka 1988).  NULL otherwise. */
     struct fm_sky *truncated;
     int truncate_peaks; /* this sky is such a copy; its column table is its parent's (api.c) */
+    int skip_cloud;     /* 1 + the index of the cloud layer (composition.cloud) this sky leaves out, or 0 */
 };
 
 /* Layers from this optical depth at 550 nm up are truncated in the copy: with the droplets' peak
@@ -47,6 +48,11 @@ static inline const struct fm_sky *sky_scattering_media(const struct fm_sky *sky
     return sky->truncated ? sky->truncated : sky;
 }
 
+/* The same sky without its cloud layer `cloud` (an index of composition.cloud), the observer at
+ * altitude_m, the same sun (the fog column's incident field in twilight, render/fog_table.c).  Free
+ * with fm_sky_destroy. */
+fm_status sky_create_without_cloud(const struct fm_sky *sky, int cloud, double altitude_m, struct fm_sky **out,
+                                   fm_error *err);
 /* Resolves the FM_SUN_FROM_TIME fields of `in` into `out` (a copy of in) from the solar position
  * of its date, time and place, which also goes to *solar, *computed and *has_solar (the distance
  * from the date alone, or 1 AU without a date: *has_solar 0). */

@@ -12,7 +12,8 @@
  *    (radiances up and down), within 1 % plus 3 standard errors of the path tracer, and within 3 %
  *    plus 3 standard errors 4 to 9 degrees from the sun (the peak's light there);
  *    and with the sun 8 and 0.2 degrees up (FOG_TABLE_MIN_SUN_DEG), within 2 % plus 3 standard errors;
- *  - where the column applies (fog alone from 0.2 degrees, under another cloud from 8).
+ *  - where the column applies (fog alone from 0.2 degrees, and below it down to -18 lit by the sky above
+ *    the fog, test_fog_twilight; under another cloud from 8).
  * Faults it fails on: the air above the fog left out of the column (the irradiance 17 % high), the
  * ground's reflection left out of the column (every check), the ground's light not taken from the
  * views looking down (the observer at 100 m), the air's beam cosines not pseudo-spherical (the low
@@ -163,7 +164,7 @@ static void fast_tables(const fm_sky *sky, render_job *job, ms_table *ms, fm_ren
 {
     *rp = fm_render_params_default();
     rp->width = 64;
-    *job = (render_job){.sky = sky, .params = rp, .ms = ms, .fine_fog_table = 1};
+    *job = (render_job){.sky = sky, .params = rp, .ms = ms, .fine_fog_table = 1, .fog_from_above = 1};
     fm_error err;
     twilight_sampling *tw;
     assert_int_equal(render_start(job, &err), FM_OK);
@@ -313,11 +314,16 @@ static void where_the_column_applies(void **state)
         const char *clouds;
         double sun_deg;
         int applies;
-    } cases[] = {{NULL, FOG_TABLE_MIN_SUN_DEG, 1},
-                 {NULL, FOG_TABLE_MIN_SUN_DEG - 0.01, 0},
-                 {"cirrostratus", FOG_TABLE_MIN_SUN_DEG_CLOUDS, 1},
-                 {"cirrostratus", FOG_TABLE_MIN_SUN_DEG_CLOUDS - 0.1, 0},
-                 {"cirrostratus", 3.0, 0}};
+        int from_above; /* fog_table_from_above: the fog alone lit by the sky above it */
+    } cases[] = {{NULL, FOG_TABLE_MIN_SUN_DEG, 1, 0},
+                 {NULL, FOG_TABLE_MIN_SUN_DEG - 0.01, 1, 1},
+                 {NULL, -6.0, 1, 1},
+                 {NULL, FOG_TABLE_TWILIGHT_MIN_SUN_DEG, 1, 1},
+                 {NULL, FOG_TABLE_TWILIGHT_MIN_SUN_DEG - 0.1, 0, 0},
+                 {"cirrostratus", FOG_TABLE_MIN_SUN_DEG_CLOUDS, 1, 0},
+                 {"cirrostratus", FOG_TABLE_MIN_SUN_DEG_CLOUDS - 0.1, 0, 0},
+                 {"cirrostratus", 3.0, 0, 0},
+                 {"cirrostratus", -3.0, 0, 0}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         fm_sky_params p = fm_sky_params_default();
         p.fog_visibility_m = 200.0;
@@ -326,10 +332,11 @@ static void where_the_column_applies(void **state)
         p.clouds = cases[i].clouds;
         fm_sky *sky = test_sky(&p);
         fm_render_params rp = fm_render_params_default();
-        render_job job = {.sky = sky, .params = &rp};
+        render_job job = {.sky = sky, .params = &rp, .fog_from_above = 1};
         print_message("fog%s%s, sun %.2f: the column %s\n", cases[i].clouds ? " under " : "",
                       cases[i].clouds ? cases[i].clouds : "", cases[i].sun_deg, fog_table_applies(&job) ? "applies" : "does not");
         assert_int_equal(fog_table_applies(&job), cases[i].applies);
+        assert_int_equal(fog_table_from_above(&job), cases[i].from_above);
         fm_sky_destroy(sky);
     }
 }

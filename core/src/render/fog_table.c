@@ -3,6 +3,7 @@
 #include "base/quadrature.h"
 #include "base/threads.h"
 #include "base/units.h"
+#include "render/fog_incident.h"
 #include "render/ms_table.h"
 #include "render/render_job.h"
 #include "sky.h"
@@ -42,6 +43,8 @@ typedef struct fog_column {
     double top_radius;             /* the fog's top, m from the planet's centre */
     double top_m[PLANE_COLUMN_MAX_LAYERS]; /* each layer's top, m above the ground */
     double ground[FM_MAX_WAVELENGTHS]; /* what the column adds to the ground's irradiance */
+    const fog_incident *incident;  /* at a low sun (fog_table_from_above): the light on the fog's top,
+                                    * and the column the fog alone; else NULL */
 } fog_column;
 
 /* ---- where it applies ------------------------------------------------------------------------ */
@@ -78,11 +81,23 @@ int fog_table_sky(const fm_sky *sky)
     return 1;
 }
 
+int fog_table_from_above(const render_job *job)
+{
+    const fm_sky *sky = job->sky;
+    const double z = sky->sun_dir.z, altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    const int cloud = column_cloud(sky);
+    return job->fog_from_above && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
+           sky->composition.cloud_count == 1 && cloud >= 0 && sky->composition.cloud[cloud].base_m <= 0.0 &&
+           altitude < FOG_TABLE_ON_GROUND_M && z < sin(FOG_TABLE_MIN_SUN_DEG * FM_DEG) &&
+           z >= sin(FOG_TABLE_TWILIGHT_MIN_SUN_DEG * FM_DEG);
+}
+
 int fog_table_applies(const render_job *job)
 {
     const double min_sun = job->sky->composition.cloud_count > 1 ? FOG_TABLE_MIN_SUN_DEG_CLOUDS : FOG_TABLE_MIN_SUN_DEG;
-    return !job->twilight && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
-           job->sky->sun_dir.z >= sin(min_sun * FM_DEG) && column_cloud(job->sky) >= 0;
+    return (!job->twilight && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
+            job->sky->sun_dir.z >= sin(min_sun * FM_DEG) && column_cloud(job->sky) >= 0) ||
+           fog_table_from_above(job);
 }
 
 void fog_table_size(quality_settings *q)
@@ -123,11 +138,11 @@ static int ascending(const void *a, const void *b)
 }
 
 /* The layers' boundaries and every species' column in each (top layer first): the column's cloud
- * from base to fog_top (its top), the air below its base broken as above (none in fog). */
-static void column_layers(fog_column *fc, const fm_sky *sky, double base, double fog_top)
+ * from base to fog_top (its top), the air below its base broken as above (none in fog), up to toa (m
+ * above the ground: the atmosphere's top, or the fog's profile's for the fog alone). */
+static void column_layers(fog_column *fc, const fm_sky *sky, double base, double fog_top, double toa)
 {
     const atmosphere *atm = &sky->atm;
-    const double toa = atm->top_radius_m - atm->bottom_radius_m;
     double z[PLANE_COLUMN_MAX_LAYERS + 1] = {0.0, fog_top, toa};
     int n = fog_top < toa ? 3 : 2;
     if (n == 2)
@@ -485,6 +500,38 @@ static void air_beam_cosines(const fog_column *fc, const fm_sky *sky, int k, con
     }
 }
 
+/* The light from above (fc->incident) at the sky nodes at wavelength k added to the table's sums: the
+ * light the fog and the ground scatter, and the field seen through the fog along the view less its
+ * single scattering seen so (the single-scattering table's).  The field's scatterings within the
+ * droplets' truncated peak go with it through the scaled optical depth (it is smooth over their few
+ * degrees).  work: n_mu x FOG_MOMENTS.  Nonzero: no memory. */
+static int diffuse_nodes(const fog_column *fc, const scaled_layer *sl, const plane_layer *pl, int k, double *work)
+{
+    const fog_incident *in = fc->incident;
+    ms_table *t = fc->job->ms;
+    const int K = in->K, M = FOG_MOMENTS, cols = t->grid.cols, rows = t->grid.rows_sky;
+    plane_column col = {.streams = FOG_STREAMS, .layer_count = fc->layers, .layer = pl,
+                        .ground_albedo = fc->job->sky->atm.ground_albedo[k], .mu0 = 1.0, .n_mu = rows, .mu = fc->mu};
+    if (plane_column_diffuse_level(&col, fc->level, in->field + (size_t)k * FOG_STREAMS * M, work, NULL, NULL))
+        return 1;
+    double scaled = 0.0, depth = 0.0;
+    for (int l = 0; l < fc->level; l++) {
+        scaled += pl[l].tau;
+        depth += sl[l].tau;
+    }
+    for (int i = 0; i < rows * cols; i++) {
+        double e, phi;
+        sky_grid_node_angles(&t->grid, i, &e, &phi);
+        const double *modes = work + (size_t)(i / cols) * M, mu = fc->mu[i / cols];
+        double L = modes[0];
+        for (int m = 1; m < M; m++)
+            L += 2.0 * modes[m] * cos(m * phi);
+        L += exp(-scaled / mu) * in->seen[(size_t)i * K + k] - exp(-depth / mu) * in->single[(size_t)i * K + k];
+        t->sum[(size_t)i * K + k] += L;
+    }
+    return 0;
+}
+
 /* Work item: the table's sums at one grid wavelength. */
 static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
 {
@@ -494,7 +541,10 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
     const atmosphere *atm = &sky->atm;
     ms_table *t = job->ms;
     const int K = atm->grid.count, M = FOG_MOMENTS, cols = t->grid.cols, rows = t->grid.rows_sky;
-    const double mu0 = sky->sun_dir.z;
+    /* the beam: none with the sun at or below the horizon (the light from above alone; mu0 then
+     * stands in for the beam's cosine in what the beam's nil scale takes out) */
+    const int beam = sky->sun_dir.z > 0.0;
+    const double mu0 = beam ? sky->sun_dir.z : 1.0;
     (void)thread;
     for (int64_t k = begin; k < end; k++) {
         scaled_layer sl[PLANE_COLUMN_MAX_LAYERS];
@@ -503,7 +553,8 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         above[0] = 0.0;
         for (int l = 0; l < fc->layers; l++)
             layer_at(fc, atm, l, (int)k, &sl[l], &pl[l]);
-        air_beam_cosines(fc, sky, (int)k, sl, pl);
+        if (beam)
+            air_beam_cosines(fc, sky, (int)k, sl, pl);
         for (int l = 0; l < fc->layers; l++) {
             const double mu_l = pl[l].mu0 > 0.0 ? pl[l].mu0 : mu0; /* the beam's depth: tau mu0 / mu_l */
             above[l + 1] = above[l] + sl[l].tau * mu0 / mu_l;
@@ -512,8 +563,8 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         }
         plane_column col = {.streams = FOG_STREAMS, .layer_count = fc->layers, .layer = pl,
                             .ground_albedo = atm->ground_albedo[k], .mu0 = mu0, .n_mu = fc->n_mu, .mu = fc->mu};
-        double *down = malloc(sizeof(double) * (size_t)(2 * fc->n_mu * M)), *up = down + fc->n_mu * M, ground;
-        if (!down || plane_column_level(&col, fc->level, down, fc->on_ground ? NULL : up, NULL) ||
+        double *down = calloc((size_t)(2 * fc->n_mu * M), sizeof(double)), *up = down + fc->n_mu * M, ground;
+        if (!down || (beam && plane_column_level(&col, fc->level, down, fc->on_ground ? NULL : up, NULL)) ||
             (!fc->on_ground && plane_column_level(&col, fc->layers, NULL, NULL, &ground))) {
             free(down);
             atomic_store(&job->no_memory, 1);
@@ -521,8 +572,9 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
         }
         /* the beam at the fog's top the sun table's (the layers' cosines make it so but for the
          * table's interpolation) */
-        double T_sph[FM_MAX_WAVELENGTHS];
-        sun_irradiance_lookup(&sky->sun_table, atm, &sky->sun, fc->top_radius, mu0, T_sph);
+        double T_sph[FM_MAX_WAVELENGTHS] = {0};
+        if (beam)
+            sun_irradiance_lookup(&sky->sun_table, atm, &sky->sun, fc->top_radius, mu0, T_sph);
         const double scale = atm->grid.solar_irradiance[k] * T_sph[k] / exp(-above_fog / mu0);
         if (peak_light(fc, sl, pl, (int)k, exp(-above[fc->level] / mu0) * scale)) {
             free(down);
@@ -530,7 +582,7 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
             return;
         }
         const double *rest = t->peak + (size_t)K * FOG_PEAK_ANGLES;
-        for (int r = 0; r < rows + (fc->on_ground ? 0 : t->grid.rows_ground); r++)
+        for (int r = 0; r < (scale > 0.0 ? rows + (fc->on_ground ? 0 : t->grid.rows_ground) : 0); r++)
             for (int c = 0; c < cols; c++) {
                 double e, phi;
                 sky_grid_node_angles(&t->grid, r * cols + c, &e, &phi);
@@ -549,11 +601,44 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
          * of it but the direct beam and order 1, which the ground's own quadrature holds */
         if (!fc->on_ground)
             fc->ground[k] = scale * mu0 * (ground - exp(-above[fc->layers] / mu0));
+        if (fc->incident && diffuse_nodes(fc, sl, pl, (int)k, down)) {
+            free(down);
+            atomic_store(&job->no_memory, 1);
+            return;
+        }
         free(down);
     }
 }
 
 /* ---- the table ------------------------------------------------------------------------------- */
+
+/* The fog's and the ground's diffuse albedo seen from above at every grid wavelength (the column of
+ * the fog alone under an isotropic field): the ground of the sky that lights it (fog_incident.h). */
+static fm_status fog_albedo(const fog_column *fc, double *albedo)
+{
+    const atmosphere *atm = &fc->job->sky->atm;
+    const int M = FOG_MOMENTS;
+    double mu[FOG_STREAMS], field[FOG_STREAMS * FOG_MOMENTS] = {0}, up[FOG_STREAMS * FOG_MOMENTS];
+    plane_column_nodes(FOG_STREAMS, mu);
+    for (int j = 0; j < FOG_STREAMS; j++)
+        field[j * M] = 1.0;
+    const gauss_rule *g = gauss_legendre_cached(FOG_STREAMS);
+    for (int k = 0; k < atm->grid.count; k++) {
+        scaled_layer sl[PLANE_COLUMN_MAX_LAYERS];
+        plane_layer pl[PLANE_COLUMN_MAX_LAYERS];
+        for (int l = 0; l < fc->layers; l++)
+            layer_at(fc, atm, l, k, &sl[l], &pl[l]);
+        plane_column col = {.streams = FOG_STREAMS, .layer_count = fc->layers, .layer = pl,
+                            .ground_albedo = atm->ground_albedo[k], .mu0 = 1.0, .n_mu = FOG_STREAMS, .mu = mu};
+        fm_status s = plane_column_diffuse_level(&col, 0, field, NULL, up, NULL);
+        if (s)
+            return s;
+        albedo[k] = 0.0; /* the upward flux over the downward pi */
+        for (int j = 0; j < FOG_STREAMS; j++)
+            albedo[k] += 2.0 * 0.5 * g->w[j] * mu[j] * up[j * M];
+    }
+    return FM_OK;
+}
 
 /* The view cosines of the table's rows: the sky's looking up, the ground's looking down. */
 static void view_cosines(fog_column *fc, const sky_grid *g)
@@ -566,7 +651,7 @@ static void view_cosines(fog_column *fc, const sky_grid *g)
     }
 }
 
-fm_status fog_table_fill(render_job *job)
+fm_status fog_table_fill(render_job *job, fog_tables_fn tables)
 {
     const fm_sky *sky = job->sky;
     const atmosphere *atm = &sky->atm;
@@ -580,11 +665,28 @@ fm_status fog_table_fill(render_job *job)
     fc->job = job;
     const int cloud = column_cloud(sky);
     const double base = sky->composition.cloud[cloud].base_m;
-    const double fog_top = base + sky->composition.cloud[cloud].thickness_m;
+    double fog_top = base + sky->composition.cloud[cloud].thickness_m;
+    const int from_above = fog_table_from_above(job);
+    if (from_above) {
+        /* the fog alone: its droplets thin out to the profile's next node above its top (the layer's
+         * density is half at its top node, cloud_layer.c), a sixteenth of its optical depth for 200 m */
+        column_layers(fc, sky, 0.0, fog_top, fog_top + FM_PROFILE_SPACING_M);
+        fog_top += FM_PROFILE_SPACING_M;
+        fc->fog_layers = fc->layers; /* the beam as the sun table has it at the column's top */
+    } else {
+        column_layers(fc, sky, fmax(base, 0.0), fog_top, atm->top_radius_m - atm->bottom_radius_m);
+    }
     fc->top_radius = atm->bottom_radius_m + fog_top;
-    column_layers(fc, sky, fmax(base, 0.0), fog_top);
     view_cosines(fc, &t->grid);
     fm_status s = species_moments(fc, atm);
+    fog_incident incident = {0};
+    if (!s && from_above) {
+        double albedo[FM_MAX_WAVELENGTHS];
+        s = fog_albedo(fc, albedo);
+        if (!s)
+            s = fog_incident_build(job, tables, cloud, fog_top, albedo, FOG_STREAMS, FOG_MOMENTS, &t->grid, &incident);
+        fc->incident = &incident;
+    }
     free(t->peak);
     if (!s && !(t->peak = calloc(2 * (size_t)K * FOG_PEAK_ANGLES, sizeof(double))))
         s = FM_ERR_OUT_OF_MEMORY;
@@ -614,6 +716,7 @@ fm_status fog_table_fill(render_job *job)
         }
         ground_irradiance_add(&job->ground, fc->ground);
     }
+    fog_incident_free(&incident);
     free(fc->chi);
     free(fc);
     return s;

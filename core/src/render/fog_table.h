@@ -16,6 +16,7 @@
 
 #include "base/vec.h"
 #include "firmament/firmament.h"
+#include "render/fog_incident.h"
 
 struct render_job;
 
@@ -36,7 +37,15 @@ struct render_job;
  * times too bright), so a lower sun keeps the paths. */
 #define FOG_TABLE_MIN_SUN_DEG_CLOUDS 8.0
 
-/* Whether the job's table comes from the column: by day, not in the reference mode, no deck base
+/* Below FOG_TABLE_MIN_SUN_DEG, down to the end of astronomical twilight, fog alone around an observer
+ * on the ground (below FOG_TABLE_ON_GROUND_M) takes the column of the fog alone lit from above by the
+ * spherical sky without the fog (render/fog_incident.h) and, with the sun up, by the beam at the
+ * fog's top (docs/decisions/2026-12-07-twilight-fog.md), where the job lets it (fog_from_above). */
+#define FOG_TABLE_TWILIGHT_MIN_SUN_DEG (-18.0)
+#define FOG_TABLE_ON_GROUND_M 0.5
+int fog_table_from_above(const struct render_job *job);
+
+/* Whether the job's table comes from the column: fog_table_from_above, or by day, not in the reference mode, no deck base
  * (deck_base.h) built, the observer in a fog layer (a cloud layer from the ground up) of
  * FOG_TABLE_MAX_VISIBILITY_M or less or below or inside a layer of FOG_TABLE_MIN_TAU or more, the
  * sun FOG_TABLE_MIN_SUN_DEG (FOG_TABLE_MIN_SUN_DEG_CLOUDS with other clouds) or more up.  The ground's irradiance then takes orders >= 2 from the
@@ -56,8 +65,9 @@ struct quality_settings;
 void fog_table_size(struct quality_settings *q);
 
 /* Fills the job's multiple-scattering table from the column (values and the sums the ground's
- * irradiance reads, one "path" per node), in place of its paths and fit. */
-fm_status fog_table_fill(struct render_job *job);
+ * irradiance reads, one "path" per node), in place of its paths and fit; below the sun of
+ * fog_table_from_above, tables makes the tables of the sky above the fog (fog_incident.h). */
+fm_status fog_table_fill(struct render_job *job, fog_tables_fn tables);
 
 /* Adds the light scattered several times within the droplets' truncated peak, within a few degrees
  * of the sun, to the single-scattering table (once it is filled; the table from the column holds its

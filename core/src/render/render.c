@@ -325,9 +325,19 @@ fm_status render_fast_tables_begin(render_job *job, fm_error *err)
     return s ? render_failed(s, err) : FM_OK;
 }
 
+/* The fast tables of the sky above fog (fog_incident.h): its twilight sampling, then its tables. */
+static fm_status sky_above_fog_tables(render_job *job, twilight_sampling **tw)
+{
+    fm_error err;
+    fm_status s = render_twilight(job, tw, &err);
+    job->twilight = *tw;
+    return s ? s : render_fast_tables(job, asin(clamp_cosine(job->sky->sun_dir.z)), &err);
+}
+
 fm_status render_fast_tables_fill(render_job *job, double sun_elevation, fm_error *err)
 {
-    fm_status s = fog_table_applies(job) ? fog_table_fill(job) : ms_table_fill(job, sun_elevation / FM_DEG);
+    fm_status s = fog_table_applies(job) ? fog_table_fill(job, sky_above_fog_tables)
+                                         : ms_table_fill(job, sun_elevation / FM_DEG);
     return s ? render_failed(s, err) : FM_OK;
 }
 
@@ -430,7 +440,7 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
 {
     *out = NULL;
     ms_table ms = {0};
-    render_job job = {.sky = sky, .params = params, .ms = &ms, .fine_fog_table = 1};
+    render_job job = {.sky = sky, .params = params, .ms = &ms, .fine_fog_table = 1, .fog_from_above = 1};
     fm_status s = render_start(&job, err);
     if (s)
         return s;

@@ -44,6 +44,9 @@ typedef struct render_job {
     int fine_fog_table;                /* the caller takes a multiple-scattering table finer than the
                                         * quality's where fog fills it (fog_table_size; fm_render and
                                         * the live sky's nodes) */
+    int fog_from_above;                /* the caller lets fog below FOG_TABLE_MIN_SUN_DEG take the column
+                                        * lit by the sky above the fog (fog_table_from_above): fm_render,
+                                        * not the live sky's nodes (a sky more to build per node) */
     fm_image *img;
     atomic_int no_memory; /* a worker could not allocate */
 } render_job;
