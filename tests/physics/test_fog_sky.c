@@ -12,7 +12,7 @@
  *    (radiances up and down), within 1 % plus 3 standard errors of the path tracer, and within 3 %
  *    plus 3 standard errors 4 to 9 degrees from the sun (the peak's light there);
  *    and with the sun 8 and 0.2 degrees up (FOG_TABLE_MIN_SUN_DEG), within 2 % plus 3 standard errors;
- *  - where the column applies (fog alone from 0.2 degrees, and below it down to -18 lit by the sky above
+ *  - where the column applies (fog alone from 0.2 degrees, and below 3 down to -18 lit by the sky above
  *    the fog, test_fog_twilight; under another cloud from 8).
  * Faults it fails on: the air above the fog left out of the column (the irradiance 17 % high), the
  * ground's reflection left out of the column (every check), the ground's light not taken from the
@@ -315,7 +315,9 @@ static void where_the_column_applies(void **state)
         double sun_deg;
         int applies;
         int from_above; /* fog_table_from_above: the fog alone lit by the sky above it */
-    } cases[] = {{NULL, FOG_TABLE_MIN_SUN_DEG, 1, 0},
+    } cases[] = {{NULL, FOG_TABLE_BLEND_TO_DEG, 1, 0},
+                 {NULL, FOG_TABLE_BLEND_TO_DEG - 0.01, 1, 1},
+                 {NULL, FOG_TABLE_MIN_SUN_DEG, 1, 1},
                  {NULL, FOG_TABLE_MIN_SUN_DEG - 0.01, 1, 1},
                  {NULL, -6.0, 1, 1},
                  {NULL, FOG_TABLE_TWILIGHT_MIN_SUN_DEG, 1, 1},

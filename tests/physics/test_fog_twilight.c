@@ -3,12 +3,15 @@
  * column of the fog alone lit from above by the spherical sky without the fog (render/fog_incident.h).
  * Fog of 200 m visibility (0-200 m, optical depth 3.9) in the built-in atmosphere, 550 nm, the sun
  * 1 and 3 degrees below the horizon: the diffuse irradiance at the ground and radiances across the
- * sky against the reference estimator's plain path tracing of every order (with the twilight
- * sampling, as the reference mode), within 2 % plus 3 standard errors; and two seeds give the same
- * table to 0.5 % (the paths of the sky above the fog are the only noise left).
- * Faults it fails on: the field's azimuthal modes above 0 dropped (the view opposite the sun),
- * the fog's albedo left out of the sky above it (every check: the air's light sent back down).
- * About 40 s of CPU, nearly all of it the path tracer. */
+ * sky against the reference estimator's plain path tracing of every order (sky_path.h; with the
+ * twilight sampling its estimates in fog were far off their standard errors), within 2 % plus 3
+ * standard errors; two seeds give the same table to 0.5 % (the paths of the sky above the fog are
+ * the only noise left); and the zenith's and the horizon's radiance do not jump at
+ * FOG_TABLE_MIN_SUN_DEG, nor at FOG_TABLE_BLEND_TO_DEG, where the day's column takes over.
+ * Faults it fails on: the field's azimuthal modes above 0 dropped (sun -3: 60 degrees up opposite the
+ * sun +26 %; sun -1: 30 degrees up toward it -13 %), the blend with the day's column left out (the
+ * zenith +3.0 % across 3 degrees).
+ * About 60 s of CPU, most of it the path tracer. */
 #include "check.h"
 
 #include "base/rng.h"
@@ -39,7 +42,7 @@ typedef struct tables {
     twilight_sampling *tw;
 } tables;
 
-static void fast_tables(const fm_sky *sky, uint64_t seed, tables *t)
+static void fast_tables(const fm_sky *sky, uint64_t seed, tables *t, int from_above)
 {
     t->rp = fm_render_params_default();
     t->rp.width = 64;
@@ -51,7 +54,7 @@ static void fast_tables(const fm_sky *sky, uint64_t seed, tables *t)
     assert_int_equal(render_start(&t->job, &err), FM_OK);
     assert_int_equal(render_twilight(&t->job, &t->tw, &err), FM_OK);
     t->job.twilight = t->tw;
-    assert_true(fog_table_from_above(&t->job));
+    assert_int_equal(fog_table_from_above(&t->job), from_above);
     assert_int_equal(render_fast_tables(&t->job, asin(sky->sun_dir.z), &err), FM_OK);
     assert_int_equal(t->job.paths_per_node, 0); /* the column's table, not paths */
 }
@@ -103,7 +106,7 @@ static void fog_in_twilight(double sun_deg, uint64_t seed)
 {
     fm_sky *sky = fog_sky(sun_deg);
     tables t;
-    fast_tables(sky, 0, &t);
+    fast_tables(sky, 0, &t, 1);
     path_context all = sky_path_context(sky, 1, 0);
     char what[96];
     double diffuse, se;
@@ -121,7 +124,7 @@ static void fog_in_twilight(double sun_deg, uint64_t seed)
     }
     /* another seed: the same table but for the noise of the sky above the fog */
     tables u;
-    fast_tables(sky, 7, &u);
+    fast_tables(sky, 7, &u, 1);
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++) {
         const double e = views[i][0] * FM_DEG, phi = views[i][1] * FM_DEG;
         snprintf(what, sizeof what, "sun %g, seeds 0 and 7: elevation %.0f, azimuth %.0f", sun_deg, views[i][0], views[i][1]);
@@ -144,11 +147,44 @@ static void fog_at_sun_minus_3(void **state)
     fog_in_twilight(-3.0, 29);
 }
 
+/* The zenith's and the horizon's radiance on either side of FOG_TABLE_MIN_SUN_DEG and
+ * FOG_TABLE_BLEND_TO_DEG (0.01 degrees apart): no jump, less than 1 % (the sky brightens by some 0.5 %
+ * per 0.01 degrees there). */
+static void no_jump(double sun_deg)
+{
+    double L[2][3];
+    for (int side = 0; side < 2; side++) {
+        fm_sky *sky = fog_sky(sun_deg + (side ? 0.005 : -0.005));
+        tables t;
+        fast_tables(sky, 0, &t, sky->sun_dir.z < sin(FOG_TABLE_BLEND_TO_DEG * FM_DEG));
+        L[side][0] = table_radiance(&t, 0.5 * FM_PI, 0.0);
+        L[side][1] = table_radiance(&t, 5.0 * FM_DEG, 0.0);
+        L[side][2] = table_radiance(&t, 5.0 * FM_DEG, FM_PI);
+        free_tables(&t);
+        fm_sky_destroy(sky);
+    }
+    static const char *const what[] = {"zenith", "horizon toward the sun", "horizon away from it"};
+    for (int i = 0; i < 3; i++) {
+        char label[96];
+        snprintf(label, sizeof label, "sun %g +- 0.005: the %s", sun_deg, what[i]);
+        print_message("%s: %.6g, %.6g (%+.2f%%)\n", label, L[0][i], L[1][i], 100.0 * (L[1][i] / L[0][i] - 1.0));
+        check_rel(L[1][i], L[0][i], 0.01, label);
+    }
+}
+
+static void no_jump_at_the_thresholds(void **state)
+{
+    (void)state;
+    no_jump(FOG_TABLE_MIN_SUN_DEG);
+    no_jump(FOG_TABLE_BLEND_TO_DEG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(fog_at_sun_minus_1),
         cmocka_unit_test(fog_at_sun_minus_3),
+        cmocka_unit_test(no_jump_at_the_thresholds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

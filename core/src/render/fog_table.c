@@ -88,7 +88,7 @@ int fog_table_from_above(const render_job *job)
     const int cloud = column_cloud(sky);
     return job->fog_from_above && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
            sky->composition.cloud_count == 1 && cloud >= 0 && sky->composition.cloud[cloud].base_m <= 0.0 &&
-           altitude < FOG_TABLE_ON_GROUND_M && z < sin(FOG_TABLE_MIN_SUN_DEG * FM_DEG) &&
+           altitude < FOG_TABLE_ON_GROUND_M && z < sin(FOG_TABLE_BLEND_TO_DEG * FM_DEG) &&
            z >= sin(FOG_TABLE_TWILIGHT_MIN_SUN_DEG * FM_DEG);
 }
 
@@ -651,14 +651,15 @@ static void view_cosines(fog_column *fc, const sky_grid *g)
     }
 }
 
-fm_status fog_table_fill(render_job *job, fog_tables_fn tables)
+/* The column's sums into the table (t->sum and t->peak) and what it adds to the ground's irradiance
+ * (ground; on_ground: whether the observer is there), lit by the beam and the air above the fog, or
+ * (from_above) the column of the fog alone lit by the sky above it. */
+static fm_status column_sums(render_job *job, int from_above, fog_tables_fn tables, double *ground, int *on_ground)
 {
     const fm_sky *sky = job->sky;
     const atmosphere *atm = &sky->atm;
     ms_table *t = job->ms;
     const int K = atm->grid.count, nodes = sky_grid_nodes(&t->grid);
-    if (t->grid.rows_sky + t->grid.rows_ground > (int)(sizeof ((fog_column *)0)->mu / sizeof(double)))
-        return FM_ERR_INVALID_ARGUMENT;
     fog_column *fc = calloc(1, sizeof *fc);
     if (!fc)
         return FM_ERR_OUT_OF_MEMORY;
@@ -666,7 +667,6 @@ fm_status fog_table_fill(render_job *job, fog_tables_fn tables)
     const int cloud = column_cloud(sky);
     const double base = sky->composition.cloud[cloud].base_m;
     double fog_top = base + sky->composition.cloud[cloud].thickness_m;
-    const int from_above = fog_table_from_above(job);
     if (from_above) {
         /* the fog alone: its droplets thin out to the profile's next node above its top (the layer's
          * density is half at its top node, cloud_layer.c), a sixteenth of its optical depth for 200 m */
@@ -698,6 +698,47 @@ fm_status fog_table_fill(render_job *job, fog_tables_fn tables)
         if (!s && atomic_load(&job->no_memory))
             s = FM_ERR_OUT_OF_MEMORY;
     }
+    memcpy(ground, fc->ground, sizeof(double) * (size_t)K);
+    *on_ground = fc->on_ground;
+    fog_incident_free(&incident);
+    free(fc->chi);
+    free(fc);
+    return s;
+}
+
+double fog_table_above_share(const render_job *job)
+{
+    if (!fog_table_from_above(job))
+        return 0.0;
+    const double e = asin(clamp_cosine(job->sky->sun_dir.z)) / FM_DEG;
+    return e < FOG_TABLE_MIN_SUN_DEG ? 1.0 : (FOG_TABLE_BLEND_TO_DEG - e) / (FOG_TABLE_BLEND_TO_DEG - FOG_TABLE_MIN_SUN_DEG);
+}
+
+fm_status fog_table_fill(render_job *job, fog_tables_fn tables)
+{
+    const fm_sky *sky = job->sky;
+    const atmosphere *atm = &sky->atm;
+    ms_table *t = job->ms;
+    const int K = atm->grid.count, nodes = sky_grid_nodes(&t->grid);
+    if (t->grid.rows_sky + t->grid.rows_ground > (int)(sizeof ((fog_column *)0)->mu / sizeof(double)))
+        return FM_ERR_INVALID_ARGUMENT;
+    const double share = fog_table_above_share(job);
+    double ground[FM_MAX_WAVELENGTHS], day_ground[FM_MAX_WAVELENGTHS];
+    int on_ground;
+    fm_status s = FM_OK;
+    double *day = NULL; /* between the thresholds: the column lit by the beam and the air, to blend */
+    if (share > 0.0 && share < 1.0 && !(s = column_sums(job, 0, tables, day_ground, &on_ground)) &&
+        (day = malloc(sizeof(double) * (size_t)nodes * K)))
+        memcpy(day, t->sum, sizeof(double) * (size_t)nodes * K);
+    else if (share > 0.0 && share < 1.0 && !s)
+        s = FM_ERR_OUT_OF_MEMORY;
+    if (!s)
+        s = column_sums(job, share > 0.0, tables, ground, &on_ground);
+    for (size_t i = 0; i < (size_t)nodes * K && day && !s; i++)
+        t->sum[i] = share * t->sum[i] + (1.0 - share) * day[i];
+    for (int k = 0; k < K && day && !s; k++)
+        ground[k] = share * ground[k] + (1.0 - share) * day_ground[k];
+    free(day);
     if (!s) {
         /* the nodes as one path each, already the whole of orders >= 2: no fit */
         t->paths = 1;
@@ -708,17 +749,14 @@ fm_status fog_table_fill(render_job *job, fog_tables_fn tables)
             render_channels(atm, job->channels, L, &t->grid.values[(size_t)i * job->channels]);
         }
         job->paths_per_node = 0;
-        if (!fc->on_ground) { /* the ground's quadrature holds order 1 (render.c builds it without paths) */
+        if (!on_ground) { /* the ground's quadrature holds order 1 (render.c builds it without paths) */
             double order1[FM_MAX_WAVELENGTHS];
             ground_irradiance_lookup(&job->ground, sky->sun_dir.z, order1);
             for (int k = 0; k < K; k++)
-                fc->ground[k] -= order1[k];
+                ground[k] -= order1[k];
         }
-        ground_irradiance_add(&job->ground, fc->ground);
+        ground_irradiance_add(&job->ground, ground);
     }
-    fog_incident_free(&incident);
-    free(fc->chi);
-    free(fc);
     return s;
 }
 

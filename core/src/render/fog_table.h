@@ -40,10 +40,16 @@ struct render_job;
 /* Below FOG_TABLE_MIN_SUN_DEG, down to the end of astronomical twilight, fog alone around an observer
  * on the ground (below FOG_TABLE_ON_GROUND_M) takes the column of the fog alone lit from above by the
  * spherical sky without the fog (render/fog_incident.h) and, with the sun up, by the beam at the
- * fog's top (docs/decisions/2026-12-07-twilight-fog.md), where the job lets it (fog_from_above). */
+ * fog's top (docs/decisions/2026-12-07-twilight-fog.md), where the job lets it (fog_from_above).
+ * Up to FOG_TABLE_BLEND_TO_DEG the table is that column's and the day's blended, its share falling
+ * linearly from 1 at FOG_TABLE_MIN_SUN_DEG to 0: the two differ by about 3 % there (the day's
+ * column a percent or two bright of the reference, this one as dark), which would be a jump. */
 #define FOG_TABLE_TWILIGHT_MIN_SUN_DEG (-18.0)
+#define FOG_TABLE_BLEND_TO_DEG 3.0
 #define FOG_TABLE_ON_GROUND_M 0.5
+/* Whether the job's table takes that column (wholly or blended), and its share (0 where not). */
 int fog_table_from_above(const struct render_job *job);
+double fog_table_above_share(const struct render_job *job);
 
 /* Whether the job's table comes from the column: fog_table_from_above, or by day, not in the reference mode, no deck base
  * (deck_base.h) built, the observer in a fog layer (a cloud layer from the ground up) of
