@@ -6,8 +6,10 @@
  * ground and views across the sky, a few near the horizon (where the view meets the base some
  * 40-170 km away and the plane differs from the sphere) and a few 4-12 degrees from the sun, within
  * 2 % plus 3 standard errors (the decision record's figures).
+ * Where it applies: from FOG_TABLE_MIN_TAU, with the sun FOG_TABLE_MIN_SUN_DEG_PER_KM degrees per km
+ * of the layer's base up or more.
  * Faults it fails on: the deck's layer left out of the column, the ground's reflection left out of
- * the column (the decision record says by how much).
+ * the column (the decision record says by how much), the base's sun bound left out.
  * About 40 s of CPU, nearly all of it the path tracer. */
 #include "check.h"
 
@@ -94,9 +96,40 @@ static void altostratus_against_the_path_tracer(void **state)
     deck_against_the_path_tracer("altostratus", 30.0);
 }
 
+/* Where the column applies under an elevated layer: from FOG_TABLE_MIN_TAU up, with the sun
+ * FOG_TABLE_MIN_SUN_DEG_PER_KM degrees per km of the layer's base up or more. */
+static void where_the_column_applies(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *clouds;
+        double tau, sun_deg;
+        int applies;
+    } cases[] = {{"altostratus", FOG_TABLE_MIN_TAU, 3.0 * FOG_TABLE_MIN_SUN_DEG_PER_KM + 0.01, 1},
+                 {"altostratus", FOG_TABLE_MIN_TAU, 3.0 * FOG_TABLE_MIN_SUN_DEG_PER_KM - 0.01, 0},
+                 {"altostratus", 0.99 * FOG_TABLE_MIN_TAU, 30.0, 0},
+                 {"cirrostratus", FOG_TABLE_MIN_TAU, 8.0 * FOG_TABLE_MIN_SUN_DEG_PER_KM - 0.01, 0},
+                 {"stratus", 30.0, 3.0, 1}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        fm_sky_params p = fm_sky_params_default();
+        p.wavelength_nm = 550.0;
+        p.sun_elevation_deg = cases[i].sun_deg;
+        p.clouds = cases[i].clouds;
+        p.cloud_tau550 = cases[i].tau;
+        fm_sky *sky = test_sky(&p);
+        fm_render_params rp = fm_render_params_default();
+        render_job job = {.sky = sky, .params = &rp};
+        print_message("%s, tau %g, sun %.2f: the column %s\n", cases[i].clouds, cases[i].tau, cases[i].sun_deg,
+                      fog_table_applies(&job) ? "applies" : "does not");
+        assert_int_equal(fog_table_applies(&job), cases[i].applies);
+        fm_sky_destroy(sky);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(where_the_column_applies),
         cmocka_unit_test(altostratus_against_the_path_tracer),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

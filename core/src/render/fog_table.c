@@ -94,10 +94,15 @@ int fog_table_from_above(const render_job *job)
 
 int fog_table_applies(const render_job *job)
 {
-    const double min_sun = job->sky->composition.cloud_count > 1 ? FOG_TABLE_MIN_SUN_DEG_CLOUDS : FOG_TABLE_MIN_SUN_DEG;
-    return (!job->twilight && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
-            job->sky->sun_dir.z >= sin(min_sun * FM_DEG) && column_cloud(job->sky) >= 0) ||
-           fog_table_from_above(job);
+    if (fog_table_from_above(job))
+        return 1;
+    const fm_sky *sky = job->sky;
+    const int cloud = column_cloud(sky);
+    if (cloud < 0 || job->twilight || job->under_deck || job->params->quality == FM_QUALITY_REFERENCE)
+        return 0;
+    double min_sun = sky->composition.cloud_count > 1 ? FOG_TABLE_MIN_SUN_DEG_CLOUDS : FOG_TABLE_MIN_SUN_DEG;
+    min_sun = fmax(min_sun, FOG_TABLE_MIN_SUN_DEG_PER_KM * sky->composition.cloud[cloud].base_m / 1000.0);
+    return sky->sun_dir.z >= sin(min_sun * FM_DEG);
 }
 
 void fog_table_size(quality_settings *q)

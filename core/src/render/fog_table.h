@@ -36,6 +36,13 @@ struct render_job;
  * the layers' own slant depths (at 3 degrees under a cirrostratus the diffuse light came out 50
  * times too bright), so a lower sun keeps the paths. */
 #define FOG_TABLE_MIN_SUN_DEG_CLOUDS 8.0
+/* Under an elevated layer the sun at least this many degrees per km of the layer's base: one sun
+ * lights the whole plane, while the deck a view meets d km away is lit by a sun d / R higher or
+ * lower (1.75 degrees at the horizon under a base at 3 km).  Near the sun, where a layer's forward
+ * light follows the sun's elevation steeply, a cirrostratus at 8 km was 12-16 % dark at sun 3 and
+ * up to 10 % at sun 8 (docs/decisions/2026-12-06-cloud-column.md); decks up to 4 km at sun 3 agree
+ * within the reference's noise but for the horizon away from the sun. */
+#define FOG_TABLE_MIN_SUN_DEG_PER_KM 1.0
 
 /* Below FOG_TABLE_MIN_SUN_DEG, down to the end of astronomical twilight, fog alone around an observer
  * on the ground (below FOG_TABLE_ON_GROUND_M) takes the column of the fog alone lit from above by the
