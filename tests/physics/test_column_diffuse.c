@@ -84,7 +84,7 @@ static void no_energy_lost(void **state)
     (void)state;
     const double g = 0.85;
     ad_problem p = {.tau = 8.0, .ssa = 1.0, .ground_albedo = 1.0, .mu0 = 0.5, .phase = ad_phase_hg, .phase_ctx = &g,
-                    .streams = STREAMS, .delta_m = 1};
+                    .streams = STREAMS, .delta_m = 1, .n_mu = 1, .mu = view_mu + N_MU - 1};
     ad_solution s;
     assert_int_equal(ad_solve(&p, &s), 0);
     double node[STREAMS], incident[STREAMS * MODES] = {0};
