@@ -54,7 +54,9 @@
 #                                   CPU time, memory and one map's noise from two seeds (about 10
 #                                   minutes on 2 cores today)
 #   bench/bench.sh --live           the live sky (docs/rendering.md, "Live sky"; bench/live_bench.c):
-#                                   per biome (none, rural, urban) the build time (wall and CPU), the
+#                                   per biome (none, rural, urban) the build time (wall and CPU: the
+#                                   whole, then its two parts: the build a first map by day waits for,
+#                                   and the deep twilight band a first sun below -3 degrees adds), the
 #                                   tables' memory, the time from a new sun to a written 512 x 256 map
 #                                   (median of 40 suns; in half floats without the sun disk, as the
 #                                   add-on's live maps, and in floats with it; wall and CPU, render and
@@ -67,7 +69,8 @@
 #                                   steps across the grid (the largest step across a grid elevation
 #                                   against the largest elsewhere); and `firmament serve` as a client
 #                                   sees it (bench/serve_latency.py, 512 x 256 maps of the default
-#                                   sky): a request that builds the atmosphere, a new server's first
+#                                   sky): a request that builds the atmosphere (sun 30: all but the deep
+#                                   twilight band), the next at -18 (the band built), a new server's first
 #                                   with it on the disk, 40 suns with it in memory (median, 90th
 #                                   percentile, largest; the server's atmosphere, render, write parts)
 #   bench/bench.sh --make-reference rewrites the converged references (after a change of the physics;

@@ -2,7 +2,10 @@
 """`firmament serve` as the add-on's live sky uses it: the time from writing a request to reading its
 reply (a map written and renamed into place, its sidecar read back), per atmosphere source.
 Prints, for one atmosphere (the default sky, or the biome given):
-  build   the first request of a server with an empty cache: the atmosphere built, then the map
+  build   the first request (a sun of 30 degrees) of a server with an empty cache: the atmosphere
+          built but for its deep twilight band, then the map
+  deep    that server's second request, a sun of -18 degrees: the deep twilight band built (and the
+          cache file saved again), then the map
   disk    the first request of a second server on that cache: the atmosphere read from the disk
   memory  median, 90th percentile and largest of N sun changes (a sweep of elevations and azimuths)
           on a warm server, one request at a time (each sent once the previous is answered)
@@ -51,9 +54,12 @@ def main():
         for source in ("build", "disk"):
             p = server(fm, cache, tmp)
             t, reply = request(p, {**base, "output": "first.exr", "sun_elevation": 30})
+            rows.append((source, reply["cache"], [t], [reply["stage_seconds"]]))
+            if source == "build":
+                t, reply = request(p, {**base, "output": "deep.exr", "sun_elevation": -18})
+                rows.append(("deep", reply["cache"], [t], [reply["stage_seconds"]]))
             p.stdin.close()
             p.wait()
-            rows.append((source, reply["cache"], [t], [reply["stage_seconds"]]))
         p = server(fm, cache, tmp)
         request(p, {**base, "output": "warm.exr", "sun_elevation": 30})
         client, own = [], []

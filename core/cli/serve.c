@@ -226,7 +226,7 @@ static void add_seconds(cJSON *obj, const char *name, double s)
 
 /* "done" with the files, the time taken (and per stage), where the atmosphere came from and the
  * sidecar's fields. */
-static cJSON *done_reply(const request *r, const double t[T_COUNT], live_source from)
+static cJSON *done_reply(const request *r, const double t[T_COUNT], live_source from, live_band band)
 {
     cJSON *reply = new_reply(r->id, "done");
     cJSON_AddStringToObject(reply, "output", r->opt.output);
@@ -237,6 +237,7 @@ static cJSON *done_reply(const request *r, const double t[T_COUNT], live_source 
     add_seconds(stages, "render", t[T_RENDER] - t[T_ATMOSPHERE]);
     add_seconds(stages, "write", t[T_WRITE] - t[T_RENDER]);
     cJSON_AddStringToObject(reply, "cache", live_source_name(from));
+    cJSON_AddStringToObject(reply, "deep_twilight", live_band_name(band));
     fm_error err = {0};
     fm_status s;
     json_reader rd = {r->sidecar, "sidecar", &err};
@@ -265,8 +266,9 @@ static cJSON *serve_request(request *r, live_cache *cache, const fm_colour_confi
         return error_reply(r->id, "error", "colorspace", msg);
     }
     fm_sky_params sky;
-    const fm_sky_live *live = NULL;
+    fm_sky_live *live = NULL;
     live_source from = LIVE_BUILT;
+    live_band band = LIVE_BAND_PENDING;
     fm_output *out = NULL;
     fm_image *img = NULL;
     /* the files' temporaries first: a request whose files cannot be made fails before a build */
@@ -274,7 +276,7 @@ static cJSON *serve_request(request *r, live_cache *cache, const fm_colour_confi
     if (!s && !(s = fm_output_open(opt->output, r->sidecar, &out, &err)))
         s = output_set_format(opt, out, &err);
     if (!s)
-        s = live_cache_get(cache, &sky, &cancel_signal, &live, &from, &err);
+        s = live_cache_get(cache, &sky, sky.sun_elevation_deg, &cancel_signal, &live, &from, &band, &err);
     t[T_ATMOSPHERE] = platform_monotonic_seconds();
     if (!s)
         s = fm_sky_live_render(live, sky.sun_elevation_deg, sky.sun_azimuth_deg, &opt->render, &img, &err);
@@ -290,7 +292,7 @@ static cJSON *serve_request(request *r, live_cache *cache, const fm_colour_confi
         return error_reply(r->id, "cancelled", NULL, "interrupted; nothing was written");
     if (s)
         return library_error_reply(r->id, &err);
-    return done_reply(r, t, from);
+    return done_reply(r, t, from, band);
 }
 
 /* ---- the command -------------------------------------------------------------------------------- */

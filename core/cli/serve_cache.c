@@ -29,6 +29,11 @@ const char *live_source_name(live_source s)
     return s == LIVE_FROM_MEMORY ? "memory" : s == LIVE_FROM_DISK ? "disk" : "built";
 }
 
+const char *live_band_name(live_band b)
+{
+    return b == LIVE_BAND_BUILT ? "built" : b == LIVE_BAND_READY ? "ready" : "pending";
+}
+
 live_cache *live_cache_open(const char *dir, int keep)
 {
     live_cache *c = calloc(1, sizeof *c);
@@ -88,15 +93,20 @@ static slot *free_slot(live_cache *c)
     return oldest;
 }
 
-fm_status live_cache_get(live_cache *c, const fm_sky_params *params, const atomic_int *cancel, const fm_sky_live **out,
-                         live_source *source, fm_error *err)
+/* The atmosphere's tables into its cache file, when there is a folder (the server goes on when they
+ * cannot be saved: cold next time). */
+static void save(const fm_sky_live *live, const char *path)
 {
-    char key[33];
-    fm_sky_live_key(params, key);
-    fm_sky_params p = *params; /* the cloud optics go to the server's cache folder too, or nowhere */
-    p.cache_dir = c->dir;
-    params = &p;
-    c->clock++;
+    fm_error unsaved = {0};
+    if (path && fm_sky_live_save(live, path, &unsaved))
+        report_error("serve: cannot save the atmosphere to the cache: %s", unsaved.message);
+}
+
+/* The atmosphere of params (its key, its cache file path or NULL) from memory, the disk or a build
+ * (then saved). */
+static fm_status find(live_cache *c, const fm_sky_params *params, const char *key, const char *path,
+                      const atomic_int *cancel, fm_sky_live **out, live_source *source, fm_error *err)
+{
     for (int i = 0; i < c->keep; i++)
         if (c->slots[i].live && strcmp(c->slots[i].key, key) == 0) {
             c->slots[i].used = c->clock;
@@ -105,7 +115,6 @@ fm_status live_cache_get(live_cache *c, const fm_sky_params *params, const atomi
             return FM_OK;
         }
     slot *s = free_slot(c);
-    char *path = cache_file(c, key);
     fm_sky_live *live = NULL;
     *source = LIVE_FROM_DISK;
     if (path && platform_path_kind(path) == PLATFORM_FILE) {
@@ -118,18 +127,40 @@ fm_status live_cache_get(live_cache *c, const fm_sky_params *params, const atomi
     if (!live) {
         *source = LIVE_BUILT;
         fm_status st = fm_sky_live_create(params, cancel, &live, err);
-        if (st) {
-            free(path);
+        if (st)
             return st;
-        }
-        fm_error unsaved = {0};
-        if (path && fm_sky_live_save(live, path, &unsaved)) /* the server goes on, cold next time */
-            report_error("serve: cannot save the atmosphere to the cache: %s", unsaved.message);
+        save(live, path);
     }
-    free(path);
     memcpy(s->key, key, sizeof s->key);
     s->live = live;
     s->used = c->clock;
     *out = live;
     return FM_OK;
+}
+
+fm_status live_cache_get(live_cache *c, const fm_sky_params *params, double sun_elevation_deg,
+                         const atomic_int *cancel, fm_sky_live **out, live_source *source, live_band *band,
+                         fm_error *err)
+{
+    char key[33];
+    fm_sky_live_key(params, key);
+    fm_sky_params p = *params; /* the cloud optics go to the server's cache folder too, or nowhere */
+    p.cache_dir = c->dir;
+    c->clock++;
+    char *path = cache_file(c, key);
+    fm_sky_live *live = NULL;
+    int built = 0;
+    *band = LIVE_BAND_READY;
+    fm_status s = find(c, &p, key, path, cancel, &live, source, err);
+    if (!s && !fm_sky_live_is_complete(live))
+        s = fm_sky_live_prepare(live, sun_elevation_deg, cancel, &built, err);
+    if (!s && built) /* the file completed: replaced whole (fm_sky_live_save) */
+        save(live, path);
+    if (!s && !fm_sky_live_is_complete(live))
+        *band = LIVE_BAND_PENDING;
+    else if (!s && built)
+        *band = LIVE_BAND_BUILT;
+    free(path);
+    *out = live;
+    return s;
 }

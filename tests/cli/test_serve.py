@@ -11,16 +11,20 @@ session  ten requests of one atmosphere (one malformed, one superseded: two sent
          sidecar, and in the pixels (close to `firmament render` at that sun, far from it at another
          sun); bad requests are answered with the field and `render`'s own message; the atmosphere is
          built once (into the default cache folder, $XDG_CACHE_HOME/firmament) and then taken from
-         memory; the input ends while a request renders and another waits: both are answered.
+         memory, without its deep twilight band until the first sun below -3 degrees builds it (the
+         replies say so); the input ends while a request renders and another waits: both are answered.
 signal   SIGTERM mid-request (its temporary files made, its atmosphere building): exit status
          128 + 15, both requests answered "cancelled", no map, no temporary file, an existing map kept
          as it was; and SIGTERM while idle.
 cache    a new server on the session's cache folder takes the atmosphere from the disk (the build's
          and the disk's times printed, not asserted); a truncated cache file is refused, rebuilt and
          replaced whole (the next server takes it from the disk); a byte-flipped one is refused (its
-         rebuild stopped by SIGTERM, which leaves no temporary in the folder).
-Two builds of an atmosphere in all (the session's, the truncated file's); small maps at preview
-quality."""
+         rebuild stopped by SIGTERM, which leaves no temporary in the folder).  A cache file saved
+         before the deep twilight band (a new folder, a sun of 20) is completed by the next server's
+         request at -18: the same pixels, and then the same file bit for bit, as the session's whole
+         atmosphere.
+Three builds of an atmosphere in all (the session's, the truncated file's, the new folder's); small
+maps at preview quality."""
 import json
 import math
 import os
@@ -110,6 +114,20 @@ def compare(a, b):
 def leftovers(folder, expected):
     """Files in folder other than the expected ones (temporaries, partial maps)."""
     return sorted(set(os.listdir(folder)) - set(expected))
+
+
+def band_sequence(replies, elevations):
+    """The deep twilight band through a server's done replies in order (their suns' elevations):
+    pending until the first sun below -3 degrees, built by it, then ready."""
+    want, seen = [], "pending"
+    for e in elevations:
+        if seen == "pending" and e < -3:
+            want.append("built")
+            seen = "ready"
+        else:
+            want.append(seen)
+    got = [r.get("deep_twilight") for r in replies]
+    check(got == want, f"deep twilight band by request (suns {elevations}): {got}, expected {want}")
 
 
 def check_done(reply, folder, elevation, azimuth, width=32, colorspace="Linear Rec.709"):
@@ -236,6 +254,8 @@ def session(tmp, xdg):
         check_done(r9, tmp, sun9["elevation_deg"], sun9["azimuth_deg"], width=2048, colorspace="ACEScg")
         check_done(rest[1], tmp, -5, 270)
         check(r9.get("cache") == "memory" and rest[1].get("cache") == "memory", "9 and 10 from memory")
+        band_sequence([by_id.get(1, {}), by_id.get("three", {}), r8, r9, rest[1]],
+                      [10, 35, sun8["elevation_deg"], sun9["elevation_deg"], -5])
     expected = ["r1.exr", "r1.json", "r3.exr", "r3.json", "r8.exr", "r8.json", "r9.exr", "r9-sky.json",
                 "r10.exr", "r10.json", "cli_same.exr", "cli_same.json", "cli_other.exr", "cli_other.json"]
     check(not leftovers(tmp, expected), f"nothing else written: {leftovers(tmp, expected)}")
@@ -282,7 +302,7 @@ def one_map(tmp, folder, name, elevation):
     """A server on the cache folder that renders one map of the session's sky and ends: (reply,
     seconds from start to reply, stderr)."""
     start = time.monotonic()
-    srv = Server(tmp, "--cache", folder)
+    srv = Server(tmp, "--cache", folder, "--threads", "2")
     srv.send({"id": name, "output": name + ".exr", **GOLDEN, "sun_elevation": elevation, "sun_azimuth": 180})
     code, rest = srv.finish(timeout=300)
     seconds = time.monotonic() - start
@@ -292,9 +312,48 @@ def one_map(tmp, folder, name, elevation):
     return reply, seconds, "".join(srv.stderr)
 
 
+def same_bytes(a, b):
+    with open(a, "rb") as f, open(b, "rb") as g:
+        return f.read() == g.read()
+
+
+def deep_band_completes_file(tmp, folder):
+    """folder holds the session's whole atmosphere (or none: then the first server here builds it
+    whole, the deep twilight band too).  A new folder: its file saved by a request at 20 without the
+    band, then completed by the next server's at -18."""
+    whole, _, _ = one_map(tmp, folder, "whole18", -18)
+    check(whole.get("deep_twilight") in ("ready", "built"), f"-18 from the whole atmosphere: {whole}")
+    lazy = os.path.join(tmp, "lazy-cache")
+    day, _, _ = one_map(tmp, lazy, "lazy20", 20)
+    check(day.get("cache") == "built" and day.get("deep_twilight") == "pending",
+          f"a sun of 20: built without the deep twilight band ({day.get('cache')}, {day.get('deep_twilight')})")
+    files = os.listdir(lazy)
+    if not check(len(files) == 1, f"one cache file: {files}"):
+        return
+    saved = os.path.join(lazy, files[0])
+    before = open(saved, "rb").read()
+    deep, _, _ = one_map(tmp, lazy, "lazy18", -18)
+    check(deep.get("cache") == "disk" and deep.get("deep_twilight") == "built",
+          f"-18 from the file without the band: built it ({deep.get('cache')}, {deep.get('deep_twilight')})")
+    out = subprocess.run([FM, "compare", os.path.join(tmp, "lazy18.exr"), os.path.join(tmp, "whole18.exr"), "--json"],
+                         capture_output=True, text=True)
+    same = json.loads(out.stdout) if out.returncode == 0 else {}
+    check(same.get("pixels", 0) > 0 and same.get("rms") == 0 and same.get("max") == 0,
+          f"the map at -18 from the completed file has the whole atmosphere's pixels: {same or out.stderr}")
+    check(open(saved, "rb").read() != before and os.listdir(lazy) == files,
+          f"the cache file replaced by one with the band: {os.listdir(lazy)}")
+    whole_file = [f for f in os.listdir(folder) if f == files[0]]
+    check(whole_file and same_bytes(saved, os.path.join(folder, files[0])),
+          "the completed cache file is the whole atmosphere's, bit for bit")
+    again, _, _ = one_map(tmp, lazy, "lazy10", -10)
+    check(again.get("cache") == "disk" and again.get("deep_twilight") == "ready",
+          f"the next server finds the band in the file ({again.get('cache')}, {again.get('deep_twilight')})")
+
+
 def cache(tmp, folder, built_seconds):
     """folder: the session's default cache folder, holding its atmosphere (or none, when the session
     did not run: then the first server here builds it)."""
+    deep_band_completes_file(tmp, folder)
     first, t_first, _ = one_map(tmp, folder, "c1", 20)
     if first.get("cache") == "built":
         built_seconds = first.get("seconds")

@@ -3,7 +3,8 @@
  * neighbouring grid elevations only: bench/bench.sh --live measures the whole table); the zenith
  * luminance across a grid elevation; the deep twilight light its nodes share and the smoothing of
  * their tables across the sun elevation; its file (saved, loaded, and refused when it is another
- * atmosphere's, truncated or corrupt). */
+ * atmosphere's, truncated or corrupt); the deep twilight band built on first use, the same bits as a
+ * whole build. */
 #include "check.h"
 #include "render/live.h"
 #include "render/live_smooth.h"
@@ -11,6 +12,7 @@
 #include "transport/sky_path.h"
 
 #include <math.h>
+#include <pthread.h>
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -57,7 +59,7 @@ static fm_sky_live *live_around(const fm_sky_params *p, double from, double to)
     return live;
 }
 
-static fm_image *live_map(const fm_sky_live *live, double elevation, double azimuth, int width)
+static fm_image *live_map(fm_sky_live *live, double elevation, double azimuth, int width)
 {
     fm_render_params rp = fm_render_params_default();
     rp.width = width;
@@ -160,7 +162,7 @@ static void uv(const float *xyz, double *u, double *v)
 /* The live map at (elevation, azimuth) against the final quality path at that sun, without the sun
  * disk (the same rasteriser draws it in both): the RMS relative luminance error and the mean u'v'
  * distance within the issue's bounds.  The sun's direction and the record follow the request. */
-static void check_against_final(const fm_sky_live *live, fm_sky_params p, double elevation, double azimuth,
+static void check_against_final(fm_sky_live *live, fm_sky_params p, double elevation, double azimuth,
                                 int width, double rms_max)
 {
     p.sun_elevation_deg = elevation;
@@ -344,7 +346,7 @@ static void high_sun_matches_final_quality(void **state)
     urban_matches_final_quality(80.0, 180.0, 128);
 }
 
-static double zenith_luminance(const fm_sky_live *live, double elevation)
+static double zenith_luminance(fm_sky_live *live, double elevation)
 {
     fm_render_params rp = fm_render_params_default();
     rp.width = 16;
@@ -648,6 +650,142 @@ static void file_round_trip_and_refusals(void **state)
     fm_sky_live_destroy(live);
 }
 
+/* Whether two live skies' node k holds the same tables, bit for bit. */
+static int same_node(const fm_sky_live *a, const fm_sky_live *b, int k)
+{
+    const live_node *x = &a->nodes[k], *y = &b->nodes[k];
+    const size_t C = (size_t)a->channels;
+    return x->paths_per_node == y->paths_per_node &&
+           !memcmp(x->ss.values, y->ss.values, sizeof(float) * C * (size_t)sky_grid_nodes(&x->ss)) &&
+           !memcmp(x->ms.values, y->ms.values, sizeof(float) * C * (size_t)sky_grid_nodes(&x->ms)) &&
+           !memcmp(x->aureole.values, y->aureole.values, sizeof(float) * aureole_floats(&x->aureole));
+}
+
+/* live's map at sun e, prepared first (want_built: whether that builds the deep twilight band) or
+ * not (want_built -1: the map builds what it reads itself), bit for bit whole's. */
+static void same_map(fm_sky_live *live, fm_sky_live *whole, double e, int want_built)
+{
+    fm_error err;
+    int built = -1;
+    if (want_built >= 0 && fm_sky_live_prepare(live, e, NULL, &built, &err))
+        fail_msg("fm_sky_live_prepare: %s", err.message);
+    if (built != want_built)
+        fail_msg("sun %g: the deep twilight band %s", e, built ? "built" : "not built");
+    fm_image *a = live_map(live, e, 40.0, 32), *b = live_map(whole, e, 40.0, 32);
+    if (memcmp(a->pixels, b->pixels, sizeof(float) * 32 * 16 * (size_t)a->channels))
+        fail_msg("sun %g: the map differs from a whole build's", e);
+    fm_image_destroy(a);
+    fm_image_destroy(b);
+}
+
+typedef struct map_job {
+    fm_sky_live *live;
+    double elevation;
+    fm_image *img;
+    fm_status status;
+} map_job;
+
+static void *map_thread(void *arg)
+{
+    map_job *j = arg;
+    fm_render_params rp = fm_render_params_default();
+    rp.width = 32;
+    rp.threads = 1;
+    fm_error err;
+    j->status = fm_sky_live_render(j->live, j->elevation, 40.0, &rp, &j->img, &err);
+    return NULL;
+}
+
+/* Maps of live at the suns e[0..n) rendered at once, one thread each, bit for bit whole's. */
+static void same_maps_at_once(fm_sky_live *live, fm_sky_live *whole, const double *e, int n)
+{
+    map_job jobs[8];
+    pthread_t threads[8];
+    assert_true(n <= 8);
+    for (int i = 0; i < n; i++) {
+        jobs[i] = (map_job){live, e[i], NULL, FM_OK};
+        assert_int_equal(pthread_create(&threads[i], NULL, map_thread, &jobs[i]), 0);
+    }
+    for (int i = 0; i < n; i++)
+        pthread_join(threads[i], NULL);
+    for (int i = 0; i < n; i++) {
+        assert_int_equal(jobs[i].status, FM_OK);
+        fm_image *b = live_map(whole, e[i], 40.0, 32);
+        if (memcmp(jobs[i].img->pixels, b->pixels, sizeof(float) * 32 * 16 * (size_t)b->channels))
+            fail_msg("sun %g, rendered beside others: the map differs from a whole build's", e[i]);
+        fm_image_destroy(jobs[i].img);
+        fm_image_destroy(b);
+    }
+}
+
+/* fm_sky_live_create leaves the deep twilight band (suns below -6) for the first map that reads it:
+ * suns below -3 degrees, whose interpolation reads the -6 node.  Maps by day build nothing; the
+ * first that reads the band builds it, once, while another thread's map waits for it and a third's
+ * by day goes on; every map, before and after, and every node's tables
+ * are a whole build's bit for bit (its seeds, its shared flight columns, its smoothing, which takes
+ * in the twilight nodes built before), and the other nodes are not touched.  A file saved before
+ * the band holds it as pending, and a map at -18 from it builds it as a whole build has it. */
+static void deep_twilight_band_on_first_use(void **state)
+{
+    (void)state;
+    fm_sky_params p = test_params(10.0, 550.0);
+    fm_sky_live *whole = live_for(&p, -90.0, 90.0), *lazy = NULL, *back = NULL;
+    fm_error err;
+    if (fm_sky_live_create(&p, NULL, &lazy, &err))
+        fail_msg("fm_sky_live_create: %s", err.message);
+    assert_true(fm_sky_live_is_complete(whole) && !fm_sky_live_is_complete(lazy));
+    int deep = 0;
+    while (lazy->nodes[deep].sun_elevation_deg < -4.5)
+        deep++;
+    assert_int_equal(deep, 7); /* -20 to -6 */
+    const double day[] = {-3.0, -2.0, 0.0, 10.0, 90.0}, band[] = {-3.01, -18.0, -7.0, -6.0, -5.9, -4.5};
+    for (size_t i = 0; i < sizeof day / sizeof day[0]; i++)
+        same_map(lazy, whole, day[i], 0);
+    int built = -1; /* below the grid (night) a map reads no tables */
+    assert_int_equal(fm_sky_live_prepare(lazy, -25.0, NULL, &built, &err), FM_OK);
+    assert_int_equal(built, 0);
+    assert_false(fm_sky_live_is_complete(lazy));
+    char *path = temp_path("lazy.live");
+    assert_int_equal(fm_sky_live_save(lazy, path, &err), FM_OK);
+    fm_sky_live *before = live_for(&p, 1.0, 0.0); /* the nodes above the band as they were */
+    for (int k = deep; k < lazy->count; k++) {
+        assert_true(same_node(lazy, whole, k));
+        live_node *n = &before->nodes[k];
+        const size_t C = (size_t)lazy->channels;
+        n->paths_per_node = lazy->nodes[k].paths_per_node;
+        memcpy(n->ss.values, lazy->nodes[k].ss.values, sizeof(float) * C * (size_t)sky_grid_nodes(&n->ss));
+        memcpy(n->ms.values, lazy->nodes[k].ms.values, sizeof(float) * C * (size_t)sky_grid_nodes(&n->ms));
+        memcpy(n->aureole.values, lazy->nodes[k].aureole.values, sizeof(float) * aureole_floats(&n->aureole));
+    }
+    /* the maps build the band (-3.01: the highest sun that reads it), one of them while the other
+     * waits, and a day map beside them reads none of it */
+    const double at_once[] = {band[0], band[1], 10.0, 0.0};
+    same_maps_at_once(lazy, whole, at_once, 4);
+    assert_true(fm_sky_live_is_complete(lazy));
+    for (size_t i = 0; i < sizeof band / sizeof band[0]; i++)
+        same_map(lazy, whole, band[i], 0);
+    for (int k = 0; k < lazy->count; k++)
+        if (!same_node(lazy, whole, k) || (k >= deep && !same_node(lazy, before, k)))
+            fail_msg("node %g: its tables differ from a whole build's or changed with the band",
+                     lazy->nodes[k].sun_elevation_deg);
+    for (size_t i = 0; i < sizeof day / sizeof day[0]; i++)
+        same_map(lazy, whole, day[i], 0);
+
+    if (fm_sky_live_load(&p, path, &back, &err))
+        fail_msg("load: %s", err.message);
+    assert_false(fm_sky_live_is_complete(back));
+    same_map(back, whole, 10.0, 0);
+    same_map(back, whole, -18.0, -1);
+    assert_true(fm_sky_live_is_complete(back));
+    same_map(back, whole, -5.9, 0);
+    unlink(path);
+    free(path);
+    fm_sky_live_destroy(back);
+    fm_sky_live_destroy(before);
+    fm_sky_live_destroy(lazy);
+    fm_sky_live_destroy(whole);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -665,6 +803,7 @@ int main(void)
         cmocka_unit_test(live_flight_columns_place_flights_as_a_table_of_its_own),
         cmocka_unit_test(deep_twilight_tables_smoothed_across_elevations),
         cmocka_unit_test(file_round_trip_and_refusals),
+        cmocka_unit_test(deep_twilight_band_on_first_use),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -471,20 +471,36 @@ void fm_image_destroy(fm_image *image); /* accepts NULL */
 
 typedef struct fm_sky_live fm_sky_live;
 
-/* Builds the live sky for the atmosphere of params (its sun position and time of day ignored);
- * cancel (may be NULL) stops the build early with FM_ERR_CANCELLED. */
+/* Builds the live sky for the atmosphere of params (its sun position and time of day ignored):
+ * every sun elevation's tables but deep twilight's (suns below -3 degrees read them), which the
+ * first map that reads them builds (about a third of the whole build; fm_sky_live_complete builds
+ * them now).  Maps are the same bits whenever that band is built.  cancel (may be NULL) stops the
+ * build early with FM_ERR_CANCELLED. */
 fm_status fm_sky_live_create(const fm_sky_params *params, const atomic_int *cancel, fm_sky_live **out,
                              fm_error *err);
 /* A map for one sun position (ranges as in fm_sky_params), laid out as fm_render gives it and with
  * its render record, so that fm_output writes it with its sidecar.  render: width, camera, sun disk,
- * threads, progress and cancel as for fm_render.  Threads may render one live sky at once. */
-fm_status fm_sky_live_render(const fm_sky_live *live, double sun_elevation_deg, double sun_azimuth_deg,
+ * threads, progress and cancel as for fm_render (cancel also stops the build of the tables the map
+ * reads first: fm_sky_live_prepare).  Threads may render one live sky at once: one builds what the
+ * others' maps wait for. */
+fm_status fm_sky_live_render(fm_sky_live *live, double sun_elevation_deg, double sun_azimuth_deg,
                              const fm_render_params *render, fm_image **out, fm_error *err);
+/* Builds the tables that a map for a sun at sun_elevation_deg reads and that are not built yet (the
+ * deep twilight band, left by fm_sky_live_create), as fm_sky_live_render does first; *built (may be
+ * NULL) says whether it built them: so a caller times that build apart from the map, or saves the
+ * tables after it.  On failure the band stays to be built. */
+fm_status fm_sky_live_prepare(fm_sky_live *live, double sun_elevation_deg, const atomic_int *cancel, int *built,
+                              fm_error *err);
+/* Builds every table left for first use (nothing when there is none). */
+fm_status fm_sky_live_complete(fm_sky_live *live, const atomic_int *cancel, fm_error *err);
+/* Whether every table is built. */
+int fm_sky_live_is_complete(const fm_sky_live *live);
 /* The atmosphere's key: 32 hex digits (and a NUL) hashing every field that changes the live sky's
  * tables, not the sun, and the library's table version; for cache file names. */
 void fm_sky_live_key(const fm_sky_params *params, char out[33]);
 /* Writes the live sky to path (a temporary file beside it, renamed when complete: an existing file
- * is replaced whole or kept). */
+ * is replaced whole or kept): the tables built so far, the others marked to be built on first use
+ * after fm_sky_live_load.  Safe while another thread renders or builds (it waits for the build). */
 fm_status fm_sky_live_save(const fm_sky_live *live, const char *path, fm_error *err);
 /* Reads a live sky that fm_sky_live_save wrote for the atmosphere of params.  A file of another
  * atmosphere or version, truncated or corrupt (its checksum) is refused with FM_ERR_INVALID_ARGUMENT

@@ -72,8 +72,11 @@ fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *e
 {
     *out = NULL;
     fm_sky_live *live = calloc(1, sizeof *live);
-    if (!live)
+    if (!live || pthread_mutex_init(&live->lock, NULL)) {
+        free(live);
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
+    }
+    atomic_init(&live->deep_pending, 0);
     fm_status s = live_sky_params(params, &live->params, err);
     if (!s)
         s = fm_sky_create(&live->params, &live->sky, err);
@@ -342,12 +345,32 @@ static fm_status shared_flights(const fm_sky_live *live, double from_deg, double
     return s && s != FM_ERR_CANCELLED ? fm_fail(err, s, "the twilight guide: %s", fm_status_name(s)) : s;
 }
 
+/* The deep twilight smoothing (live_smooth_deep_twilight) after a build that made deep nodes: the
+ * fresh nodes and those built before outside deep twilight take part (the band built on first use
+ * reads the twilight nodes built with the day, as a whole build does); nothing when no deep node is
+ * fresh.  Returns nonzero when out of memory. */
+static int smooth_deep_twilight(fm_sky_live *live, const unsigned char *fresh)
+{
+    int deep = 0;
+    for (int i = 0; i < live->count; i++)
+        deep |= fresh[i] && twilight_deep(live->nodes[i].sun_elevation_deg);
+    unsigned char *part = deep ? malloc((size_t)live->count) : NULL;
+    for (int i = 0; part && i < live->count; i++)
+        part[i] = fresh[i] || (live->nodes[i].built && !twilight_deep(live->nodes[i].sun_elevation_deg));
+    int failed = deep && (!part || live_smooth_deep_twilight(live, part) != FM_OK);
+    free(part);
+    return failed;
+}
+
 fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, const atomic_int *cancel,
                            fm_error *err)
 {
     unsigned char *fresh = calloc((size_t)live->count, 1);
     if (!fresh)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
+    for (int i = 0; i < live->count; i++) /* until built whole: a failure leaves raw tables */
+        if (live->nodes[i].sun_elevation_deg >= from_deg && live->nodes[i].sun_elevation_deg <= to_deg)
+            live->nodes[i].built = 0;
     shadow_flight_columns flights;
     fm_status s = shared_flights(live, from_deg, to_deg, cancel, &flights, err);
     for (int i = 0; i < live->count && !s; i++)
@@ -361,10 +384,35 @@ fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, co
         s = build_shared_nodes(live, from_deg, to_deg, cancel, fresh, err);
     /* in fog the day nodes' tables are the column's, without noise (fog_table.h) */
     const int smooth_day = !fog_table_sky(live->sky);
-    if (!s && ((smooth_day && live_smooth_day(live, fresh, SMOOTH_FROM_DEG)) || live_smooth_deep_twilight(live, fresh)))
+    if (!s && ((smooth_day && live_smooth_day(live, fresh, SMOOTH_FROM_DEG)) || smooth_deep_twilight(live, fresh)))
         s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
+    for (int i = 0; i < live->count && !s; i++)
+        live->nodes[i].built |= fresh[i];
     free(fresh);
     return s == FM_ERR_CANCELLED ? fm_fail(err, s, "live sky cancelled") : s;
+}
+
+/* The deep twilight band: the nodes below twilight_deep's elevation, the lowest of the grid (0 to
+ * deep_nodes - 1).  It costs a third of the build, and maps read it only for suns below the
+ * second node above it (-3 degrees: interpolate_tables reads a node below the sun's interval), so
+ * fm_sky_live_create leaves it for the first map that reads it
+ * (docs/decisions/2026-12-07-live-deep-band-on-first-use.md).  Its nodes' seeds, its shared flight
+ * columns and its smoothing are a whole build's; it writes none of the other nodes. */
+static int deep_nodes(const fm_sky_live *live)
+{
+    int n = 0;
+    while (n < live->count && twilight_deep(live->nodes[n].sun_elevation_deg))
+        n++;
+    return n;
+}
+
+void live_settle_pending(fm_sky_live *live)
+{
+    const int deep = deep_nodes(live);
+    int others = 1, band = 1;
+    for (int i = 0; i < live->count; i++)
+        *(i < deep ? &band : &others) &= live->nodes[i].built;
+    atomic_store(&live->deep_pending, others && !band);
 }
 
 fm_status fm_sky_live_create(const fm_sky_params *params, const atomic_int *cancel, fm_sky_live **out,
@@ -374,10 +422,13 @@ fm_status fm_sky_live_create(const fm_sky_params *params, const atomic_int *canc
     fm_status s = live_alloc(params, &live, err);
     if (s)
         return s;
-    if ((s = live_build_nodes(live, -90.0, 90.0, cancel, err))) {
+    const int deep = deep_nodes(live);
+    const double from_deg = deep < live->count ? live->nodes[deep].sun_elevation_deg : 90.0;
+    if ((s = live_build_nodes(live, from_deg, 90.0, cancel, err))) {
         fm_sky_live_destroy(live);
         return s;
     }
+    live_settle_pending(live);
     *out = live;
     return FM_OK;
 }
@@ -491,14 +542,71 @@ static fm_status render_below_grid(const fm_sky *sky, const fm_render_params *rp
     return fm_render(sky, rp, out, err);
 }
 
-fm_status fm_sky_live_render(const fm_sky_live *live, double sun_elevation_deg, double sun_azimuth_deg,
+/* Whether a map for a sun at elevation_deg reads a deep twilight node not built: one of the four
+ * nodes of its place on the grid (interpolate_tables); none below the grid (render_below_grid).
+ * The caller holds the lock. */
+static int reads_unbuilt_band(const fm_sky_live *live, double elevation_deg)
+{
+    if (!(elevation_deg >= live->nodes[0].sun_elevation_deg))
+        return 0;
+    const grid_place g = place_on_grid(live, elevation_deg);
+    for (int k = g.i - 1; k <= g.i + 2; k++) {
+        const live_node *n = &live->nodes[k < 0 ? 0 : (k >= live->count ? live->count - 1 : k)];
+        if (twilight_deep(n->sun_elevation_deg) && !n->built)
+            return 1;
+    }
+    return 0;
+}
+
+/* The deep twilight band when whole or a map at elevation_deg reads it and it is pending, once: a
+ * thread that finds it building waits for it; a failed build leaves it pending. */
+static fm_status build_band(fm_sky_live *live, int whole, double elevation_deg, const atomic_int *cancel, int *built,
+                            fm_error *err)
+{
+    if (built)
+        *built = 0;
+    if (!atomic_load(&live->deep_pending))
+        return FM_OK;
+    pthread_mutex_lock(&live->lock);
+    fm_status s = FM_OK;
+    const int deep = deep_nodes(live);
+    if (atomic_load(&live->deep_pending) && deep > 0 && (whole || reads_unbuilt_band(live, elevation_deg)) &&
+        !(s = live_build_nodes(live, -90.0, live->nodes[deep - 1].sun_elevation_deg, cancel, err))) {
+        atomic_store(&live->deep_pending, 0);
+        if (built)
+            *built = 1;
+    }
+    pthread_mutex_unlock(&live->lock);
+    return s;
+}
+
+fm_status fm_sky_live_prepare(fm_sky_live *live, double sun_elevation_deg, const atomic_int *cancel, int *built,
+                              fm_error *err)
+{
+    return build_band(live, 0, sun_elevation_deg, cancel, built, err);
+}
+
+fm_status fm_sky_live_complete(fm_sky_live *live, const atomic_int *cancel, fm_error *err)
+{
+    return build_band(live, 1, 0.0, cancel, NULL, err);
+}
+
+int fm_sky_live_is_complete(const fm_sky_live *live)
+{
+    return !atomic_load(&live->deep_pending);
+}
+
+fm_status fm_sky_live_render(fm_sky_live *live, double sun_elevation_deg, double sun_azimuth_deg,
                              const fm_render_params *render, fm_image **out, fm_error *err)
 {
     *out = NULL;
     if (render->spectral)
         return fm_fail_parameter(err, "spectral", "a live sky makes colour maps only");
+    fm_status built = fm_sky_live_prepare(live, sun_elevation_deg, render->cancel, NULL, err);
+    if (built)
+        return built;
     fm_sky *sky = NULL;
-    fm_status built = sky_with_sun(live, sun_elevation_deg, sun_azimuth_deg, &sky, err);
+    built = sky_with_sun(live, sun_elevation_deg, sun_azimuth_deg, &sky, err);
     if (built)
         return built;
     fm_render_params rp = *render;
@@ -608,5 +716,6 @@ void fm_sky_live_destroy(fm_sky_live *live)
     }
     free(live->nodes);
     fm_sky_destroy(live->sky);
+    pthread_mutex_destroy(&live->lock);
     free(live);
 }

@@ -1,7 +1,9 @@
 /* The live sky's file: a sealed file (base/sealed_file.h: magic, version, byte order, the
  * atmosphere's key, the tables' size and checksum) of the tables: their layout (nodes, channels,
- * quality, the grids' sizes), then per node its sun elevation, paths and the three tables' values
- * (single scattering, multiple scattering, the aureole; native floats).  Checked before anything in it is used. */
+ * quality, the grids' sizes), then per node its sun elevation, paths, whether it is built and the
+ * three tables' values (single scattering, multiple scattering, the aureole; native floats; zeros for
+ * a node not built yet: the deep twilight band before its first use, live.c).  Checked before
+ * anything in it is used. */
 #include "base/sealed_file.h"
 #include "base/status.h"
 #include "render/live.h"
@@ -11,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FILE_VERSION 2u
+#define FILE_VERSION 3u
 #define CHECKSUM_SEED 0x6c697665ull /* "live" */
 
 /* ---- the tables ------------------------------------------------------------------------------ */
@@ -45,15 +47,19 @@ static size_t payload_size(const fm_sky_live *live)
 {
     size_t n = sizeof(layout);
     for (int i = 0; i < live->count; i++)
-        n += sizeof(double) + sizeof(int32_t) +
+        n += sizeof(double) + 2 * sizeof(int32_t) +
              sizeof(float) * (table_floats(live, &live->nodes[i].ss) + table_floats(live, &live->nodes[i].ms) +
                               aureole_floats(&live->nodes[i].aureole));
     return n;
 }
 
+/* n bytes of v, or zeros without v */
 static unsigned char *put(unsigned char *out, const void *v, size_t n)
 {
-    memcpy(out, v, n);
+    if (v)
+        memcpy(out, v, n);
+    else
+        memset(out, 0, n);
     return out + n;
 }
 
@@ -63,12 +69,13 @@ static void payload_write(const fm_sky_live *live, unsigned char *out)
     out = put(out, &l, sizeof l);
     for (int i = 0; i < live->count; i++) {
         const live_node *n = &live->nodes[i];
-        int32_t paths = n->paths_per_node;
+        int32_t paths = n->built ? n->paths_per_node : 0, built = n->built != 0;
         out = put(out, &n->sun_elevation_deg, sizeof(double));
         out = put(out, &paths, sizeof paths);
-        out = put(out, n->ss.values, sizeof(float) * table_floats(live, &n->ss));
-        out = put(out, n->ms.values, sizeof(float) * table_floats(live, &n->ms));
-        out = put(out, n->aureole.values, sizeof(float) * aureole_floats(&n->aureole));
+        out = put(out, &built, sizeof built);
+        out = put(out, built ? n->ss.values : NULL, sizeof(float) * table_floats(live, &n->ss));
+        out = put(out, built ? n->ms.values : NULL, sizeof(float) * table_floats(live, &n->ms));
+        out = put(out, built ? n->aureole.values : NULL, sizeof(float) * aureole_floats(&n->aureole));
     }
 }
 
@@ -98,12 +105,14 @@ static const char *payload_read(fm_sky_live *live, const unsigned char *in, size
     for (int i = 0; i < live->count; i++) {
         live_node *n = &live->nodes[i];
         double e;
-        int32_t paths;
+        int32_t paths, built;
         in = get(in, &e, sizeof e);
         in = get(in, &paths, sizeof paths);
-        if (e != n->sun_elevation_deg || paths < 0)
+        in = get(in, &built, sizeof built);
+        if (e != n->sun_elevation_deg || paths < 0 || (built != 0 && built != 1))
             return "tables of other sun elevations";
         n->paths_per_node = paths;
+        n->built = built;
         in = get(in, n->ss.values, sizeof(float) * table_floats(live, &n->ss));
         in = get(in, n->ms.values, sizeof(float) * table_floats(live, &n->ms));
         in = get(in, n->aureole.values, sizeof(float) * aureole_floats(&n->aureole));
@@ -112,6 +121,7 @@ static const char *payload_read(fm_sky_live *live, const unsigned char *in, size
             !all_finite(n->aureole.values, aureole_floats(&n->aureole)))
             return "a value that is not a number";
     }
+    live_settle_pending(live);
     return NULL;
 }
 
@@ -126,7 +136,12 @@ fm_status fm_sky_live_save(const fm_sky_live *live, const char *path, fm_error *
     unsigned char *body = malloc(n);
     if (!body)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
+    /* not while a map's thread builds the deep twilight band (its tables half made): the lock is the
+     * tables', not part of what the caller sees as the live sky, so a const one locks it too */
+    pthread_mutex_t *lock = (pthread_mutex_t *)&live->lock;
+    pthread_mutex_lock(lock);
     payload_write(live, body);
+    pthread_mutex_unlock(lock);
     char key[33];
     fm_sky_live_key(&live->params, key);
     fm_status s = sealed_file_write(path, &LIVE_FORMAT, key, body, n, err);

@@ -166,7 +166,7 @@ fm_status live_smooth_deep_twilight(fm_sky_live *live, const unsigned char *fres
             ratio[k] = exp(z) / live->nodes[at[k]].ms.values[v * C + lum];
         }
         for (int k = 0; k < n && lit; k++) /* after every ratio: each from the nodes as they were */
-            for (int c = 0; c < C; c++)
+            for (int c = 0; c < C && twilight_deep(live->nodes[at[k]].sun_elevation_deg); c++)
                 live->nodes[at[k]].ms.values[v * C + c] *= (float)ratio[k];
     }
     free(at);

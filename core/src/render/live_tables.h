@@ -9,6 +9,9 @@
 #include "render/quality.h"
 #include "transport/sky_grid.h"
 
+#include <pthread.h>
+#include <stdatomic.h>
+
 /* Part of every key: a change of what the tables hold or how they are laid out makes old files
  * another atmosphere's. */
 #define LIVE_TABLE_VERSION 9
@@ -20,6 +23,7 @@
 /* The tables of one sun elevation. */
 typedef struct live_node {
     double sun_elevation_deg;
+    int built;          /* its tables are made (live_build_nodes), or read from a file that held them */
     int paths_per_node; /* the multiple-scattering table's */
     sky_grid ss;        /* single scattering, logarithmic */
     sky_grid ms;        /* multiple scattering, fitted, linear */
@@ -37,6 +41,10 @@ struct fm_sky_live {
     uint64_t seed;        /* 0: the product's paths; n moves every node's seed by n * LIVE_SEED_STRIDE,
                            * for measuring the spread of a build's noise (live-bench accuracy's seeds) */
     live_node *nodes;
+    /* The deep twilight band is built on first use (live.c): while deep_pending, a map whose sun reads
+     * one of its nodes builds the band under `lock` first; the other nodes are never written then. */
+    atomic_int deep_pending;
+    pthread_mutex_t lock;
 };
 
 #endif
