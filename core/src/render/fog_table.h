@@ -9,8 +9,9 @@
  * any clouds above cut into homogeneous layers, solved by adding-doubling (transport/plane_column.h)
  * with the droplets' peak truncated (delta-M), per grid wavelength, with the beam dimmed above the
  * fog as in the spherical atmosphere.  Under a deck the paths random-walk through it just as in fog;
- * the column holds the deck (its top where the fog's was) and the air below it in layers too.  Orders >= 2 are that solution less its single scattering;
- * single scattering stays the exact quadrature of the single-scattering table. */
+ * the column holds the deck (its top where the fog's was) and the air below it in layers too.
+ * Orders >= 2 are that solution less its single scattering; single scattering stays the exact
+ * quadrature of the single-scattering table. */
 #ifndef FM_RENDER_FOG_TABLE_H
 #define FM_RENDER_FOG_TABLE_H
 
@@ -61,7 +62,8 @@ double fog_table_above_share(const struct render_job *job);
 /* Whether the job's table comes from the column: fog_table_from_above, or by day, not in the reference mode, no deck base
  * (deck_base.h) built, the observer in a fog layer (a cloud layer from the ground up) of
  * FOG_TABLE_MAX_VISIBILITY_M or less or below or inside a layer of FOG_TABLE_MIN_TAU or more, the
- * sun FOG_TABLE_MIN_SUN_DEG (FOG_TABLE_MIN_SUN_DEG_CLOUDS with other clouds) or more up.  The ground's irradiance then takes orders >= 2 from the
+ * sun FOG_TABLE_MIN_SUN_DEG (FOG_TABLE_MIN_SUN_DEG_CLOUDS with other clouds, and
+ * FOG_TABLE_MIN_SUN_DEG_PER_KM per km of an elevated layer's base) or more up.  The ground's irradiance then takes orders >= 2 from the
  * column too (build it without paths). */
 int fog_table_applies(const struct render_job *job);
 /* Whether the sky holds such fog or cloud and no deck that the deck base takes by day (the rest of
