@@ -1,5 +1,5 @@
-/* fog-twilight-bench SUN_DEG PATHS [SEED]: fog of 200 m visibility around an observer on the ground
- * in the built-in atmosphere, 550 nm, the sun SUN_DEG up (below FOG_TABLE_MIN_SUN_DEG: the column lit
+/* fog-twilight-bench SUN_DEG PATHS [SEED [CLOUD]]: fog of 200 m visibility (or the cloud layer CLOUD,
+ * presets/clouds/) around or above an observer on the ground in the built-in atmosphere, 550 nm, the sun SUN_DEG up (below FOG_TABLE_MIN_SUN_DEG: the column lit
  * by the sky above the fog, render/fog_incident.h), at the precision test_fog_twilight has no time
  * for (issue 48).  Prints the fast path's diffuse irradiance at the ground and radiances at 8 views
  * against the reference estimator's plain path tracing (PATHS cosine-weighted paths for the
@@ -27,13 +27,14 @@ static void line(const char *what, double fast, double ref, double se)
 int main(int argc, char **argv)
 {
     if (argc < 3) {
-        fprintf(stderr, "usage: fog-twilight-bench SUN_DEG PATHS [SEED]\n");
+        fprintf(stderr, "usage: fog-twilight-bench SUN_DEG PATHS [SEED [CLOUD]]\n");
         return 2;
     }
     const int N = atoi(argv[2]);
     const uint64_t seed = argc > 3 ? (uint64_t)atoll(argv[3]) : 1;
     fm_sky_params p = fm_sky_params_default();
-    p.fog_visibility_m = 200.0;
+    p.fog_visibility_m = argc > 4 ? 0.0 : 200.0;
+    p.clouds = argc > 4 ? argv[4] : NULL;
     p.wavelength_nm = 550.0;
     p.sun_elevation_deg = atof(argv[1]);
     p.sun_azimuth_deg = 180.0;

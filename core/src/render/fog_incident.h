@@ -1,5 +1,5 @@
-/* Fog at a low sun and in twilight: the light that comes down on the fog's top from the spherical
- * sky above it, the fog column's incident field (render/fog_table.h,
+/* Fog (or a low deck) at a low sun and in twilight: the light that comes down on the layer's top from
+ * the spherical sky above it, the fog column's incident field (render/fog_table.h,
  * docs/decisions/2026-12-07-twilight-fog.md).
  *
  * With the sun near or below the horizon the fog lies in the Earth's shadow or nearly: its light is

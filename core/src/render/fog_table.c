@@ -81,14 +81,23 @@ int fog_table_sky(const fm_sky *sky)
     return 1;
 }
 
+/* The sun (degrees) below which the column lit from above is the table: where the day's column
+ * starts, FOG_TABLE_MIN_SUN_DEG in fog, FOG_TABLE_MIN_SUN_DEG_PER_KM per km of a deck's base; the
+ * blend ends FOG_TABLE_BLEND_DEG above it. */
+static double from_above_below_deg(const fm_sky *sky, int cloud)
+{
+    return fmax(FOG_TABLE_MIN_SUN_DEG, FOG_TABLE_MIN_SUN_DEG_PER_KM * sky->composition.cloud[cloud].base_m / 1000.0);
+}
+
 int fog_table_from_above(const render_job *job)
 {
     const fm_sky *sky = job->sky;
     const double z = sky->sun_dir.z, altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
     const int cloud = column_cloud(sky);
     return job->fog_from_above && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
-           sky->composition.cloud_count == 1 && cloud >= 0 && sky->composition.cloud[cloud].base_m <= 0.0 &&
-           altitude < FOG_TABLE_ON_GROUND_M && z < sin(FOG_TABLE_BLEND_TO_DEG * FM_DEG) &&
+           sky->composition.cloud_count == 1 && cloud >= 0 &&
+           sky->composition.cloud[cloud].base_m <= FOG_TABLE_FROM_ABOVE_MAX_BASE_M && altitude < FOG_TABLE_ON_GROUND_M &&
+           z < sin((from_above_below_deg(sky, cloud) + FOG_TABLE_BLEND_DEG) * FM_DEG) &&
            z >= sin(FOG_TABLE_TWILIGHT_MIN_SUN_DEG * FM_DEG);
 }
 
@@ -673,9 +682,10 @@ static fm_status column_sums(render_job *job, int from_above, fog_tables_fn tabl
     const double base = sky->composition.cloud[cloud].base_m;
     double fog_top = base + sky->composition.cloud[cloud].thickness_m;
     if (from_above) {
-        /* the fog alone: its droplets thin out to the profile's next node above its top (the layer's
-         * density is half at its top node, cloud_layer.c), a sixteenth of its optical depth for 200 m */
-        column_layers(fc, sky, 0.0, fog_top, fog_top + FM_PROFILE_SPACING_M);
+        /* the layer and the air under it: its droplets thin out to the profile's next node above its
+         * top (the layer's density is half at its top node, cloud_layer.c), a sixteenth of the optical
+         * depth of fog 200 m deep */
+        column_layers(fc, sky, fmax(base, 0.0), fog_top, fog_top + FM_PROFILE_SPACING_M);
         fog_top += FM_PROFILE_SPACING_M;
         fc->fog_layers = fc->layers; /* the beam as the sun table has it at the column's top */
     } else {
@@ -716,7 +726,8 @@ double fog_table_above_share(const render_job *job)
     if (!fog_table_from_above(job))
         return 0.0;
     const double e = asin(clamp_cosine(job->sky->sun_dir.z)) / FM_DEG;
-    return e < FOG_TABLE_MIN_SUN_DEG ? 1.0 : (FOG_TABLE_BLEND_TO_DEG - e) / (FOG_TABLE_BLEND_TO_DEG - FOG_TABLE_MIN_SUN_DEG);
+    const double below = from_above_below_deg(job->sky, column_cloud(job->sky));
+    return e < below ? 1.0 : (below + FOG_TABLE_BLEND_DEG - e) / FOG_TABLE_BLEND_DEG;
 }
 
 fm_status fog_table_fill(render_job *job, fog_tables_fn tables)

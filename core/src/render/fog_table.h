@@ -46,14 +46,23 @@ struct render_job;
 #define FOG_TABLE_MIN_SUN_DEG_PER_KM 1.0
 
 /* Below FOG_TABLE_MIN_SUN_DEG, down to the end of astronomical twilight, fog alone around an observer
- * on the ground (below FOG_TABLE_ON_GROUND_M) takes the column of the fog alone lit from above by the
- * spherical sky without the fog (render/fog_incident.h) and, with the sun up, by the beam at the
- * fog's top (docs/decisions/2026-12-07-twilight-fog.md), where the job lets it (fog_from_above).
- * Up to FOG_TABLE_BLEND_TO_DEG the table is that column's and the day's blended, its share falling
- * linearly from 1 at FOG_TABLE_MIN_SUN_DEG to 0: the two differ by about 3 % there (the day's
- * column a percent or two bright of the reference, this one as dark), which would be a jump. */
+ * on the ground (below FOG_TABLE_ON_GROUND_M), or a deck alone above it (base up to
+ * FOG_TABLE_FROM_ABOVE_MAX_BASE_M; below FOG_TABLE_MIN_SUN_DEG_PER_KM per km of its base), takes the
+ * column of the layer and the air under it lit from above by the spherical sky without the layer
+ * (render/fog_incident.h) and, with the sun up, by the beam at the layer's top
+ * (docs/decisions/2026-12-07-twilight-fog.md), where the job lets it (fog_from_above).  For
+ * FOG_TABLE_BLEND_DEG above that the table is that column's and the day's blended, its share falling
+ * linearly from 1 to 0: in fog the two differ by about 3 % (the day's column a percent or two bright
+ * of the reference, this one as dark), which would be a jump. */
 #define FOG_TABLE_TWILIGHT_MIN_SUN_DEG (-18.0)
+#define FOG_TABLE_BLEND_DEG 2.8
+/* in fog: FOG_TABLE_MIN_SUN_DEG + FOG_TABLE_BLEND_DEG */
 #define FOG_TABLE_BLEND_TO_DEG 3.0
+/* A deck's field comes from the sky above the observer, but a view meets the deck d km away, under a
+ * sun d / R higher or lower: at twilight the sky brightens by some 0.5 % per 0.01 degrees, so a view
+ * 10 degrees up meeting a deck at 3 km (17 km off, 0.15 degrees) was 7 to 12 % off (altostratus at
+ * sun -1); at 1 km a third of that. */
+#define FOG_TABLE_FROM_ABOVE_MAX_BASE_M 1000.0
 #define FOG_TABLE_ON_GROUND_M 0.5
 /* Whether the job's table takes that column (wholly or blended), and its share (0 where not). */
 int fog_table_from_above(const struct render_job *job);
