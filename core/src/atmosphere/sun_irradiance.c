@@ -134,6 +134,28 @@ static void need_nodes(const sun_irradiance *t, int ir, int im)
             build_block(t, ir, b);
 }
 
+/* A cell is of cloud or fog where its extinction reaches this at every wavelength (m^-1, an optical
+ * depth of 1 per km: the transport's dense medium); haze's falls below it in the red. */
+#define DENSE_CELL_SIGMA 1e-3
+
+/* Whether the air between radii r0 < r1 reaches DENSE_CELL_SIGMA at every wavelength somewhere:
+ * at the ends and at the profiles' nodes between (the profiles are linear between nodes). */
+static unsigned char cell_is_dense(const atmosphere *atm, double r0, double r1)
+{
+    double dz = atm->profile_dz_m > 0.0 ? atm->profile_dz_m : 10.0;
+    double sig_s[FM_MAX_WAVELENGTHS], sig_t[FM_MAX_WAVELENGTHS];
+    for (double r = r0;; r = fmin(r1, atm->bottom_radius_m + (floor((r - atm->bottom_radius_m) / dz) + 1.0) * dz)) {
+        atmosphere_coefficients(atm, r, sig_s, sig_t);
+        int dense = 1;
+        for (int k = 0; k < atm->grid.count; k++)
+            dense &= sig_t[k] >= DENSE_CELL_SIGMA;
+        if (dense)
+            return 1;
+        if (r >= r1)
+            return 0;
+    }
+}
+
 fm_status sun_irradiance_build(sun_irradiance *table, const atmosphere *atm, const column_table *columns,
                                const sun_disk *sun, int n_r, int n_mu, fm_error *err)
 {
@@ -148,12 +170,17 @@ fm_status sun_irradiance_build(sun_irradiance *table, const atmosphere *atm, con
     table->horizontal = malloc((size_t)n_mu * (size_t)table->count * sizeof(float));
     table->mu_lo = malloc((size_t)rows * sizeof(double));
     table->block_state = calloc((size_t)rows * (size_t)table->blocks_per_row, sizeof(atomic_uchar));
-    if (!table->normal || !table->horizontal || !table->mu_lo || !table->block_state) {
+    table->dense_cell = malloc((size_t)rows);
+    if (!table->normal || !table->horizontal || !table->mu_lo || !table->block_state || !table->dense_cell) {
         sun_irradiance_free(table);
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the sun irradiance table");
     }
     for (int i = 0; i < rows; i++)
         table->mu_lo[i] = mu_low(atm, sun, table_rows_radius(&table->rows, atm, i));
+    for (int i = 0; i + 1 < rows; i++)
+        table->dense_cell[i] = cell_is_dense(atm, table_rows_radius(&table->rows, atm, i),
+                                             table_rows_radius(&table->rows, atm, i + 1));
+    table->dense_cell[rows - 1] = 0;
     return FM_OK;
 }
 
@@ -163,6 +190,8 @@ void sun_irradiance_free(sun_irradiance *table)
     free(table->horizontal);
     free(table->mu_lo);
     free((void *)table->block_state);
+    free(table->dense_cell);
+    table->dense_cell = NULL;
     table->normal = table->horizontal = NULL;
     table->mu_lo = NULL;
     table->block_state = NULL;
@@ -254,14 +283,18 @@ static void exp_of_depths(const float *v, const double w[4], const size_t idx[4]
 /* Deeper in than this at the row above (sunlight below e^-50), the bilinear depth is as good as any:
  * the light is nil either way, and most vertices deep in a thick cloud skip the exact piece. */
 #define DIM_DEPTH 50.0
-/* Only with the sun more than 5.7 degrees above the local horizontal: lower, the chord to the row
- * above runs for up to tens of km (at twilight every vertex's), far too long to sum at every lookup;
- * the bilinear lookup stays there, as for clear air. */
+/* Outside cloud and fog, only with the sun more than 5.7 degrees above the local horizontal: lower,
+ * clear air's cells differ by more than THICK_CELL_DEPTH (at twilight every vertex's), and the
+ * bilinear lookup stays there.  In a cell of cloud or fog (dense_cell) the exact piece is taken at
+ * every sun: the beam's depth bends most at a low sun (at a cosine of 0.05 it falls by e in 2 m of
+ * a deck's top), and the lookups there are a cloud's vertices only
+ * (docs/decisions/2026-12-07-thick-cell-low-sun.md). */
 #define THICK_CELL_MIN_MU 0.1
 
 /* At (r, mu_s) in the cell whose corners are (w, idx): if the cell is thick, the depth as the exact
  * column along the sun's central direction up to the row above plus that row's depth where the ray
- * meets it (the disk's spread over so short a piece is negligible); returns 0 (nothing written)
+ * meets it (the disk's spread over so short a piece is negligible with the sun above about 2 degrees
+ * or the sunlight above a few percent); returns 0 (nothing written)
  * for a thin cell or where the row above is dark. */
 static int depths_in_thick_cell(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
                                 double mu_s, const double w[4], const size_t idx[4], double *depth)
@@ -269,7 +302,10 @@ static int depths_in_thick_cell(const sun_irradiance *table, const atmosphere *a
     const int K = table->count;
     const float *v = table->normal;
     double w_lo = w[0] + w[1], w_hi = w[2] + w[3];
-    if (!(w_lo > 0.0 && w_hi > 0.0) || !(mu_s > THICK_CELL_MIN_MU))
+    if (!(w_lo > 0.0 && w_hi > 0.0))
+        return 0;
+    int row_up = (int)(idx[2] / ((size_t)table->n_mu * (size_t)K));
+    if (!(mu_s > THICK_CELL_MIN_MU) && !table->dense_cell[row_up - 1])
         return 0;
     int thick = 0, lit = 0;
     for (int k = 0; k < K; k++) {
@@ -280,9 +316,8 @@ static int depths_in_thick_cell(const sun_irradiance *table, const atmosphere *a
     }
     if (!thick || !lit)
         return 0;
-    int row_up = (int)(idx[2] / ((size_t)table->n_mu * (size_t)K));
     double r_up = table_rows_radius(&table->rows, atm, row_up);
-    if (!(r_up > r))
+    if (!(r_up > r) || ray_hits_ground(atm, r, mu_s))
         return 0;
     double t = -r * mu_s + sqrt(fmax(0.0, r * r * (mu_s * mu_s - 1.0) + r_up * r_up));
     double mu_up = clamp_cosine((r * mu_s + t) / r_up), w_up[4], col[FM_MAX_SPECIES], piece[FM_MAX_WAVELENGTHS];

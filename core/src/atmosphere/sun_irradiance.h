@@ -31,6 +31,7 @@ typedef struct sun_irradiance {
     float *normal;     /* [i_r][i_mu][k] Tbar_k */
     float *horizontal; /* [i_mu][k] the same times the cosine to the local zenith, on the ground only */
     double *mu_lo;     /* [i_r] mu_lo of the row's radius (lookups need it for two rows each time) */
+    unsigned char *dense_cell; /* [i_r] whether the cell from row i_r up holds cloud or fog */
     /* what the nodes are built from, and each block's state (empty, being built, ready) */
     const atmosphere *atm;
     const column_table *columns;
