@@ -80,10 +80,7 @@ int main(int argc, char **argv)
         line(what, L, ref, se);
     }
     free(tw);
-    sky_grid_free(&job.ss);
-    ms_table_free(&ms);
-    ground_irradiance_free(&job.ground);
-    deck_base_free(&job.deck);
+    render_tables_free(&job);
     fm_image_destroy(job.img);
     fm_sky_destroy(sky);
     return 0;

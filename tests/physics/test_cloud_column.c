@@ -82,10 +82,7 @@ static void deck_against_the_path_tracer(const char *clouds, double sun_deg)
                  views[i][1]);
         check_within(L, ref, se, what);
     }
-    sky_grid_free(&job.ss);
-    ms_table_free(&ms);
-    ground_irradiance_free(&job.ground);
-    deck_base_free(&job.deck);
+    render_tables_free(&job);
     fm_image_destroy(job.img);
     fm_sky_destroy(sky);
 }

@@ -176,10 +176,7 @@ static void fast_tables(const fm_sky *sky, render_job *job, ms_table *ms, fm_ren
 
 static void free_tables(render_job *job, ms_table *ms)
 {
-    sky_grid_free(&job->ss);
-    ms_table_free(ms);
-    ground_irradiance_free(&job->ground);
-    deck_base_free(&job->deck);
+    render_tables_free(job);
     fm_image_destroy(job->img);
 }
 

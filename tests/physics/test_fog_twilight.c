@@ -71,10 +71,7 @@ static void fast_tables(const fm_sky *sky, uint64_t seed, tables *t, int from_ab
 static void free_tables(tables *t)
 {
     free(t->tw);
-    sky_grid_free(&t->job.ss);
-    ms_table_free(&t->ms);
-    ground_irradiance_free(&t->job.ground);
-    deck_base_free(&t->job.deck);
+    render_tables_free(&t->job);
     fm_image_destroy(t->job.img);
 }
 

@@ -227,10 +227,7 @@ static fm_status node_end(const fm_sky_live *live, node_build *b, fm_error *err)
 static void node_build_free(node_build *b)
 {
     free(b->twilight);
-    sky_grid_free(&b->job.ss);
-    ms_table_free(&b->ms);
-    ground_irradiance_free(&b->job.ground);
-    deck_base_free(&b->job.deck);
+    render_tables_free(&b->job);
     free(b->sky);
     b->twilight = NULL;
     b->sky = NULL;

@@ -455,11 +455,17 @@ fm_status fm_render(const fm_sky *sky, const fm_render_params *params, fm_image 
         }
     }
     free(twilight);
-    sky_grid_free(&job.ss);
-    ms_table_free(&ms);
-    ground_irradiance_free(&job.ground);
-    deck_base_free(&job.deck);
+    render_tables_free(&job);
     return render_finish(&job, s, out, err);
+}
+
+void render_tables_free(render_job *job)
+{
+    sky_grid_free(&job->ss);
+    if (job->ms)
+        ms_table_free(job->ms);
+    ground_irradiance_free(&job->ground);
+    deck_base_free(&job->deck);
 }
 
 typedef struct pixels_job {

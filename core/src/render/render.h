@@ -38,6 +38,8 @@ fm_status render_fast_tables_fill(render_job *job, double sun_elevation, fm_erro
 int render_fast_tables_shareable(const render_job *job);
 fm_status render_fast_tables_fill_shared(render_job *const *jobs, int count, fm_error *err);
 fm_status render_fast_tables_end(render_job *job, double sun_elevation, fm_error *err);
+/* Frees what render_fast_tables made: job->ss, *job->ms (when set), job->ground and job->deck. */
+void render_tables_free(render_job *job);
 /* The fast path's pixels: footprint averages of job->ss and the multiple-scattering table ms. */
 fm_status render_fast_pixels(render_job *job, const sky_grid *ms, fm_error *err);
 /* The sun disk after a render that went well (status s FM_OK): the image goes to *out; else it is
