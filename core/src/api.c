@@ -262,7 +262,6 @@ static fm_status add_clouds(fm_sky *sky, const fm_sky_params *p, fm_error *err)
     int count;
     fm_status s = cloud_layers_from_params(p, layers, &count, err);
     fm_composition *c = &sky->composition;
-    int kept = 0;
     for (int i = 0, j = 0; i < count && !s; i++) {
         if (i == sky->skip_cloud - 1)
             continue;
@@ -279,9 +278,8 @@ static fm_status add_clouds(fm_sky *sky, const fm_sky_params *p, fm_error *err)
         c->cloud[j].base_m = l->base_m;
         c->cloud[j].thickness_m = l->thickness_m;
         c->cloud_count = ++j;
-        kept = j;
     }
-    if (!s && kept > 0)
+    if (!s && c->cloud_count > 0)
         atmosphere_update_majorants(&sky->atm);
     return s;
 }
