@@ -51,22 +51,29 @@ typedef struct fog_column {
 
 /* The cloud layer the column is for, or -1: the one on the ground that holds the observer with a
  * visibility of FOG_TABLE_MAX_VISIBILITY_M or less (fog), else the lowest whose top is above the
- * observer (who is below or inside it) of optical depth FOG_TABLE_MIN_TAU or more. */
+ * observer (who is below or inside it) of optical depth FOG_TABLE_MIN_TAU or more, else the highest
+ * such layer below the observer (docs/decisions/2026-12-07-above-deck.md): the column holds the
+ * observer's level wherever it is, its views down the upward radiance there. */
 static int column_cloud(const fm_sky *sky)
 {
     const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
-    int lowest = -1;
+    int lowest = -1, below = -1;
     for (int i = 0; i < sky->composition.cloud_count; i++) {
         const double base = sky->composition.cloud[i].base_m, h = sky->composition.cloud[i].thickness_m;
         const double tau = sky->composition.cloud[i].tau550;
-        if (!(h > 0.0) || altitude >= base + h)
+        if (!(h > 0.0))
             continue;
+        if (altitude >= base + h) {
+            if (tau >= FOG_TABLE_MIN_TAU && (below < 0 || base > sky->composition.cloud[below].base_m))
+                below = i;
+            continue;
+        }
         if (base <= 0.0)
             return tau / h >= 3.912 / FOG_TABLE_MAX_VISIBILITY_M ? i : -1;
         if (tau >= FOG_TABLE_MIN_TAU && (lowest < 0 || base < sky->composition.cloud[lowest].base_m))
             lowest = i;
     }
-    return lowest;
+    return lowest >= 0 ? lowest : below;
 }
 
 int fog_table_sky(const fm_sky *sky)
@@ -163,11 +170,17 @@ static void column_layers(fog_column *fc, const fm_sky *sky, double base, double
         z[1] = toa;
     /* the observer's level and the clouds' edges first: the air's breaks take what room is left */
     const double altitude = v3_length(sky->observer) - atm->bottom_radius_m;
-    n = add_break(z, n, altitude, 0.0, fog_top);
+    n = add_break(z, n, altitude, 0.0, toa);
     for (int i = 0; i < sky->composition.cloud_count; i++) {
         const double b = sky->composition.cloud[i].base_m;
         n = add_break(z, n, b, 0.0, toa);
         n = add_break(z, n, b + sky->composition.cloud[i].thickness_m, 0.0, toa);
+        /* a layer below the observer: its droplets above its top (cloud_layer.c's edge node holds half,
+         * the next none) in a layer of their own, not spread through the air up to the next break,
+         * where views down near the horizon would cross them as a haze */
+        const double ramp = b + sky->composition.cloud[i].thickness_m + FM_PROFILE_SPACING_M;
+        if (ramp <= altitude)
+            n = add_break(z, n, ramp, 0.0, toa);
     }
     n = add_break(z, n, base, 0.0, fog_top);
     for (size_t i = 0; i < sizeof air_breaks_m / sizeof air_breaks_m[0]; i++) {

@@ -70,7 +70,7 @@ double fog_table_above_share(const struct render_job *job);
 
 /* Whether the job's table comes from the column: fog_table_from_above, or by day, not in the reference mode, no deck base
  * (deck_base.h) built, the observer in a fog layer (a cloud layer from the ground up) of
- * FOG_TABLE_MAX_VISIBILITY_M or less or below or inside a layer of FOG_TABLE_MIN_TAU or more, the
+ * FOG_TABLE_MAX_VISIBILITY_M or less or below, inside or above a layer of FOG_TABLE_MIN_TAU or more, the
  * sun FOG_TABLE_MIN_SUN_DEG (FOG_TABLE_MIN_SUN_DEG_CLOUDS with other clouds, and
  * FOG_TABLE_MIN_SUN_DEG_PER_KM per km of an elevated layer's base) or more up.  The ground's irradiance then takes orders >= 2 from the
  * column too (build it without paths). */
