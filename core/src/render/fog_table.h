@@ -1,4 +1,4 @@
-/* Fog around the observer, or a cloud deck above or around the observer: the fast path's
+/* Fog around the observer, or a cloud deck above, around or below the observer: the fast path's
  * multiple-scattering table from a deterministic solution of the plane-parallel column instead of
  * paths (docs/decisions/2026-12-06-fog-column.md, docs/decisions/2026-12-06-cloud-column.md).
  *
