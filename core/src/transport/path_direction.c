@@ -49,11 +49,13 @@ static vec3 sun_guide_direction(const path_context *ctx, vec3 sun_dir, int h, rn
 }
 
 /* The sun guide's share of the directions at x: sun_guide_fraction where the sun's transmittance
- * there is at least e^-GUIDE_FULL_DEPTH (or x lies in the Earth's shadow: twilight's guide aims at
- * the sunlit air), falling as the transmittance below that.  The guide finds the next vertex's
- * sunlight through the forward peak; deep in a thick cloud there is none to find, and a guided
- * direction's small weight, paid at each of a path's hundreds of vertices there, would leave its
- * weight to the roulette (docs/decisions/2026-12-06-thick-media.md). */
+ * there is at least e^-GUIDE_FULL_DEPTH (or x lies in the Earth's shadow in thin air: twilight's
+ * guide aims at the sunlit air), falling as the transmittance below that.  The guide finds the next
+ * vertex's sunlight through the forward peak; deep in a thick cloud there is none to find, and a
+ * guided direction's small weight, paid at each of a path's hundreds of vertices there, would leave
+ * its weight to the roulette (docs/decisions/2026-12-06-thick-media.md).  In cloud or fog in the
+ * Earth's shadow it takes no share: the next vertex lies a free path away, in the shadow too
+ * (dense_guide_share). */
 #define GUIDE_FULL_DEPTH 2.3
 /* Air thinner than this (m^-1: an optical depth of 1 per km; haze, not cloud or fog) keeps the full
  * share without the lookup: no path there takes enough vertices for the guide's weights to matter. */
@@ -66,10 +68,22 @@ static double sun_guide_share(const path_context *ctx, vec3 sun_dir, vec3 x, int
         return ctx->sun_guide_fraction;
     double r = v3_length(x), depth;
     if (!sun_irradiance_lookup_some_depths(ctx->sun_table, ctx->atm, ctx->sun, r, v3_dot(x, sun_dir) / r, 1, &h,
-                                           &depth) ||
-        depth <= GUIDE_FULL_DEPTH)
+                                           &depth))
+        return 0.0; /* in the shadow */
+    if (depth <= GUIDE_FULL_DEPTH)
         return ctx->sun_guide_fraction;
     return ctx->sun_guide_fraction * exp(GUIDE_FULL_DEPTH - depth);
+}
+
+/* Twilight's guides (the sky guide, the sun guide in the Earth's shadow) take no share of the
+ * directions at a vertex in cloud or fog (GUIDE_DENSE_SIGMA): the light they aim at is beyond the
+ * layer, and the next vertex a free path away.  With them, a direction drawn from the phase function
+ * weighs p / ((1 - a - b) p + ...), up to 1 / (1 - a - b) = 4, at each vertex: the second moment of
+ * a path's weight grows by that factor per vertex of the forward peak, and over the tens of vertices
+ * of a path in fog a rare path carried a map's light (docs/decisions/2026-12-07-fog-reference.md). */
+static double sky_guide_share(const path_context *ctx, double sigma_s)
+{
+    return ctx->sky_guide && sigma_s < GUIDE_DENSE_SIGMA ? ctx->sky_guide_fraction : 0.0;
 }
 
 /* The sun guide's share about each of the walk's suns (path_context.suns) at x, each sun's
@@ -137,7 +151,7 @@ vec3 scatter_direction(const path_context *ctx, vec3 x, const double *n, const d
     const int K = atm->grid.count;
     double share[PATH_SUNS_MAX];
     const double a = sun_guide_shares(ctx, x, h, sig_s[h], NULL, share);
-    const double b = ctx->sky_guide ? ctx->sky_guide_fraction : 0.0;
+    const double b = sky_guide_share(ctx, sig_s[h]);
     assert(is_probability(a) && is_probability(b) && is_probability(a + b) && is_unit(d));
     double cos_theta, phase[FM_MAX_WAVELENGTHS];
     vec3 nd;
