@@ -60,6 +60,21 @@ int segment_umbra(const path_context *ctx, const ray_segment *seg, double *t0, d
     return 1;
 }
 
+/* Whether the segment passes through a cell of the sun table that holds cloud or fog
+ * (sun_irradiance.dense_cell): between its lowest and highest radius. */
+static int segment_meets_dense(const path_context *ctx, const ray_segment *seg)
+{
+    const sun_irradiance *table = ctx->sun_table;
+    double r0 = v3_length(seg->origin), r1 = ray_segment_radius(seg, seg->t_end), t;
+    double lo = seg->s0 < 0.0 && seg->t_end > -seg->s0 ? sqrt(seg->p2) : fmin(r0, r1);
+    int first = table_rows_locate(&table->rows, ctx->atm, lo, &t);
+    int last = table_rows_locate(&table->rows, ctx->atm, fmax(r0, r1), &t);
+    for (int i = first; i <= last; i++)
+        if (table->dense_cell[i])
+            return 1;
+    return 0;
+}
+
 /* Rays that do not hit the ground: column to the top from the origin minus that from x_t.  Rays that
  * do: the reversed ray from x_t passes the origin and never meets the ground, so the difference the
  * other way. */
@@ -68,11 +83,14 @@ void segment_columns_init(segment_columns *sc, const path_context *ctx, const ra
     sc->ctx = ctx;
     sc->seg = seg;
     sc->reversed = seg->hits_ground;
+    sc->dense = segment_meets_dense(ctx, seg);
     double r0 = v3_length(seg->origin), mu0 = seg->s0 / r0;
     sc->ok = column_table_lookup(ctx->columns, ctx->atm, r0, sc->reversed ? -mu0 : mu0, sc->start);
 }
 
-void segment_columns_at(const segment_columns *sc, double t, double *col)
+/* The columns to t: in cloud or fog by quadrature when `exact`, else from the table there too (a
+ * density's proxy, which need not be exact, at a fraction of the cost). */
+static void columns_at(const segment_columns *sc, double t, int exact, double *col)
 {
     const atmosphere *atm = sc->ctx->atm;
     const ray_segment *seg = sc->seg;
@@ -82,7 +100,7 @@ void segment_columns_at(const segment_columns *sc, double t, double *col)
         return;
     }
     double rad = ray_segment_radius(seg, t), mu = (t + seg->s0) / rad, here[FM_MAX_SPECIES];
-    if (sc->ok && column_table_lookup(sc->ctx->columns, atm, rad, sc->reversed ? -mu : mu, here)) {
+    if (sc->ok && !(exact && sc->dense) && column_table_lookup(sc->ctx->columns, atm, rad, sc->reversed ? -mu : mu, here)) {
         /* a ternary, not fmax: glibc's fmax is a call per species (its NaN rules) */
         for (int c = 0; c < atm->species_count; c++) {
             double d = sc->reversed ? here[c] - sc->start[c] : sc->start[c] - here[c];
@@ -90,10 +108,13 @@ void segment_columns_at(const segment_columns *sc, double t, double *col)
         }
         return;
     }
-    /* a ray grazing the ground, where the table's ground test and the segment's disagree */
+    /* cloud or fog, or a ray grazing the ground, where the table's ground test and the segment's
+     * disagree */
     double r0 = v3_length(seg->origin);
     column_quadrature(atm, r0, seg->s0 / r0, t, col);
 }
+
+void segment_columns_at(const segment_columns *sc, double t, double *col) { columns_at(sc, t, 1, col); }
 
 void segment_depth_init(segment_depth *sd, const path_context *ctx, const ray_segment *seg)
 {
@@ -212,7 +233,7 @@ static void proxy_init(lit_proxy *p, const path_context *ctx, const ray_segment 
                                                ks, ds) ||
             (isinf(ds[0]) && isinf(ds[nk - 1]) && isinf(ds[nk / 2])))
             continue;
-        segment_columns_at(sc, t, col);
+        columns_at(sc, t, 0, col);
         atmosphere_densities(atm, rad, n);
         for (int i = 0; i < nk; i++) {
             double sigma = 0.0;

@@ -28,11 +28,13 @@
 #include "transport/path_context.h"
 
 /* Species columns from a segment's origin to distance t along it, from the column table (to the top
- * of the atmosphere) as a difference of two lookups; exact quadrature where the table cannot. */
+ * of the atmosphere) as a difference of two lookups; by quadrature where the table cannot: a ray
+ * grazing the ground, and a segment that meets cloud or fog, whose column the table's bilinear
+ * lookup misses by tenths of an optical depth (it bends at the layer's edges and with the direction). */
 typedef struct segment_columns {
     const path_context *ctx;
     const ray_segment *seg;
-    int reversed, ok;
+    int reversed, ok, dense;
     double start[FM_MAX_SPECIES];
 } segment_columns;
 
