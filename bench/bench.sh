@@ -64,9 +64,11 @@
 #                                   write) and the process's peak memory; then the accuracy table: the
 #                                   live map against the final quality path at the same sun (128 x 64,
 #                                   no sun disk) at suns -18 to 90, luminance RMS, bias and 99th
-#                                   percentile, mean and largest u'v' distance (the final path's own
-#                                   noise: live-bench accuracy ... noise, not run here: it doubles the
-#                                   run); and the zenith luminance swept in 0.1 degree
+#                                   percentile, mean and largest u'v' distance; below the horizon
+#                                   (-18, -12, -6) again against the mean of two final seeds, with that
+#                                   reference's own noise and the RMS less it, over three builds (the
+#                                   product's and two with moved seeds: each build's RMS printed); and
+#                                   the zenith luminance swept in 0.1 degree
 #                                   steps across the grid (the largest step across a grid elevation
 #                                   against the largest elsewhere); and `firmament serve` as a client
 #                                   sees it (bench/serve_latency.py, 512 x 256 maps of the default
@@ -227,6 +229,9 @@ if [ "${1:-}" = "--live" ]; then
     for b in none rural urban; do "$LB" speed "$b" 40; done
     for b in none rural urban; do
         "$LB" accuracy "$b" 128 -18 -12 -6 -2 0 2 5 10 20 30 45 60 90 | { [ "$b" = none ] && cat || tail -n +2; }
+    done
+    for b in none rural urban; do
+        "$LB" accuracy "$b" 128 ref 2 seeds 3 -18 -12 -6 | { [ "$b" = none ] && cat || tail -n +2; }
     done
     for b in none urban; do "$LB" sweep "$b" -20 90 0.1 | tail -n 1; done
     python3 "$ROOT/bench/serve_latency.py" "$FM" --requests 40

@@ -17,11 +17,15 @@
  *                                       path at the same sun (sun disk left out, aureole kept; the
  *                                       azimuth 180): luminance RMS of the relative error, its mean
  *                                       (bias) and 99th percentile, and the mean and largest u'v'
- *                                       chromaticity distance; with "noise" after WIDTH, also the final
- *                                       path's own RMS from a second seed; with "seeds N" (after WIDTH
- *                                       and "noise"), N builds whose nodes' seeds are moved (the live
- *                                       sky's `seed`): the means over them (the largest u'v') and each
- *                                       build's RMS
+ *                                       chromaticity distance; with "ref N" after WIDTH, the reference is
+ *                                       the mean of N final maps (seeds 0..N-1), and its own noise (the
+ *                                       seeds' spread: the RMS of each pixel's standard error over its
+ *                                       luminance) and the RMS less it (in quadrature) are printed too;
+ *                                       with "noise" after those, also the RMS of a further final seed
+ *                                       against the reference; with "seeds N" (after those), N builds
+ *                                       whose nodes' seeds are moved (the live sky's `seed`): the means
+ *                                       over them (the largest u'v') and each build's RMS; final maps
+ *                                       are kept in $LIVE_BENCH_FINAL_CACHE when set (a directory)
  *   live-bench bands BIOME              builds the live sky of BIOME band by band (deep twilight with its
  *                                       shared flight columns, the twilight above it, the day: nodes at
  *                                       0 degrees and up, whose shared walks stay within the band) and
@@ -41,6 +45,7 @@
 #include <time.h>
 
 #include "base/platform.h"
+#include "image/image.h"
 #include "render/live.h"
 #include "transport/twilight.h"
 
@@ -218,7 +223,7 @@ static int bands(const char *biome_arg)
     return 0;
 }
 
-static fm_image *final_map(const char *biome_arg, double e, int width, uint64_t seed)
+static fm_image *final_render(const char *biome_arg, double e, int width, uint64_t seed)
 {
     fm_sky_params p = params_for(biome_arg);
     p.sun_elevation_deg = e;
@@ -235,6 +240,70 @@ static fm_image *final_map(const char *biome_arg, double e, int width, uint64_t 
     }
     fm_sky_destroy(sky);
     return img;
+}
+
+/* The final path's map, kept in $LIVE_BENCH_FINAL_CACHE (a directory) when set: a deep twilight map
+ * costs minutes of CPU, and the live sky's experiments compare against the same ones (whoever changes
+ * the final path empties the directory). */
+static fm_image *final_map(const char *biome_arg, double e, int width, uint64_t seed)
+{
+    const char *dir = getenv("LIVE_BENCH_FINAL_CACHE");
+    char path[4096];
+    snprintf(path, sizeof path, "%s/final-%s-%g-%d-%llu.f32", dir ? dir : ".", biome_arg, e, width,
+             (unsigned long long)seed);
+    FILE *f = dir ? fopen(path, "rb") : NULL;
+    if (f) {
+        fm_image *img = image_create(width, width / 2, 3, FM_IMAGE_XYZ, 0, 0);
+        const size_t n = (size_t)img->width * img->height * 3;
+        size_t got = fread(img->pixels, sizeof(float), n, f);
+        fclose(f);
+        if (got == n)
+            return img;
+        fm_image_destroy(img);
+    }
+    fm_image *img = final_render(biome_arg, e, width, seed);
+    if (dir && (f = fopen(path, "wb"))) {
+        fwrite(img->pixels, sizeof(float), (size_t)img->width * img->height * 3, f);
+        fclose(f);
+    }
+    return img;
+}
+
+/* The reference: the mean of `n` final maps (seeds 0..n-1); *noise_rms the root mean square over the
+ * pixels of its estimated standard error over its luminance (the seeds' spread over sqrt(n)), 0 for
+ * one map. */
+static fm_image *final_reference(const char *biome_arg, double e, int width, int n, double *noise_rms)
+{
+    fm_image *ref = final_map(biome_arg, e, width, 0);
+    const size_t px = (size_t)ref->width * ref->height;
+    double *sum = calloc(px, sizeof(double)), *sum2 = calloc(px, sizeof(double));
+    for (int s = 0; s < n; s++) {
+        fm_image *img = s ? final_map(biome_arg, e, width, (uint64_t)s) : ref;
+        for (size_t i = 0; i < px; i++) {
+            sum[i] += img->pixels[3 * i + 1];
+            sum2[i] += (double)img->pixels[3 * i + 1] * img->pixels[3 * i + 1];
+            if (s)
+                for (int c = 0; c < 3; c++)
+                    ref->pixels[3 * i + c] += img->pixels[3 * i + c];
+        }
+        if (s)
+            fm_image_destroy(img);
+    }
+    double var = 0.0;
+    long used = 0;
+    for (size_t i = 0; i < px; i++) {
+        for (int c = 0; c < 3; c++)
+            ref->pixels[3 * i + c] /= (float)n;
+        const double m = sum[i] / n;
+        if (n > 1 && m > 0.0) {
+            var += fmax(0.0, sum2[i] / n - m * m) / (n - 1) / (m * m);
+            used++;
+        }
+    }
+    *noise_rms = used ? sqrt(var / used) : 0.0;
+    free(sum);
+    free(sum2);
+    return ref;
 }
 
 /* u'v' (CIE 1976) of an XYZ pixel. */
@@ -286,19 +355,21 @@ static fm_sky_live *build_seeded(const char *biome_arg, uint64_t seed)
     return live;
 }
 
-static int accuracy(const char *biome_arg, int width, int noise, int seeds, int count, char **elevations)
+static int accuracy(const char *biome_arg, int width, int noise, int refs, int seeds, int count, char **elevations)
 {
     fm_sky_live **live = malloc(sizeof *live * (size_t)seeds);
     for (int s = 0; s < seeds; s++)
         live[s] = build_seeded(biome_arg, (uint64_t)s);
-    printf("%-8s %7s %8s %8s %8s %9s %9s%s%s\n", "biome", "sun", "RMS %", "bias %", "p99 %", "u'v' mean", "u'v' max",
-           noise ? "  final noise RMS %" : "", seeds > 1 ? "  RMS % of each build" : "");
+    printf("%-8s %7s %8s %8s %8s %9s %9s%s%s%s\n", "biome", "sun", "RMS %", "bias %", "p99 %", "u'v' mean", "u'v' max",
+           refs > 1 ? "  ref noise %  RMS less it %" : "", noise ? "  final noise RMS %" : "",
+           seeds > 1 ? "  RMS % of each build" : "");
     for (int i = 0; i < count; i++) {
         double e = atof(elevations[i]);
         fm_render_params rp = fm_render_params_default();
         rp.width = width;
         rp.sun_disk = 0;
-        fm_image *want = final_map(biome_arg, e, width, 0);
+        double ref_noise;
+        fm_image *want = final_reference(biome_arg, e, width, refs, &ref_noise);
         fm_error err;
         double rms[64], sum[4] = {0}, uv_max = 0.0;
         for (int s = 0; s < seeds; s++) {
@@ -321,8 +392,10 @@ static int accuracy(const char *biome_arg, int width, int noise, int seeds, int 
         }
         printf("%-8s %7.2f %8.3f %8.3f %8.3f %9.5f %9.5f", biome_arg, e, 100 * sum[0], 100 * sum[1], 100 * sum[2], sum[3],
                uv_max);
+        if (refs > 1)
+            printf("  %11.3f  %12.3f", 100 * ref_noise, 100 * sqrt(fmax(0.0, sum[0] * sum[0] - ref_noise * ref_noise)));
         if (noise) {
-            fm_image *other = final_map(biome_arg, e, width, 1);
+            fm_image *other = final_map(biome_arg, e, width, (uint64_t)refs);
             fm_comparison n;
             fm_image_compare(other, want, 0.0, &n, &err);
             printf("  %8.3f", 100 * n.rms);
@@ -391,20 +464,25 @@ int main(int argc, char **argv)
     if (argc >= 3 && !strcmp(argv[1], "speed"))
         return speed(argv[2], argc > 3 ? atoi(argv[3]) : 40);
     if (argc >= 5 && !strcmp(argv[1], "accuracy")) {
-        int at = 4, noise = !strcmp(argv[at], "noise"), seeds = 1;
+        int at = 4, refs = 1, seeds = 1;
+        if (at + 1 < argc && !strcmp(argv[at], "ref")) {
+            refs = atoi(argv[at + 1]);
+            at += 2;
+        }
+        const int noise = at < argc && !strcmp(argv[at], "noise");
         at += noise;
         if (at + 1 < argc && !strcmp(argv[at], "seeds")) {
             seeds = atoi(argv[at + 1]);
             at += 2;
         }
-        if (seeds >= 1 && seeds <= 64 && at < argc)
-            return accuracy(argv[2], atoi(argv[3]), noise, seeds, argc - at, argv + at);
+        if (refs >= 1 && refs <= 64 && seeds >= 1 && seeds <= 64 && at < argc)
+            return accuracy(argv[2], atoi(argv[3]), noise, refs, seeds, argc - at, argv + at);
     }
     if (argc == 3 && !strcmp(argv[1], "bands"))
         return bands(argv[2]);
     if (argc == 6 && !strcmp(argv[1], "sweep"))
         return sweep(argv[2], atof(argv[3]), atof(argv[4]), atof(argv[5]));
-    fprintf(stderr, "usage: live-bench speed BIOME [SUNS] | accuracy BIOME WIDTH [noise] [seeds N] E... | sweep BIOME FROM "
+    fprintf(stderr, "usage: live-bench speed BIOME [SUNS] | accuracy BIOME WIDTH [ref N] [noise] [seeds N] E... | sweep BIOME FROM "
                     "TO "
                     "STEP\n");
     return 2;
