@@ -680,9 +680,9 @@ static void view_cosines(fog_column *fc, const sky_grid *g)
 
 /* Above every layer the column holds, the sky's rows look up through the sphere's air, whose slant
  * depth toward the horizon is finite, where the plane's grows as 1 / mu and holds air lit by the deck
- * without end (2-5 degrees up the plane's orders >= 2 were 10-15 % bright): each sky row takes the
- * cosine whose plane slant depth is the sphere's, from the sun table's transmittance to the top at
- * the middle grid wavelength. */
+ * without end (a tenth too bright 2-5 degrees up): each sky row takes the cosine whose plane slant
+ * depth is the sphere's, from the sun table's transmittance to the top at the middle grid
+ * wavelength.  Rows below the horizontal that dip into the deck keep a grazing cosine. */
 static void sphere_sky_cosines(fog_column *fc, const fm_sky *sky, const sky_grid *g)
 {
     const atmosphere *atm = &sky->atm;
