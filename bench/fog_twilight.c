@@ -65,7 +65,8 @@ int main(int argc, char **argv)
     }
     const double mean = sum / N;
     line("diffuse irradiance at the ground", diffuse, FM_PI * mean, FM_PI * sqrt(fmax(0.0, sum2 / N - mean * mean) / N));
-    static const double views[][2] = {{90, 0}, {60, 180}, {80, 0}, {30, 0}, {30, 90}, {30, 180}, {10, 0}, {10, 180}};
+    static const double views[][2] = {{90, 0}, {60, 180}, {80, 0}, {30, 0}, {30, 90}, {30, 180}, {10, 0}, {10, 180},
+                                       {3, 0}, {3, 90}, {3, 180}, {1, 0}, {1, 180}};
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++) {
         const double e = views[i][0] * FM_DEG, phi = views[i][1] * FM_DEG;
         float v[1];

@@ -8,7 +8,8 @@
  * standard errors; two seeds give the same table to 0.5 % (the paths of the sky above the fog are
  * the only noise left); and the zenith's and the horizon's radiance do not jump at
  * FOG_TABLE_MIN_SUN_DEG, nor at FOG_TABLE_BLEND_TO_DEG, where the day's column takes over; the
- * overcast (stratus) at sun 0 against the reference and at -3 (overcast_in_twilight).
+ * overcast (stratus) at sun 0 against the reference and at -3 (overcast_in_twilight); a deck above
+ * FOG_TABLE_FROM_ABOVE_MAX_BASE_M is test_deck_twilight's.
  * Faults it fails on: the field's azimuthal modes above 0 dropped (sun -3: 60 degrees up opposite the
  * sun +26 %; sun -1: 30 degrees up toward it -13 %), the blend with the day's column left out (the
  * zenith +3.0 % across 3 degrees), the ground left out of the column lit from above (the overcast's
@@ -217,11 +218,16 @@ static void overcast_in_twilight(void **state)
     free_tables(&u);
     free_tables(&t);
     fm_sky_destroy(sky);
-    /* a deck above FOG_TABLE_FROM_ABOVE_MAX_BASE_M keeps the paths */
+    /* a deck above FOG_TABLE_FROM_ABOVE_MAX_BASE_M takes it at several suns (test_deck_twilight) */
     sky = cloud_sky(-3.0, "altostratus");
     fm_render_params rp = fm_render_params_default();
     render_job job = {.sky = sky, .params = &rp, .fog_from_above = 1};
-    assert_false(fog_table_from_above(&job));
+    assert_true(fog_table_local_sun(&job));
+    fm_sky_destroy(sky);
+    sky = cloud_sky(-3.0, "stratus");
+    job.sky = sky;
+    assert_true(fog_table_from_above(&job));
+    assert_false(fog_table_local_sun(&job));
     fm_sky_destroy(sky);
 }
 

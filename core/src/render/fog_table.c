@@ -4,6 +4,7 @@
 #include "base/threads.h"
 #include "base/units.h"
 #include "render/fog_incident.h"
+#include "render/fog_local_sun.h"
 #include "render/ms_table.h"
 #include "render/render_job.h"
 #include "sky.h"
@@ -102,10 +103,15 @@ int fog_table_from_above(const render_job *job)
     const double z = sky->sun_dir.z, altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
     const int cloud = column_cloud(sky);
     return job->fog_from_above && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
-           sky->composition.cloud_count == 1 && cloud >= 0 &&
-           sky->composition.cloud[cloud].base_m <= FOG_TABLE_FROM_ABOVE_MAX_BASE_M && altitude < FOG_TABLE_ON_GROUND_M &&
+           sky->composition.cloud_count == 1 && cloud >= 0 && altitude < FOG_TABLE_ON_GROUND_M &&
            z < sin((from_above_below_deg(sky, cloud) + FOG_TABLE_BLEND_DEG) * FM_DEG) &&
            z >= sin(FOG_TABLE_TWILIGHT_MIN_SUN_DEG * FM_DEG);
+}
+
+int fog_table_local_sun(const render_job *job)
+{
+    return fog_table_from_above(job) &&
+           job->sky->composition.cloud[column_cloud(job->sky)].base_m > FOG_TABLE_FROM_ABOVE_MAX_BASE_M;
 }
 
 int fog_table_applies(const render_job *job)
@@ -758,13 +764,85 @@ static fm_status column_sums(render_job *job, int from_above, fog_tables_fn tabl
     return s;
 }
 
+/* The column lit from above's share of the table at the sky's sun (from_above_below_deg and the
+ * blend above it). */
+static double above_share_at(const fm_sky *sky)
+{
+    const double e = asin(clamp_cosine(sky->sun_dir.z)) / FM_DEG;
+    const double below = from_above_below_deg(sky, column_cloud(sky));
+    return e < below ? 1.0 : e > below + FOG_TABLE_BLEND_DEG ? 0.0 : (below + FOG_TABLE_BLEND_DEG - e) / FOG_TABLE_BLEND_DEG;
+}
+
 double fog_table_above_share(const render_job *job)
 {
-    if (!fog_table_from_above(job))
-        return 0.0;
-    const double e = asin(clamp_cosine(job->sky->sun_dir.z)) / FM_DEG;
-    const double below = from_above_below_deg(job->sky, column_cloud(job->sky));
-    return e < below ? 1.0 : (below + FOG_TABLE_BLEND_DEG - e) / FOG_TABLE_BLEND_DEG;
+    return fog_table_from_above(job) ? above_share_at(job->sky) : 0.0;
+}
+
+/* The table's sums (t->sum, t->peak) and the ground's at the job's sky's sun: the column lit from
+ * above and the day's blended by share. */
+static fm_status table_sums(render_job *job, double share, fog_tables_fn tables, double *ground, int *on_ground)
+{
+    ms_table *t = job->ms;
+    const size_t n = (size_t)sky_grid_nodes(&t->grid) * job->sky->atm.grid.count;
+    double day_ground[FM_MAX_WAVELENGTHS];
+    fm_status s = FM_OK;
+    double *day = NULL; /* between the thresholds: the column lit by the beam and the air, to blend */
+    if (share > 0.0 && share < 1.0 && !(s = column_sums(job, 0, tables, day_ground, on_ground)) &&
+        (day = malloc(sizeof(double) * n)))
+        memcpy(day, t->sum, sizeof(double) * n);
+    else if (share > 0.0 && share < 1.0 && !s)
+        s = FM_ERR_OUT_OF_MEMORY;
+    if (!s)
+        s = column_sums(job, share > 0.0, tables, ground, on_ground);
+    for (size_t i = 0; i < n && day && !s; i++)
+        t->sum[i] = share * t->sum[i] + (1.0 - share) * day[i];
+    for (int k = 0; k < job->sky->atm.grid.count && day && !s; k++)
+        ground[k] = share * ground[k] + (1.0 - share) * day_ground[k];
+    free(day);
+    return s;
+}
+
+/* The incident skies' paths, a share of the quality's: the deck sees each through its whole sky, whose
+ * noise it averages. */
+#define LOCAL_SUN_PATH_SHARE 4
+
+/* Under an elevated deck (fog_table_local_sun): the table at the suns fog_local_sun.h spans, each
+ * node's along its view.  The observer's sun goes last: the peak and the ground are its. */
+static fm_status local_sun_sums(render_job *job, fog_tables_fn tables, double *ground, int *on_ground)
+{
+    const fm_sky *own = job->sky;
+    const size_t n = (size_t)sky_grid_nodes(&job->ms->grid) * own->atm.grid.count;
+    const double base = own->composition.cloud[column_cloud(own)].base_m;
+    const double span = fog_local_sun_span(&own->atm, base), e0 = asin(clamp_cosine(own->sun_dir.z));
+    double *at = malloc(sizeof(double) * n * FOG_LOCAL_SUNS);
+    fm_sky *local = malloc(sizeof *local); /* read alone: the same atmosphere and tables, another sun */
+    if (!at || !local) {
+        free(at);
+        free(local);
+        return FM_ERR_OUT_OF_MEMORY;
+    }
+    *local = *own;
+    static const int order[FOG_LOCAL_SUNS] = {0, 2, 1};
+    fm_status s = FM_OK;
+    for (int j = 0; j < FOG_LOCAL_SUNS && !s; j++) {
+        const double e = e0 + (order[j] - 1) * span;
+        local->params.sun_elevation_deg = e / FM_DEG;
+        local->sun_dir = direction_from_elevation_azimuth(e, own->params.sun_azimuth_deg * FM_DEG);
+        const int paths = job->q.ms_paths;
+        job->sky = order[j] == 1 ? own : local;
+        job->q.ms_paths = (paths + LOCAL_SUN_PATH_SHARE - 1) / LOCAL_SUN_PATH_SHARE;
+        s = table_sums(job, above_share_at(job->sky), tables, ground, on_ground);
+        job->sky = own;
+        job->q.ms_paths = paths;
+        if (!s)
+            memcpy(at + order[j] * n, job->ms->sum, sizeof(double) * n);
+    }
+    const double *const tables_at[FOG_LOCAL_SUNS] = {at, at + n, at + 2 * n};
+    if (!s)
+        fog_local_sun_combine(&own->atm, &job->ms->grid, base, span, tables_at, job->ms->sum);
+    free(local);
+    free(at);
+    return s;
 }
 
 fm_status fog_table_fill(render_job *job, fog_tables_fn tables)
@@ -775,23 +853,10 @@ fm_status fog_table_fill(render_job *job, fog_tables_fn tables)
     const int K = atm->grid.count, nodes = sky_grid_nodes(&t->grid);
     if (t->grid.rows_sky + t->grid.rows_ground > (int)(sizeof ((fog_column *)0)->mu / sizeof(double)))
         return FM_ERR_INVALID_ARGUMENT;
-    const double share = fog_table_above_share(job);
-    double ground[FM_MAX_WAVELENGTHS], day_ground[FM_MAX_WAVELENGTHS];
+    double ground[FM_MAX_WAVELENGTHS];
     int on_ground;
-    fm_status s = FM_OK;
-    double *day = NULL; /* between the thresholds: the column lit by the beam and the air, to blend */
-    if (share > 0.0 && share < 1.0 && !(s = column_sums(job, 0, tables, day_ground, &on_ground)) &&
-        (day = malloc(sizeof(double) * (size_t)nodes * K)))
-        memcpy(day, t->sum, sizeof(double) * (size_t)nodes * K);
-    else if (share > 0.0 && share < 1.0 && !s)
-        s = FM_ERR_OUT_OF_MEMORY;
-    if (!s)
-        s = column_sums(job, share > 0.0, tables, ground, &on_ground);
-    for (size_t i = 0; i < (size_t)nodes * K && day && !s; i++)
-        t->sum[i] = share * t->sum[i] + (1.0 - share) * day[i];
-    for (int k = 0; k < K && day && !s; k++)
-        ground[k] = share * ground[k] + (1.0 - share) * day_ground[k];
-    free(day);
+    fm_status s = fog_table_local_sun(job) ? local_sun_sums(job, tables, ground, &on_ground)
+                                           : table_sums(job, fog_table_above_share(job), tables, ground, &on_ground);
     if (!s) {
         /* the nodes as one path each, already the whole of orders >= 2: no fit */
         t->paths = 1;

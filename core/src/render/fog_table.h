@@ -46,8 +46,9 @@ struct render_job;
 #define FOG_TABLE_MIN_SUN_DEG_PER_KM 1.0
 
 /* Below FOG_TABLE_MIN_SUN_DEG, down to the end of astronomical twilight, fog alone around an observer
- * on the ground (below FOG_TABLE_ON_GROUND_M), or a deck alone above it (base up to
- * FOG_TABLE_FROM_ABOVE_MAX_BASE_M; below FOG_TABLE_MIN_SUN_DEG_PER_KM per km of its base), takes the
+ * on the ground (below FOG_TABLE_ON_GROUND_M), or a deck alone above it (below
+ * FOG_TABLE_MIN_SUN_DEG_PER_KM per km of its base; above FOG_TABLE_FROM_ABOVE_MAX_BASE_M at several
+ * suns, fog_table_local_sun), takes the
  * column of the layer and the air under it lit from above by the spherical sky without the layer
  * (render/fog_incident.h) and, with the sun up, by the beam at the layer's top
  * (docs/decisions/2026-12-07-twilight-fog.md), where the job lets it (fog_from_above).  For
@@ -59,14 +60,18 @@ struct render_job;
 /* in fog: FOG_TABLE_MIN_SUN_DEG + FOG_TABLE_BLEND_DEG */
 #define FOG_TABLE_BLEND_TO_DEG 3.0
 /* A deck's field comes from the sky above the observer, but a view meets the deck d km away, under a
- * sun d / R higher or lower: at twilight the sky brightens by some 0.5 % per 0.01 degrees, so a view
- * 10 degrees up meeting a deck at 3 km (17 km off, 0.15 degrees) was 7 to 12 % off (altostratus at
- * sun -1); at 1 km a third of that. */
+ * sun d / R higher or lower: at twilight the sky brightens by some 0.5 % per 0.01 degrees, so with one
+ * sun a view 10 degrees up meeting a deck at 3 km (17 km off, 0.15 degrees) was 7 to 12 % off
+ * (altostratus at sun -1); at 1 km a third of that, so one sun does up to here and a higher base
+ * takes the column at several suns (render/fog_local_sun.h), three times the incident skies. */
 #define FOG_TABLE_FROM_ABOVE_MAX_BASE_M 1000.0
 #define FOG_TABLE_ON_GROUND_M 0.5
 /* Whether the job's table takes that column (wholly or blended), and its share (0 where not). */
 int fog_table_from_above(const struct render_job *job);
 double fog_table_above_share(const struct render_job *job);
+/* Whether that column is made at several suns, each view lit by the sun where it meets the deck
+ * (fog_local_sun.h): a deck whose base is above FOG_TABLE_FROM_ABOVE_MAX_BASE_M. */
+int fog_table_local_sun(const struct render_job *job);
 
 /* Whether the job's table comes from the column: fog_table_from_above, or by day, not in the reference mode, no deck base
  * (deck_base.h) built, the observer in a fog layer (a cloud layer from the ground up) of

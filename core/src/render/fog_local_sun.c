@@ -1,0 +1,79 @@
+#include "render/fog_local_sun.h"
+
+#include "base/units.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/* Steps along a view from the ground to the base: uniform in the arc, so denser near the ground
+ * where the air is (at the horizon the height grows as the arc squared). */
+#define VIEW_STEPS 32
+
+double fog_local_sun_span(const atmosphere *atm, double base_m)
+{
+    return acos(atm->bottom_radius_m / (atm->bottom_radius_m + base_m));
+}
+
+/* The value at x in [-1, 1] from those at -1, 0, 1: quadratic in the logarithm (the twilit sky
+ * brightens exponentially with the sun), in the value where one is not positive. */
+static double interpolate(double lo, double mid, double hi, double x)
+{
+    const int log_space = lo > 0.0 && mid > 0.0 && hi > 0.0;
+    const double a = log_space ? log(lo) : lo, b = log_space ? log(mid) : mid, c = log_space ? log(hi) : hi;
+    const double v = b + 0.5 * x * (c - a) + 0.5 * x * x * (a + c - 2.0 * b);
+    return log_space ? exp(v) : v;
+}
+
+/* Along a view at elevation e: the arcs (rad) of the steps' middles and the base, and the weights at
+ * each grid wavelength ([VIEW_STEPS + 1][K]): a step's the light it scatters seen through the air
+ * before it (1 - e^-dtau under e^-tau: the air's source function near the deck's radiance, which
+ * lights it), the base's what the air lets through. */
+static void view_weights(const atmosphere *atm, double e, double base_m, double *arc, double *w)
+{
+    const int K = atm->grid.count;
+    const double R = atm->bottom_radius_m, ce = cos(fmax(e, 0.0)), e0 = fmax(e, 0.0);
+    const double end = acos(R * ce / (R + base_m)) - e0, d = end / VIEW_STEPS;
+    double tau[FM_MAX_WAVELENGTHS] = {0}, ss[FM_MAX_WAVELENGTHS], st[FM_MAX_WAVELENGTHS];
+    for (int s = 0; s < VIEW_STEPS; s++) {
+        const double t = (s + 0.5) * d, c = cos(e0 + t);
+        const double r = R * ce / c, ds = R * ce / (c * c) * d; /* m */
+        atmosphere_coefficients(atm, r, ss, st);
+        arc[s] = t;
+        for (int k = 0; k < K; k++) {
+            const double dt = st[k] * ds;
+            w[s * K + k] = exp(-tau[k]) * -expm1(-dt);
+            tau[k] += dt;
+        }
+    }
+    arc[VIEW_STEPS] = end;
+    for (int k = 0; k < K; k++)
+        w[VIEW_STEPS * K + k] = exp(-tau[k]);
+}
+
+void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double base_m, double span,
+                           const double *const at[FOG_LOCAL_SUNS], double *out)
+{
+    const int K = atm->grid.count, cols = grid->cols, nodes = sky_grid_nodes(grid);
+    double arc[VIEW_STEPS + 1], w[(VIEW_STEPS + 1) * FM_MAX_WAVELENGTHS];
+    for (int r = 0; r < grid->rows_sky; r++) {
+        double e, phi;
+        sky_grid_node_angles(grid, r * cols, &e, &phi);
+        view_weights(atm, e, base_m, arc, w);
+        for (int c = 0; c < cols; c++) {
+            const int i = r * cols + c;
+            sky_grid_node_angles(grid, i, &e, &phi);
+            for (int k = 0; k < K; k++) {
+                const size_t n = (size_t)i * K + k;
+                double L = 0.0;
+                for (int s = 0; s <= VIEW_STEPS; s++) {
+                    /* toward the sun's azimuth the sun stands higher by the arc */
+                    const double x = fmin(1.0, fmax(-1.0, arc[s] * cos(phi) / span));
+                    L += w[s * K + k] * interpolate(at[0][n], at[1][n], at[2][n], x);
+                }
+                out[n] = L;
+            }
+        }
+    }
+    for (size_t n = (size_t)grid->rows_sky * cols * K; n < (size_t)nodes * K; n++)
+        out[n] = at[1][n];
+}

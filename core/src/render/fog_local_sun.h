@@ -1,0 +1,31 @@
+/* An elevated cloud deck at a low sun and in twilight: each view lit by the sun where it meets the
+ * deck (docs/decisions/2026-12-07-deck-local-sun.md).
+ *
+ * The plane column lights the whole deck with the observer's sun, but a view at elevation e meets a
+ * base at h over an arc theta = acos(R cos e / (R + h)) - e away, where the sun stands theta cos(phi)
+ * higher (phi the view's azimuth from the sun's): at the horizon under a base at 3 km, 1.76 degrees.
+ * In twilight the sky above the deck brightens by some 0.5 % per 0.01 degree of sun, so one sun for
+ * the whole deck puts 10 % errors 10 degrees up and factors at the horizon.  The column's table is
+ * made at FOG_LOCAL_SUNS suns (the observer's and that arc at the horizon either side of it) and each
+ * sky node takes the light along its view: the air's (weighted by what it scatters, seen through
+ * the air before it) and the deck's base (seen through all of it), each at its own sun, from the
+ * tables interpolated quadratically in the logarithm over the sun's elevation. */
+#ifndef FM_RENDER_FOG_LOCAL_SUN_H
+#define FM_RENDER_FOG_LOCAL_SUN_H
+
+#include "atmosphere/atmosphere.h"
+#include "transport/sky_grid.h"
+
+#define FOG_LOCAL_SUNS 3
+
+/* The arc (rad) from the observer on the ground to where a horizontal view meets a base at base_m:
+ * the sun's largest shift over the deck's visible part, and the spacing of the suns. */
+double fog_local_sun_span(const atmosphere *atm, double base_m);
+
+/* The table's sums at every node from the tables at[j] ([node][K] each, made at the observer's sun
+ * plus (j - 1) span), the deck's base at base_m: into out ([node][K]).  The ground rows (looking
+ * down) take the observer's sun. */
+void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double base_m, double span,
+                           const double *const at[FOG_LOCAL_SUNS], double *out);
+
+#endif
