@@ -51,9 +51,10 @@
 #   bench/bench.sh --clouds         issue 48's speed target: the Overcast and Bright overcast noon
 #                                   presets, stratus at sun 3 and -3, a fog around the observer (sun
 #                                   30, 3 and -3 degrees) and the stratus seen from 3 km above the
-#                                   ground (sun 30 and 3), the altostratus at sun -4 as 4096 x 2048
+#                                   ground (sun 30 and 3), the altostratus at sun -4, the High
+#                                   cirrostratus preset and two layers at sun 10 as 4096 x 2048
 #                                   final maps, wall and CPU time, memory and one map's noise from
-#                                   two seeds (about 11 minutes on 2 cores today)
+#                                   two seeds (about 12 minutes on 2 cores today)
 #   bench/bench.sh --live           the live sky (docs/rendering.md, "Live sky"; bench/live_bench.c):
 #                                   per biome (none, rural, urban) the build time (wall and CPU: the
 #                                   whole, then its two parts: the build a first map by day waits for,
@@ -244,8 +245,9 @@ if [ "${1:-}" = "--clouds" ]; then
     # the deck base's 5) and a fog with the observer inside it (0-200 m, visibility 200 m, optical depth
     # 3.9; the sun 30 degrees up and, a misty sunrise, 3 degrees), and the fog and the stratus at dusk
     # (sun -3: lit by the sky above them, docs/decisions/2026-12-07-twilight-fog.md), and the stratus seen
-    # from above (a mountain top at 3 km, sun 30 and 3: docs/decisions/2026-12-07-above-deck.md), and the
-    # altostratus (3-4 km) at dusk (sun -4: docs/decisions/2026-12-07-deck-local-sun.md) as 4096 x 2048 colour maps at
+    # from above (a mountain top at 3 km, sun 30 and 3: docs/decisions/2026-12-07-above-deck.md), the
+    # altostratus (3-4 km) at dusk (sun -4: docs/decisions/2026-12-07-deck-local-sun.md), the High
+    # cirrostratus preset and cirrostratus over altostratus at sun 10 (docs/decisions/2026-12-07-thin-layers.md) as 4096 x 2048 colour maps at
     # final quality: wall and CPU seconds (user + system; on a loaded machine compare CPU), peak memory,
     # and one map's noise: the RMS relative luminance difference of two seeds' maps over sqrt(2)
     printf '%-34s %-10s %7s %7s %9s %9s %6s\n' sky size "wall s" "CPU s" "peak MiB" "noise %" paths
@@ -254,7 +256,8 @@ if [ "${1:-}" = "--clouds" ]; then
         "fog-low-sun --fog-visibility 200 --sun-elevation 3" "fog-dusk --fog-visibility 200 --sun-elevation -3" \
         "stratus-dusk --cloud stratus --sun-elevation -3" "above-overcast --cloud stratus --altitude 3000" \
         "above-overcast-low-sun --cloud stratus --altitude 3000 --sun-elevation 3" \
-        "altostratus-dusk --cloud altostratus --sun-elevation -4"; do
+        "altostratus-dusk --cloud altostratus --sun-elevation -4" \
+        "high-cirrostratus --preset high-cirrostratus" "two-layers --cloud cirrostratus,altostratus --sun-elevation 10"; do
         read -r name extra <<<"$job"
         read -r -a extra <<<"$extra"
         for seed in 1 2; do

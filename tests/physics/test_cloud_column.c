@@ -7,7 +7,7 @@
  * 40-170 km away and the plane differs from the sphere) and a few 4-12 degrees from the sun, within
  * 2 % plus 3 standard errors (the decision record's figures).
  * Where it applies: from FOG_TABLE_MIN_TAU, with the sun FOG_TABLE_MIN_SUN_DEG_PER_KM degrees per km
- * of the layer's base up or more.
+ * of the layer's base up or more (a thin layer: test_thin_layers.c).
  * Faults it fails on: the deck's layer left out of the column, the ground's reflection left out of
  * the column (the decision record says by how much), the base's sun bound left out.
  * About 40 s of CPU, nearly all of it the path tracer. */
@@ -94,7 +94,8 @@ static void altostratus_against_the_path_tracer(void **state)
 }
 
 /* Where the column applies under an elevated layer: from FOG_TABLE_MIN_TAU up, with the sun
- * FOG_TABLE_MIN_SUN_DEG_PER_KM degrees per km of the layer's base up or more. */
+ * FOG_TABLE_MIN_SUN_DEG_PER_KM degrees per km of the layer's base up or more; a thinner layer from
+ * FOG_TABLE_MIN_TAU_THIN up, with the sun FOG_TABLE_THIN_MIN_SUN_DEG up or more. */
 static void where_the_column_applies(void **state)
 {
     (void)state;
@@ -104,7 +105,12 @@ static void where_the_column_applies(void **state)
         int applies;
     } cases[] = {{"altostratus", FOG_TABLE_MIN_TAU, 3.0 * FOG_TABLE_MIN_SUN_DEG_PER_KM + 0.01, 1},
                  {"altostratus", FOG_TABLE_MIN_TAU, 3.0 * FOG_TABLE_MIN_SUN_DEG_PER_KM - 0.01, 0},
-                 {"altostratus", 0.99 * FOG_TABLE_MIN_TAU, 30.0, 0},
+                 {"altostratus", 0.99 * FOG_TABLE_MIN_TAU, FOG_TABLE_THIN_MIN_SUN_DEG + 0.01, 1},
+                 {"altostratus", 0.99 * FOG_TABLE_MIN_TAU, FOG_TABLE_THIN_MIN_SUN_DEG - 0.01, 0},
+                 {"altostratus", FOG_TABLE_MIN_TAU_THIN, 60.0, 1},
+                 {"altostratus", 0.99 * FOG_TABLE_MIN_TAU_THIN, 60.0, 0},
+                 {"cirrostratus", 1.0, FOG_TABLE_THIN_MIN_SUN_DEG + 0.01, 1},
+                 {"cirrostratus", 1.0, FOG_TABLE_THIN_MIN_SUN_DEG - 0.01, 0},
                  {"cirrostratus", FOG_TABLE_MIN_TAU, 8.0 * FOG_TABLE_MIN_SUN_DEG_PER_KM - 0.01, 0},
                  {"stratus", 30.0, 3.0, 1}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {

@@ -52,10 +52,10 @@ typedef struct fog_column {
 
 /* The cloud layer the column is for, or -1: the one on the ground that holds the observer with a
  * visibility of FOG_TABLE_MAX_VISIBILITY_M or less (fog), else the lowest whose top is above the
- * observer (who is below or inside it) of optical depth FOG_TABLE_MIN_TAU or more, else the highest
- * such layer below the observer (docs/decisions/2026-12-07-above-deck.md): the column holds the
- * observer's level wherever it is, its views down the upward radiance there. */
-static int column_cloud(const fm_sky *sky)
+ * observer (who is below or inside it) of optical depth min_tau or more, else the highest layer of
+ * FOG_TABLE_MIN_TAU or more below the observer (docs/decisions/2026-12-07-above-deck.md): the column
+ * holds the observer's level wherever it is, its views down the upward radiance there. */
+static int column_cloud_from(const fm_sky *sky, double min_tau)
 {
     const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
     int lowest = -1, below = -1;
@@ -71,15 +71,23 @@ static int column_cloud(const fm_sky *sky)
         }
         if (base <= 0.0)
             return tau / h >= 3.912 / FOG_TABLE_MAX_VISIBILITY_M ? i : -1;
-        if (tau >= FOG_TABLE_MIN_TAU && (lowest < 0 || base < sky->composition.cloud[lowest].base_m))
+        if (tau >= min_tau && (lowest < 0 || base < sky->composition.cloud[lowest].base_m))
             lowest = i;
     }
     return lowest >= 0 ? lowest : below;
 }
 
+/* The thick layer (FOG_TABLE_MIN_TAU) where there is one, else a thin one (FOG_TABLE_MIN_TAU_THIN):
+ * the column is for that. */
+static int column_cloud(const fm_sky *sky)
+{
+    const int thick = column_cloud_from(sky, FOG_TABLE_MIN_TAU);
+    return thick >= 0 ? thick : column_cloud_from(sky, FOG_TABLE_MIN_TAU_THIN);
+}
+
 int fog_table_sky(const fm_sky *sky)
 {
-    if (column_cloud(sky) < 0)
+    if (column_cloud_from(sky, FOG_TABLE_MIN_TAU) < 0)
         return 0;
     /* a deck that the deck base takes (from DECK_MIN_SUN_DEG up) leaves the day's nodes to paths */
     const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
@@ -101,7 +109,7 @@ int fog_table_from_above(const render_job *job)
 {
     const fm_sky *sky = job->sky;
     const double z = sky->sun_dir.z, altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
-    const int cloud = column_cloud(sky);
+    const int cloud = column_cloud_from(sky, FOG_TABLE_MIN_TAU);
     return job->fog_from_above && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
            sky->composition.cloud_count == 1 && cloud >= 0 && altitude < FOG_TABLE_ON_GROUND_M &&
            z < sin((from_above_below_deg(sky, cloud) + FOG_TABLE_BLEND_DEG) * FM_DEG) &&
@@ -124,6 +132,8 @@ int fog_table_applies(const render_job *job)
         return 0;
     double min_sun = sky->composition.cloud_count > 1 ? FOG_TABLE_MIN_SUN_DEG_CLOUDS : FOG_TABLE_MIN_SUN_DEG;
     min_sun = fmax(min_sun, FOG_TABLE_MIN_SUN_DEG_PER_KM * sky->composition.cloud[cloud].base_m / 1000.0);
+    if (sky->composition.cloud[cloud].tau550 < FOG_TABLE_MIN_TAU)
+        min_sun = fmax(min_sun, FOG_TABLE_THIN_MIN_SUN_DEG);
     return sky->sun_dir.z >= sin(min_sun * FM_DEG);
 }
 

@@ -27,6 +27,10 @@ struct render_job;
 /* A cloud layer above the observer (or around an observer above the ground) of this optical depth
  * at 550 nm or more takes the column too: its paths random-walk through the layer. */
 #define FOG_TABLE_MIN_TAU 2.0
+/* Without such a layer, the lowest of this optical depth or more (a thin veil: the paths' noise is
+ * half a percent at 0.25 and rises to 2-8 % at 2), with the sun FOG_TABLE_THIN_MIN_SUN_DEG up or
+ * more (below). */
+#define FOG_TABLE_MIN_TAU_THIN 0.1
 /* The sun at least this high: with the beam pseudo-spherical above the fog and the air in thin
  * layers the column is within 2 % (plus 3 standard errors) of the path tracer from sun 0.2 degrees
  * up but for a view or two (docs/decisions/2026-12-06-fog-column.md); at the horizon the plane's
@@ -44,6 +48,14 @@ struct render_job;
  * up to 10 % at sun 8 (docs/decisions/2026-12-06-cloud-column.md); decks up to 4 km at sun 3 agree
  * within the reference's noise but for the horizon away from the sun. */
 #define FOG_TABLE_MIN_SUN_DEG_PER_KM 1.0
+/* A thin layer (FOG_TABLE_MIN_TAU_THIN up to FOG_TABLE_MIN_TAU) with the sun at least this high: its
+ * forward light near the sun, not hidden by the layer's own depth, is one beam's in the column, while
+ * a view below the sun crosses more of the layer than one above it, and a view low toward the sun
+ * meets a high layer where the sun stands higher.  At sun 24 cirrostratus (optical depth 0.5 and 1)
+ * and altostratus (1) were within 2 % plus 3 standard errors of the reference in every view; at 9.5
+ * altostratus (1) was 23 % bright 3.5 degrees below the sun and 10 % dark 4.5 above it
+ * (docs/decisions/2026-12-07-thin-layers.md). */
+#define FOG_TABLE_THIN_MIN_SUN_DEG 24.0
 
 /* Below FOG_TABLE_MIN_SUN_DEG, down to the end of astronomical twilight, fog alone around an observer
  * on the ground (below FOG_TABLE_ON_GROUND_M), or a deck alone above it (below
