@@ -141,7 +141,6 @@ typedef struct tracer {
     double *const *L, *const *L_later;
     int light_led;      /* deep twilight's roulette at the new vertex (path_context.light_led_roulette) */
     double min_survive; /* the roulette's floor: LIGHT_LED_MIN_SURVIVAL when light-led, else 0 */
-    int placed;         /* deep twilight's shadow flights place every collision: no path leaves */
     int copies_made;    /* by the path and its copies, together (at most SPLIT_TOTAL) */
     int waiting;
     waiting_path stack[PATH_STACK];
@@ -178,13 +177,14 @@ static int pop_path(tracer *tr, path_state *p)
  * least DENSE_SIGMA, m^-1: cloud or fog, an optical depth of 1 per km) where flights can leave
  * through the top: there paths end by themselves (thick segments let them out) and a thick cloud's
  * light needs hundreds of orders, so all survive that the weight lets live, up to order
- * CAP_ORDER_DENSE (a guard).  Shadow flights never let a path out: the cap holds there. */
+ * CAP_ORDER_DENSE (a guard).  Deep twilight's shadow flights never let a path out, but none leaves
+ * from cloud or fog (flight_placed). */
 #define CAP_ORDER 8
 #define CAP_ORDER_DENSE 100000
 #define DENSE_SIGMA 1e-3
 static double survival_cap(const tracer *tr, const path_state *p)
 {
-    int dense = !tr->placed && p->medium.sig_s[tr->h] >= DENSE_SIGMA;
+    int dense = p->medium.sig_s[tr->h] >= DENSE_SIGMA;
     return p->order > (dense ? CAP_ORDER_DENSE : CAP_ORDER) ? 0.95 : 1.0;
 }
 
@@ -344,11 +344,27 @@ static flight delta_tracking(tracer *tr, path_state *p, const ray_segment *seg, 
  * twilight the shadow flights place it toward the light; otherwise delta tracking, its first
  * collision forced inside a segment that would leave through the top (thin air's paths stay
  * useful). */
+/* Whether deep twilight's shadow flight places the segment's next vertex: not from a point in cloud or
+ * fog (DENSE_SIGMA), where the next vertex lies a free path away and the light the flight aims at
+ * beyond the layer.  A flight's cells there are far longer than a free path, and a vertex it places
+ * by the physical part of its density weighs more than 1: over the tens of vertices of a path in fog
+ * the weights' second moment grew geometrically (docs/decisions/2026-12-07-fog-reference.md). */
+static int flight_placed(const tracer *tr, const ray_segment *seg)
+{
+    if (!tr->ctx->shadow_flights)
+        return 0;
+    double n[FM_MAX_SPECIES], sig_s = 0.0;
+    atmosphere_densities(tr->atm, v3_length(seg->origin), n);
+    for (int c = 0; c < tr->atm->scattering_count; c++)
+        sig_s += tr->atm->species[c].sigma_s[tr->h] * n[c];
+    return sig_s < DENSE_SIGMA;
+}
+
 static flight free_flight(tracer *tr, path_state *p, const ray_segment *seg, collision_fn on_collision, double *t)
 {
     const path_context *ctx = tr->ctx;
     double tau;
-    if (ctx->shadow_flights) {
+    if (flight_placed(tr, seg)) {
         *t = 0.0;
         if (!shadow_flight(ctx, ctx->shadow_flights, seg, tr->r, p->w, t))
             return FLIGHT_END_OF_SEGMENT; /* the ground */
@@ -601,7 +617,6 @@ static int trace_from(const path_context *ctx, vec3 origin, vec3 dir, const doub
     tr.L_later = L_later;
     tr.light_led = ctx->shadow_flights && ctx->light_led_roulette;
     tr.min_survive = tr.light_led ? LIGHT_LED_MIN_SURVIVAL : 0.0;
-    tr.placed = ctx->shadow_flights != NULL;
     tr.copies_made = 0;
     tr.waiting = 0;
     path_state p;
