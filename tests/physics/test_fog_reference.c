@@ -9,10 +9,13 @@
  *   sampling's radiance against plain paths' within 2 % plus 3 standard errors, each standard error
  *   under 3 %.  Fails with the twilight guides kept at their shares in the fog (standard errors of
  *   11-53 %, the mean 40 % dark at one view).
+ * - deep_twilight_in_fog: the same at sun -6 (deep twilight's sampling), 30 degrees up away from the
+ *   sun, within 2 % plus 3 standard errors, the twilight sampling's under 3 %.  Fails with the
+ *   shadow flights placing the vertices in the fog too (its standard error 7 %, 10 % dark).
  * - overcast_azimuths_in_twilight: under the stratus at sun -1, the twilight sampling's views 30
  *   degrees up toward and away from the sun (equal by diffusion) within 2 % plus 3 standard errors,
  *   each under 5 %.  Fails with either fault above.
- * About 25 s of CPU. */
+ * About 35 s of CPU. */
 #include "check.h"
 
 #include "atmosphere/optical_depth.h"
@@ -167,6 +170,27 @@ static void twilight_sampling_in_fog(void **state)
     fm_sky_destroy(sky);
 }
 
+/* Deep twilight (sun -6): the shadow flights, the light-led roulette and the split paths, from the
+ * fog's top up; the fog's own vertices by delta tracking. */
+static void deep_twilight_in_fog(void **state)
+{
+    (void)state;
+    fm_sky *sky = twilight_sky(-6.0, 200.0, NULL);
+    reference_sampling ref;
+    reference_sampling_init(&ref, sky);
+    assert_non_null(ref.pc.shadow_flights);
+    path_context plain = sky_path_context(sky, 1, 0);
+    const vec3 d = render_view_direction(sky, 30.0 * FM_DEG, FM_PI);
+    double se_t, se_p;
+    const double t = test_path_radiance(&ref.pc, sky->observer, d, 16000, 3, 40, &se_t);
+    const double p = test_path_radiance(&plain, sky->observer, d, 40000, 3, 41, &se_p);
+    check_agree(t, se_t, p, se_p, "fog, sun -6, 30 up, 180 from the sun: twilight sampling / plain");
+    assert_true(se_t < 0.03 * t);
+    assert_true(se_p < 0.08 * p);
+    reference_sampling_free(&ref);
+    fm_sky_destroy(sky);
+}
+
 static void overcast_azimuths_in_twilight(void **state)
 {
     (void)state;
@@ -190,6 +214,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(segment_sunlight_in_a_deck),
         cmocka_unit_test(twilight_sampling_in_fog),
+        cmocka_unit_test(deep_twilight_in_fog),
         cmocka_unit_test(overcast_azimuths_in_twilight),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
