@@ -50,7 +50,7 @@ static void view_weights(const atmosphere *atm, double e, double base_m, double 
         w[VIEW_STEPS * K + k] = exp(-tau[k]);
 }
 
-void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double base_m, double span,
+void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double base_m, double span, double shift,
                            const double *const at[FOG_LOCAL_SUNS], double *out)
 {
     const int K = atm->grid.count, cols = grid->cols, nodes = sky_grid_nodes(grid);
@@ -67,7 +67,7 @@ void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double b
                 double L = 0.0;
                 for (int s = 0; s <= VIEW_STEPS; s++) {
                     /* toward the sun's azimuth the sun stands higher by the arc */
-                    const double x = fmin(1.0, fmax(-1.0, arc[s] * cos(phi) / span));
+                    const double x = fmin(1.0, fmax(-1.0, shift * arc[s] * cos(phi) / span));
                     L += w[s * K + k] * interpolate(at[0][n], at[1][n], at[2][n], x);
                 }
                 out[n] = L;

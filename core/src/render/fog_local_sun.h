@@ -23,9 +23,9 @@
 double fog_local_sun_span(const atmosphere *atm, double base_m);
 
 /* The table's sums at every node from the tables at[j] ([node][K] each, made at the observer's sun
- * plus (j - 1) span), the deck's base at base_m: into out ([node][K]).  The ground rows (looking
- * down) take the observer's sun. */
-void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double base_m, double span,
+ * plus (j - 1) span), the deck's base at base_m, each point's shift from the observer's sun times
+ * `shift` (0 to 1): into out ([node][K]).  The ground rows (looking down) take the observer's sun. */
+void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double base_m, double span, double shift,
                            const double *const at[FOG_LOCAL_SUNS], double *out);
 
 #endif

@@ -817,7 +817,9 @@ static fm_status table_sums(render_job *job, double share, fog_tables_fn tables,
 #define LOCAL_SUN_PATH_SHARE 4
 
 /* Under an elevated deck (fog_table_local_sun): the table at the suns fog_local_sun.h spans, each
- * node's along its view.  The observer's sun goes last: the peak and the ground are its. */
+ * node's along its view.  The observer's sun goes last: the peak and the ground are its.  The shift
+ * fades with the column lit from above's share, so that where the day's column (one sun) takes the
+ * table alone the views do not jump (3.4 % at the horizon across 5.8 degrees under altostratus). */
 static fm_status local_sun_sums(render_job *job, fog_tables_fn tables, double *ground, int *on_ground)
 {
     const fm_sky *own = job->sky;
@@ -849,7 +851,7 @@ static fm_status local_sun_sums(render_job *job, fog_tables_fn tables, double *g
     }
     const double *const tables_at[FOG_LOCAL_SUNS] = {at, at + n, at + 2 * n};
     if (!s)
-        fog_local_sun_combine(&own->atm, &job->ms->grid, base, span, tables_at, job->ms->sum);
+        fog_local_sun_combine(&own->atm, &job->ms->grid, base, span, above_share_at(own), tables_at, job->ms->sum);
     free(local);
     free(at);
     return s;
