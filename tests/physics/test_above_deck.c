@@ -16,8 +16,8 @@
 #include "check.h"
 
 #include "adding_doubling.h"
+#include "column_tables.h"
 #include "render/fog_table.h"
-#include "render/ms_table.h"
 #include "render/render.h"
 #include "sky.h"
 #include "transport/sky_path.h"
@@ -44,34 +44,12 @@ static fm_sky *deck_sky(const char *atmosphere_file, double altitude_m)
 }
 
 /* The fast path's tables for the sky (render.h), as a render makes them, from the column. */
-static void fast_tables(const fm_sky *sky, render_job *job, ms_table *ms, fm_render_params *rp)
+static void fast_tables(const fm_sky *sky, column_tables *t)
 {
-    *rp = fm_render_params_default();
-    rp->width = 64;
-    *job = (render_job){.sky = sky, .params = rp, .ms = ms, .fine_fog_table = 1, .fog_from_above = 1};
-    fm_error err;
-    twilight_sampling *tw;
-    assert_int_equal(render_start(job, &err), FM_OK);
-    assert_int_equal(render_twilight(job, &tw, &err), FM_OK);
-    assert_null(tw);
-    assert_true(fog_table_applies(job));
-    assert_int_equal(render_fast_tables(job, asin(sky->sun_dir.z), &err), FM_OK);
-    assert_int_equal(job->paths_per_node, 0); /* the column's table, not paths */
-}
-
-static void free_tables(render_job *job)
-{
-    render_tables_free(job);
-    fm_image_destroy(job->img);
-}
-
-static double fast_radiance(const render_job *job, double e, double phi)
-{
-    float v[1];
-    sky_grid_lookup(&job->ss, e, phi, v);
-    double L = v[0];
-    sky_grid_lookup(&job->ms->grid, e, phi, v);
-    return L + v[0];
+    column_tables_start(sky, 0, 1, t);
+    assert_null(t->tw);
+    assert_true(fog_table_applies(&t->job));
+    column_tables_make(t);
 }
 
 /* ---- in a plane, against adding-doubling ------------------------------------------------------ */
@@ -100,10 +78,8 @@ static void deck_from_above_against_adding_doubling(void **state)
                        "\"phase\": {\"type\": \"henyey-greenstein\", \"g\": 0}}]}";
     char *path = test_write_temp("above_deck", text);
     fm_sky *sky = deck_sky(path, 2000.0);
-    render_job job;
-    ms_table ms;
-    fm_render_params rp;
-    fast_tables(sky, &job, &ms, &rp);
+    column_tables t;
+    fast_tables(sky, &t);
     /* the droplets: the species with the largest optical depth (the trace's is ~1e-9) */
     const atmosphere *atm = &sky->atm;
     int c_max = 0;
@@ -128,7 +104,7 @@ static void deck_from_above_against_adding_doubling(void **state)
     for (int k = 0; k < N_DOWN; k++)
         for (size_t j = 0; j < sizeof down_phi_deg / sizeof down_phi_deg[0]; j++) {
             const double phi = down_phi_deg[j] * FM_DEG, e = -asin(down_mu[k]);
-            const double fast = fast_radiance(&job, e, phi), ref = ad_radiance_top(&s, k, phi);
+            const double fast = column_tables_radiance(&t, e, phi), ref = ad_radiance_top(&s, k, phi);
             snprintf(what, sizeof what, "plane deck from 2 km: looking down at mu %.2f, azimuth %.0f", down_mu[k],
                      down_phi_deg[j]);
             const int ok = fabs(fast - ref) <= PLANE_TOLERANCE * ref;
@@ -138,7 +114,7 @@ static void deck_from_above_against_adding_doubling(void **state)
         }
     assert_int_equal(bad, 0);
     ad_free(&s);
-    free_tables(&job);
+    column_tables_free(&t);
     fm_sky_destroy(sky);
     unlink(path);
     free(path);
@@ -157,27 +133,22 @@ static void deck_from_above_against_the_path_tracer(void **state)
 {
     (void)state;
     fm_sky *sky = deck_sky(NULL, 3000.0);
-    render_job job;
-    ms_table ms;
-    fm_render_params rp;
-    fast_tables(sky, &job, &ms, &rp);
+    column_tables t;
+    fast_tables(sky, &t);
     path_context all = sky_path_context(sky, 1, 0);
     char what[96];
     int bad = 0;
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++) {
         const double e = views[i][0] * FM_DEG, phi = views[i][1] * FM_DEG;
-        const double fast = fast_radiance(&job, e, phi);
+        const double fast = column_tables_radiance(&t, e, phi);
         double se;
         const double ref = test_path_radiance(&all, sky->observer, render_view_direction(sky, e, phi), PATHS, 9, i, &se);
         snprintf(what, sizeof what, "stratus from 3 km: radiance at elevation %.0f, azimuth %.0f", views[i][0],
                  views[i][1]);
-        const int ok = fabs(fast - ref) <= TOLERANCE * ref + 3.0 * se;
-        print_message("%s: fast path %.5g, reference %.5g +- %.2f%% (%+.2f%%)%s\n", what, fast, ref, 100.0 * se / ref,
-                      100.0 * (fast / ref - 1.0), ok ? "" : " FAILS");
-        bad += !ok;
+        bad += !within_reference(fast, ref, se, TOLERANCE, what);
     }
     assert_int_equal(bad, 0);
-    free_tables(&job);
+    column_tables_free(&t);
     fm_sky_destroy(sky);
 }
 

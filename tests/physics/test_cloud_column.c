@@ -13,8 +13,8 @@
  * About 40 s of CPU, nearly all of it the path tracer. */
 #include "check.h"
 
+#include "column_tables.h"
 #include "render/fog_table.h"
-#include "render/ms_table.h"
 #include "render/render.h"
 #include "thick_media_cases.h"
 #include "transport/sky_path.h"
@@ -36,13 +36,6 @@ static fm_sky *deck_sky(const char *clouds, double sun_deg)
     return test_sky(&p);
 }
 
-static void check_within(double fast, double ref, double se, const char *what)
-{
-    print_message("%s: fast path %.5g, reference %.5g +- %.2f%% (%+.2f%%)\n", what, fast, ref, 100.0 * se / ref,
-                  100.0 * (fast / ref - 1.0));
-    check_abs(fast, ref, TOLERANCE * ref + 3.0 * se, what);
-}
-
 /* Views (elevation, azimuth from the sun's, degrees): near the horizon, across the sky, and 4 to 12
  * degrees from the sun. */
 static const double views[][2] = {{1, 90},  {3, 180}, {6, 0},  {15, 90}, {60, 180}, {85, 0},
@@ -51,39 +44,26 @@ static const double views[][2] = {{1, 90},  {3, 180}, {6, 0},  {15, 90}, {60, 18
 static void deck_against_the_path_tracer(const char *clouds, double sun_deg)
 {
     fm_sky *sky = deck_sky(clouds, sun_deg);
-    fm_render_params rp = fm_render_params_default();
-    rp.width = 64;
-    ms_table ms;
-    render_job job = {.sky = sky, .params = &rp, .ms = &ms, .fine_fog_table = 1};
-    fm_error err;
-    twilight_sampling *tw;
-    assert_int_equal(render_start(&job, &err), FM_OK);
-    assert_int_equal(render_twilight(&job, &tw, &err), FM_OK);
-    assert_null(tw);
-    assert_true(fog_table_applies(&job));
-    assert_int_equal(render_fast_tables(&job, asin(sky->sun_dir.z), &err), FM_OK);
-    assert_int_equal(job.paths_per_node, 0); /* the column's table, not paths */
+    column_tables t;
+    column_tables_start(sky, 0, 0, &t);
+    assert_null(t.tw);
+    assert_true(fog_table_applies(&t.job));
+    column_tables_make(&t);
     char what[96];
     double diffuse, se;
-    ground_irradiance_lookup(&job.ground, sky->sun_dir.z, &diffuse);
+    ground_irradiance_lookup(&t.job.ground, sky->sun_dir.z, &diffuse);
     const double E = cloud_irradiance(sky, 1.0, 3 * PATHS, 7, &se);
     snprintf(what, sizeof what, "%s, sun %g: diffuse irradiance at the ground", clouds, sun_deg);
-    check_within(diffuse, E, se, what);
+    check_within_reference(diffuse, E, se, TOLERANCE, what);
     path_context all = sky_path_context(sky, 1, 0);
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++) {
         const double e = views[i][0] * FM_DEG, phi = views[i][1] * FM_DEG;
-        float v[1];
-        sky_grid_lookup(&job.ss, e, phi, v);
-        double L = v[0];
-        sky_grid_lookup(&job.ms->grid, e, phi, v);
-        L += v[0];
         const double ref = test_path_radiance(&all, sky->observer, render_view_direction(sky, e, phi), PATHS, 9, i, &se);
         snprintf(what, sizeof what, "%s, sun %g: radiance at elevation %.0f, azimuth %.0f", clouds, sun_deg, views[i][0],
                  views[i][1]);
-        check_within(L, ref, se, what);
+        check_within_reference(column_tables_radiance(&t, e, phi), ref, se, TOLERANCE, what);
     }
-    render_tables_free(&job);
-    fm_image_destroy(job.img);
+    column_tables_free(&t);
     fm_sky_destroy(sky);
 }
 

@@ -26,10 +26,10 @@
 #include "adding_doubling.h"
 #include "base/quadrature.h"
 #include "base/rng.h"
+#include "column_tables.h"
 #include "thick_media_cases.h"
 #include "transport/path.h"
 #include "render/fog_table.h"
-#include "render/ms_table.h"
 #include "render/render.h"
 #include "transport/plane_column.h"
 #include "transport/sky_path.h"
@@ -160,24 +160,11 @@ static void drop_sky(fm_sky *sky, char *path)
 }
 
 /* The fast path's tables for the sky (render.h), as a render makes them. */
-static void fast_tables(const fm_sky *sky, render_job *job, ms_table *ms, fm_render_params *rp)
+static void fast_tables(const fm_sky *sky, column_tables *t)
 {
-    *rp = fm_render_params_default();
-    rp->width = 64;
-    *job = (render_job){.sky = sky, .params = rp, .ms = ms, .fine_fog_table = 1, .fog_from_above = 1};
-    fm_error err;
-    twilight_sampling *tw;
-    assert_int_equal(render_start(job, &err), FM_OK);
-    assert_int_equal(render_twilight(job, &tw, &err), FM_OK);
-    assert_null(tw);
-    assert_int_equal(render_fast_tables(job, asin(sky->sun_dir.z), &err), FM_OK);
-    assert_int_equal(job->paths_per_node, 0); /* the column's table, not paths */
-}
-
-static void free_tables(render_job *job, ms_table *ms)
-{
-    render_tables_free(job);
-    fm_image_destroy(job->img);
+    column_tables_start(sky, 0, 1, t);
+    assert_null(t->tw);
+    column_tables_make(t);
 }
 
 /* Views (elevation, azimuth from the sun's, degrees): across the sky, and NEAR_SUN 4 to 9 degrees
@@ -192,27 +179,16 @@ static const double views[][2] = {{30, 10}, {38, 0}, {22, 0}, {30, 30}, {50, 0},
 /* and, from inside the fog, looking down */
 static const double views_down[][2] = {{-3, 90}, {-10, 0}, {-30, 180}, {-50, 90}, {-85, 0}};
 
-static void check_within(double fast, double ref, double se, double rel, const char *what)
-{
-    print_message("%s: fast path %.5g, reference %.5g +- %.2f%% (%+.2f%%)\n", what, fast, ref, 100.0 * se / ref,
-                  100.0 * (fast / ref - 1.0));
-    check_abs(fast, ref, rel * ref + 3.0 * se, what);
-}
-
 /* The fast path's radiance (both tables) and the reference's toward (elevation, azimuth) in degrees. */
-static void compare_view(const fm_sky *sky, const render_job *job, const path_context *all, const double *view,
+static void compare_view(const fm_sky *sky, const column_tables *t, const path_context *all, const double *view,
                          uint64_t item, double rel, const char *sky_name)
 {
     const double e = view[0] * FM_DEG, phi = view[1] * FM_DEG;
-    float v[1];
-    sky_grid_lookup(&job->ss, e, phi, v);
-    double L = v[0], se;
-    sky_grid_lookup(&job->ms->grid, e, phi, v);
-    L += v[0];
+    double se;
     double ref = test_path_radiance(all, sky->observer, render_view_direction(sky, e, phi), 200000, 9, item, &se);
     char what[96];
     snprintf(what, sizeof what, "%s: radiance at elevation %.0f, azimuth %.0f", sky_name, view[0], view[1]);
-    check_within(L, ref, se, rel, what);
+    check_within_reference(column_tables_radiance(t, e, phi), ref, se, rel, what);
 }
 
 /* plane: the fog alone; altitude_m: the observer's (0: the ground's irradiance too, 100: the views
@@ -222,27 +198,25 @@ static void fog_against_the_path_tracer(int plane, double altitude_m)
     char *path;
     fm_sky *sky = fog_sky(plane, altitude_m, 30.0, &path);
     const char *name = plane ? "plane fog" : altitude_m > 0.0 ? "fog, observer at 100 m" : "fog";
-    render_job job;
-    ms_table ms;
-    fm_render_params rp;
-    fast_tables(sky, &job, &ms, &rp);
+    column_tables t;
+    fast_tables(sky, &t);
     char what[96];
     double diffuse, se;
     if (altitude_m == 0.0) {
-        ground_irradiance_lookup(&job.ground, sky->sun_dir.z, &diffuse);
+        ground_irradiance_lookup(&t.job.ground, sky->sun_dir.z, &diffuse);
         double E = cloud_irradiance(sky, 1.0, 200000, 7, &se);
         snprintf(what, sizeof what, "%s: diffuse irradiance at the ground", name);
-        check_within(diffuse, E, se, 0.01, what);
+        check_within_reference(diffuse, E, se, 0.01, what);
     }
     path_context all = sky_path_context(sky, 1, 0);
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++)
         /* on the ground all but two the low sun checks, else two views near the sun (one in the plane) and
          * two away */
         if (!(plane || altitude_m > 0.0) ? i != 6 && i != 8 : i == 1 || i == 5 || i == 6 || (i == 10 && !plane))
-            compare_view(sky, &job, &all, views[i], i, NEAR_SUN(i) ? NEAR_SUN_TOLERANCE : 0.01, name);
+            compare_view(sky, &t, &all, views[i], i, NEAR_SUN(i) ? NEAR_SUN_TOLERANCE : 0.01, name);
     for (size_t i = 0; i < sizeof views_down / sizeof views_down[0] && altitude_m > 0.0; i++)
-        compare_view(sky, &job, &all, views_down[i], 100 + i, 0.01, name);
-    free_tables(&job, &ms);
+        compare_view(sky, &t, &all, views_down[i], 100 + i, 0.01, name);
+    column_tables_free(&t);
     drop_sky(sky, path);
 }
 
@@ -275,22 +249,20 @@ static void fog_at_a_low_sun(double sun_deg, uint64_t seed, uint64_t item)
 {
     char *path;
     fm_sky *sky = fog_sky(0, 0.0, sun_deg, &path);
-    render_job job;
-    ms_table ms;
-    fm_render_params rp;
-    fast_tables(sky, &job, &ms, &rp);
+    column_tables t;
+    fast_tables(sky, &t);
     double diffuse, se;
     char what[96];
-    ground_irradiance_lookup(&job.ground, sky->sun_dir.z, &diffuse);
+    ground_irradiance_lookup(&t.job.ground, sky->sun_dir.z, &diffuse);
     const double E = cloud_irradiance(sky, 1.0, 250000, seed, &se);
     snprintf(what, sizeof what, "sun %g: diffuse irradiance at the ground", sun_deg);
-    check_within(diffuse, E, se, 0.02, what);
+    check_within_reference(diffuse, E, se, 0.02, what);
     path_context all = sky_path_context(sky, 1, 0);
     static const double low_sun_views[][2] = {{60, 180}, {80, 0}, {30, 30}};
     snprintf(what, sizeof what, "sun %g", sun_deg);
     for (size_t i = 0; i < sizeof low_sun_views / sizeof low_sun_views[0]; i++)
-        compare_view(sky, &job, &all, low_sun_views[i], item + i, 0.02, what);
-    free_tables(&job, &ms);
+        compare_view(sky, &t, &all, low_sun_views[i], item + i, 0.02, what);
+    column_tables_free(&t);
     drop_sky(sky, path);
 }
 

@@ -18,8 +18,8 @@
 #include "check.h"
 
 #include "base/rng.h"
+#include "column_tables.h"
 #include "render/fog_table.h"
-#include "render/ms_table.h"
 #include "render/render.h"
 #include "transport/path.h"
 #include "transport/twilight.h"
@@ -45,51 +45,12 @@ static fm_sky *fog_sky(double sun_deg)
     return cloud_sky(sun_deg, NULL);
 }
 
-typedef struct tables {
-    render_job job;
-    ms_table ms;
-    fm_render_params rp;
-    twilight_sampling *tw;
-} tables;
-
-static void fast_tables(const fm_sky *sky, uint64_t seed, tables *t, int from_above)
+/* The column lit from above (from_above: whether the fog's column is lit by the sky above it). */
+static void fast_tables(const fm_sky *sky, uint64_t seed, column_tables *t, int from_above)
 {
-    t->rp = fm_render_params_default();
-    t->rp.width = 64;
-    t->rp.seed = seed;
-    t->ms = (ms_table){0};
-    t->job = (render_job){.sky = sky, .params = &t->rp, .ms = &t->ms, .fine_fog_table = 1,
-                        .fog_from_above = 1};
-    fm_error err;
-    assert_int_equal(render_start(&t->job, &err), FM_OK);
-    assert_int_equal(render_twilight(&t->job, &t->tw, &err), FM_OK);
-    t->job.twilight = t->tw;
+    column_tables_start(sky, seed, 1, t);
     assert_int_equal(fog_table_from_above(&t->job), from_above);
-    assert_int_equal(render_fast_tables(&t->job, asin(sky->sun_dir.z), &err), FM_OK);
-    assert_int_equal(t->job.paths_per_node, 0); /* the column's table, not paths */
-}
-
-static void free_tables(tables *t)
-{
-    free(t->tw);
-    render_tables_free(&t->job);
-    fm_image_destroy(t->job.img);
-}
-
-static double table_radiance(const tables *t, double e, double phi)
-{
-    float v[1];
-    sky_grid_lookup(&t->job.ss, e, phi, v);
-    double L = v[0];
-    sky_grid_lookup(&t->ms.grid, e, phi, v);
-    return L + v[0];
-}
-
-static void check_within(double fast, double ref, double se, double rel, const char *what)
-{
-    print_message("%s: fast path %.5g, reference %.5g +- %.2f%% (%+.2f%%)\n", what, fast, ref, 100.0 * se / ref,
-                  100.0 * (fast / ref - 1.0));
-    check_abs(fast, ref, rel * ref + 3.0 * se, what);
+    column_tables_make(t);
 }
 
 /* pi times the mean radiance of N cosine-weighted directions up: the diffuse irradiance. */
@@ -112,7 +73,7 @@ static double reference_irradiance(const path_context *all, vec3 origin, int N, 
 static void fog_in_twilight(double sun_deg, uint64_t seed)
 {
     fm_sky *sky = fog_sky(sun_deg);
-    tables t;
+    column_tables t;
     fast_tables(sky, 0, &t, 1);
     path_context all = sky_path_context(sky, 1, 0);
     char what[96];
@@ -120,25 +81,25 @@ static void fog_in_twilight(double sun_deg, uint64_t seed)
     ground_irradiance_lookup(&t.job.ground, sky->sun_dir.z, &diffuse);
     const double E = reference_irradiance(&all, sky->observer, 100000, seed, &se);
     snprintf(what, sizeof what, "sun %g: diffuse irradiance at the ground", sun_deg);
-    check_within(diffuse, E, se, 0.02, what);
+    check_within_reference(diffuse, E, se, 0.02, what);
     static const double views[][2] = {{60, 180}, {80, 0}, {30, 0}, {30, 90}, {10, 0}};
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++) {
         const double e = views[i][0] * FM_DEG, phi = views[i][1] * FM_DEG;
         const double ref = test_path_radiance(&all, sky->observer, render_view_direction(sky, e, phi), 60000, seed,
                                               100 + i, &se);
         snprintf(what, sizeof what, "sun %g: radiance at elevation %.0f, azimuth %.0f", sun_deg, views[i][0], views[i][1]);
-        check_within(table_radiance(&t, e, phi), ref, se, 0.02, what);
+        check_within_reference(column_tables_radiance(&t, e, phi), ref, se, 0.02, what);
     }
     /* another seed: the same table but for the noise of the sky above the fog */
-    tables u;
+    column_tables u;
     fast_tables(sky, 7, &u, 1);
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++) {
         const double e = views[i][0] * FM_DEG, phi = views[i][1] * FM_DEG;
         snprintf(what, sizeof what, "sun %g, seeds 0 and 7: elevation %.0f, azimuth %.0f", sun_deg, views[i][0], views[i][1]);
-        check_rel(table_radiance(&u, e, phi), table_radiance(&t, e, phi), 0.005, what);
+        check_rel(column_tables_radiance(&u, e, phi), column_tables_radiance(&t, e, phi), 0.005, what);
     }
-    free_tables(&u);
-    free_tables(&t);
+    column_tables_free(&u);
+    column_tables_free(&t);
     fm_sky_destroy(sky);
 }
 
@@ -162,12 +123,12 @@ static void no_jump(double sun_deg)
     double L[2][3];
     for (int side = 0; side < 2; side++) {
         fm_sky *sky = fog_sky(sun_deg + (side ? 0.005 : -0.005));
-        tables t;
+        column_tables t;
         fast_tables(sky, 0, &t, sky->sun_dir.z < sin(FOG_TABLE_BLEND_TO_DEG * FM_DEG));
-        L[side][0] = table_radiance(&t, 0.5 * FM_PI, 0.0);
-        L[side][1] = table_radiance(&t, 5.0 * FM_DEG, 0.0);
-        L[side][2] = table_radiance(&t, 5.0 * FM_DEG, FM_PI);
-        free_tables(&t);
+        L[side][0] = column_tables_radiance(&t, 0.5 * FM_PI, 0.0);
+        L[side][1] = column_tables_radiance(&t, 5.0 * FM_DEG, 0.0);
+        L[side][2] = column_tables_radiance(&t, 5.0 * FM_DEG, FM_PI);
+        column_tables_free(&t);
         fm_sky_destroy(sky);
     }
     static const char *const what[] = {"zenith", "horizon toward the sun", "horizon away from it"};
@@ -195,28 +156,30 @@ static void overcast_in_twilight(void **state)
 {
     (void)state;
     fm_sky *sky = cloud_sky(0.0, "stratus");
-    tables t;
+    column_tables t;
     fast_tables(sky, 0, &t, 1);
     double diffuse, se;
     ground_irradiance_lookup(&t.job.ground, sky->sun_dir.z, &diffuse);
     path_context all = sky_path_context(sky, 1, 0);
     const double E = reference_irradiance(&all, sky->observer, 60000, 31, &se);
-    check_within(diffuse, E, se, 0.02, "stratus, sun 0: diffuse irradiance at the ground");
-    free_tables(&t);
+    check_within_reference(diffuse, E, se, 0.02, "stratus, sun 0: diffuse irradiance at the ground");
+    column_tables_free(&t);
     fm_sky_destroy(sky);
     sky = cloud_sky(-3.0, "stratus");
-    tables u;
+    column_tables u;
     fast_tables(sky, 0, &t, 1);
     fast_tables(sky, 7, &u, 1);
-    const double toward = table_radiance(&t, 30.0 * FM_DEG, 0.0), away = table_radiance(&t, 30.0 * FM_DEG, FM_PI);
-    const double zenith = table_radiance(&t, 0.5 * FM_PI, 0.0), low = table_radiance(&t, 10.0 * FM_DEG, FM_PI / 2);
+    const double toward = column_tables_radiance(&t, 30.0 * FM_DEG, 0.0);
+    const double away = column_tables_radiance(&t, 30.0 * FM_DEG, FM_PI);
+    const double zenith = column_tables_radiance(&t, 0.5 * FM_PI, 0.0);
+    const double low = column_tables_radiance(&t, 10.0 * FM_DEG, FM_PI / 2);
     print_message("stratus, sun -3: 30 degrees up toward the sun %.5g, away %.5g; zenith %.5g, 10 up %.5g (%.2f)\n",
                   toward, away, zenith, low, zenith / low);
     check_rel(away, toward, 0.01, "stratus, sun -3: 30 degrees up away from the sun and toward it");
     assert_true(zenith > 1.3 * low);
-    check_rel(table_radiance(&u, 30.0 * FM_DEG, 0.0), toward, 0.005, "stratus, sun -3: seeds 0 and 7");
-    free_tables(&u);
-    free_tables(&t);
+    check_rel(column_tables_radiance(&u, 30.0 * FM_DEG, 0.0), toward, 0.005, "stratus, sun -3: seeds 0 and 7");
+    column_tables_free(&u);
+    column_tables_free(&t);
     fm_sky_destroy(sky);
     /* a deck above FOG_TABLE_FROM_ABOVE_MAX_BASE_M takes it at several suns (test_deck_twilight) */
     sky = cloud_sky(-3.0, "altostratus");

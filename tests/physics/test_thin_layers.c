@@ -15,8 +15,8 @@
  * About 40 s of CPU, nearly all of it the path tracer. */
 #include "check.h"
 
+#include "column_tables.h"
 #include "render/fog_table.h"
-#include "render/ms_table.h"
 #include "render/render.h"
 #include "thick_media_cases.h"
 #include "transport/single_scatter.h"
@@ -27,16 +27,6 @@
 #include <stdlib.h>
 
 #define TOLERANCE 0.02
-
-static int failures;
-
-static void check_within(double fast, double ref, double se, const char *what)
-{
-    const int ok = fabs(fast - ref) <= TOLERANCE * ref + 3.0 * se;
-    print_message("%s: fast path %.5g, reference %.5g +- %.2f%% (%+.2f%%)%s\n", what, fast, ref, 100.0 * se / ref,
-                  100.0 * (fast / ref - 1.0), ok ? "" : "  OUTSIDE");
-    failures += !ok;
-}
 
 /* Views (elevation, azimuth from the sun's, degrees): fixed ones across the sky and near the
  * horizon, then (elevation above the sun's, azimuth) 4-12 degrees from the sun and on the halo. */
@@ -54,25 +44,18 @@ static int against_the_path_tracer(const char *clouds, double tau, double sun_de
     p.sun_elevation_deg = sun_deg;
     p.sun_azimuth_deg = 180.0;
     fm_sky *sky = test_sky(&p);
-    fm_render_params rp = fm_render_params_default();
-    rp.width = 64;
-    ms_table ms;
-    render_job job = {.sky = sky, .params = &rp, .ms = &ms, .fine_fog_table = 1};
-    fm_error err;
-    twilight_sampling *tw;
-    assert_int_equal(render_start(&job, &err), FM_OK);
-    assert_int_equal(render_twilight(&job, &tw, &err), FM_OK);
-    assert_null(tw);
-    assert_true(fog_table_applies(&job));
-    assert_int_equal(render_fast_tables(&job, asin(sky->sun_dir.z), &err), FM_OK);
-    assert_int_equal(job.paths_per_node, 0); /* the column's table, not paths */
-    failures = 0;
+    column_tables t;
+    column_tables_start(sky, 0, 0, &t);
+    assert_null(t.tw);
+    assert_true(fog_table_applies(&t.job));
+    column_tables_make(&t);
+    int failures = 0;
     char what[128];
     double diffuse, se;
-    ground_irradiance_lookup(&job.ground, sky->sun_dir.z, &diffuse);
+    ground_irradiance_lookup(&t.job.ground, sky->sun_dir.z, &diffuse);
     const double E = cloud_irradiance(sky, 1.0, 3 * paths, 7, &se);
     snprintf(what, sizeof what, "%s, sun %g: diffuse irradiance at the ground", clouds, sun_deg);
-    check_within(diffuse, E, se, what);
+    failures += !within_reference(diffuse, E, se, TOLERANCE, what);
     path_context all = sky_path_context(sky, 1, 0);
     const size_t nf = sizeof fixed_views / sizeof fixed_views[0], ns = sizeof sun_views / sizeof sun_views[0];
     for (size_t i = 0; i < nf + ns; i++) {
@@ -84,17 +67,16 @@ static int against_the_path_tracer(const char *clouds, double tau, double sun_de
         double L = 0.0;
         float v[1];
         single_scatter_radiance(&all, sky->observer, dir, &L);
-        fog_table_peak(&job, dir, v);
+        fog_table_peak(&t.job, dir, v);
         L += v[0];
-        sky_grid_lookup(&job.ms->grid, e, phi, v);
+        sky_grid_lookup(&t.ms.grid, e, phi, v);
         L += v[0];
         const double ref = test_path_radiance(&all, sky->observer, dir, paths, 9, i, &se);
         snprintf(what, sizeof what, "%s, sun %g: radiance at elevation %.0f, azimuth %.0f", clouds, sun_deg, e / FM_DEG,
                  phi / FM_DEG);
-        check_within(L, ref, se, what);
+        failures += !within_reference(L, ref, se, TOLERANCE, what);
     }
-    render_tables_free(&job);
-    fm_image_destroy(job.img);
+    column_tables_free(&t);
     fm_sky_destroy(sky);
     return failures;
 }
