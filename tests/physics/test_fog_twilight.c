@@ -3,8 +3,8 @@
  * column of the fog alone lit from above by the spherical sky without the fog (render/fog_incident.h).
  * Fog of 200 m visibility (0-200 m, optical depth 3.9) in the built-in atmosphere, 550 nm, the sun
  * 1 and 3 degrees below the horizon: the diffuse irradiance at the ground and radiances across the
- * sky against the reference estimator's plain path tracing of every order (sky_path.h; with the
- * twilight sampling its estimates in fog were far off their standard errors), within 2 % plus 3
+ * sky against the reference estimator's plain path tracing of every order (sky_path.h; the twilight
+ * sampling agrees with it in fog, test_fog_reference), within 2 % plus 3
  * standard errors; two seeds give the same table to 0.5 % (the paths of the sky above the fog are
  * the only noise left); and the zenith's and the horizon's radiance do not jump at
  * FOG_TABLE_MIN_SUN_DEG, nor at FOG_TABLE_BLEND_TO_DEG, where the day's column takes over; the
