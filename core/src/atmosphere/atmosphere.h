@@ -15,6 +15,9 @@
 #include "spectrum/spectral_grid.h"
 
 #define FM_MAX_SPECIES 12
+/* Cloud or fog, not haze (m^-1: an optical depth of 1 per km): where the sun table holds exact columns
+ * and the paths take a thick medium's rules (roulette, guides, flights). */
+#define FM_DENSE_SIGMA_PER_M 1e-3
 #define FM_MAX_SHELLS 40
 
 #define FM_MAX_EDGES (4 * FM_MAX_SPECIES) /* atmosphere.edge_altitude_m */

@@ -134,11 +134,8 @@ static void need_nodes(const sun_irradiance *t, int ir, int im)
             build_block(t, ir, b);
 }
 
-/* A cell is of cloud or fog where its extinction reaches this at every wavelength (m^-1, an optical
- * depth of 1 per km: the transport's dense medium); haze's falls below it in the red. */
-#define DENSE_CELL_SIGMA 1e-3
-
-/* Whether the air between radii r0 < r1 reaches DENSE_CELL_SIGMA at every wavelength somewhere:
+/* Whether the air between radii r0 < r1 reaches FM_DENSE_SIGMA_PER_M at every wavelength somewhere
+ * (cloud or fog; haze's extinction falls below it in the red):
  * at the ends and at the profiles' nodes between (the profiles are linear between nodes). */
 static unsigned char cell_is_dense(const atmosphere *atm, double r0, double r1)
 {
@@ -148,7 +145,7 @@ static unsigned char cell_is_dense(const atmosphere *atm, double r0, double r1)
         atmosphere_coefficients(atm, r, sig_s, sig_t);
         int dense = 1;
         for (int k = 0; k < atm->grid.count; k++)
-            dense &= sig_t[k] >= DENSE_CELL_SIGMA;
+            dense &= sig_t[k] >= FM_DENSE_SIGMA_PER_M;
         if (dense)
             return 1;
         if (r >= r1)

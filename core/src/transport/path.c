@@ -174,17 +174,16 @@ static int pop_path(tracer *tr, path_state *p)
 
 /* The roulette's largest survival probability at a path's order: past order 8 at most 95% survive
  * (the longest paths end), except in a dense medium (the last vertex's scattering coefficient at
- * least DENSE_SIGMA, m^-1: cloud or fog, an optical depth of 1 per km) where flights can leave
+ * least FM_DENSE_SIGMA_PER_M: cloud or fog, an optical depth of 1 per km) where flights can leave
  * through the top: there paths end by themselves (thick segments let them out) and a thick cloud's
  * light needs hundreds of orders, so all survive that the weight lets live, up to order
  * CAP_ORDER_DENSE (a guard).  Deep twilight's shadow flights never let a path out, but none leaves
  * from cloud or fog (flight_placed). */
 #define CAP_ORDER 8
 #define CAP_ORDER_DENSE 100000
-#define DENSE_SIGMA 1e-3
 static double survival_cap(const tracer *tr, const path_state *p)
 {
-    int dense = p->medium.sig_s[tr->h] >= DENSE_SIGMA;
+    int dense = p->medium.sig_s[tr->h] >= FM_DENSE_SIGMA_PER_M;
     return p->order > (dense ? CAP_ORDER_DENSE : CAP_ORDER) ? 0.95 : 1.0;
 }
 
@@ -345,7 +344,7 @@ static flight delta_tracking(tracer *tr, path_state *p, const ray_segment *seg, 
  * collision forced inside a segment that would leave through the top (thin air's paths stay
  * useful). */
 /* Whether deep twilight's shadow flight places the segment's next vertex: not from a point in cloud or
- * fog (DENSE_SIGMA), where the next vertex lies a free path away and the light the flight aims at
+ * fog (FM_DENSE_SIGMA_PER_M), where the next vertex lies a free path away and the light the flight aims at
  * beyond the layer.  A flight's cells there are far longer than a free path, and a vertex it places
  * by the physical part of its density weighs more than 1: over the tens of vertices of a path in fog
  * the weights' second moment grew geometrically (docs/decisions/2026-12-07-fog-reference.md). */
@@ -357,7 +356,7 @@ static int flight_placed(const tracer *tr, const ray_segment *seg)
     atmosphere_densities(tr->atm, v3_length(seg->origin), n);
     for (int c = 0; c < tr->atm->scattering_count; c++)
         sig_s += tr->atm->species[c].sigma_s[tr->h] * n[c];
-    return sig_s < DENSE_SIGMA;
+    return sig_s < FM_DENSE_SIGMA_PER_M;
 }
 
 static flight free_flight(tracer *tr, path_state *p, const ray_segment *seg, collision_fn on_collision, double *t)

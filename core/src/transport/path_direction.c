@@ -54,17 +54,13 @@ static vec3 sun_guide_direction(const path_context *ctx, vec3 sun_dir, int h, rn
  * vertex's sunlight through the forward peak; deep in a thick cloud there is none to find, and a
  * guided direction's small weight, paid at each of a path's hundreds of vertices there, would leave
  * its weight to the roulette (docs/decisions/2026-12-06-thick-media.md).  In cloud or fog in the
- * Earth's shadow it takes no share: the next vertex lies a free path away, in the shadow too
- * (dense_guide_share). */
+ * Earth's shadow it takes no share: the next vertex lies a free path away, in the shadow too. */
 #define GUIDE_FULL_DEPTH 2.3
-/* Air thinner than this (m^-1: an optical depth of 1 per km; haze, not cloud or fog) keeps the full
- * share without the lookup: no path there takes enough vertices for the guide's weights to matter. */
-#define GUIDE_DENSE_SIGMA 1e-3
 static double sun_guide_share(const path_context *ctx, vec3 sun_dir, vec3 x, int h, double sigma_s)
 {
     if (!ctx->sun_guide)
         return 0.0;
-    if (sigma_s < GUIDE_DENSE_SIGMA)
+    if (sigma_s < FM_DENSE_SIGMA_PER_M) /* no path in haze takes enough vertices for the weights to matter */
         return ctx->sun_guide_fraction;
     double r = v3_length(x), depth;
     if (!sun_irradiance_lookup_some_depths(ctx->sun_table, ctx->atm, ctx->sun, r, v3_dot(x, sun_dir) / r, 1, &h,
@@ -76,14 +72,14 @@ static double sun_guide_share(const path_context *ctx, vec3 sun_dir, vec3 x, int
 }
 
 /* Twilight's guides (the sky guide, the sun guide in the Earth's shadow) take no share of the
- * directions at a vertex in cloud or fog (GUIDE_DENSE_SIGMA): the light they aim at is beyond the
+ * directions at a vertex in cloud or fog (FM_DENSE_SIGMA_PER_M): the light they aim at is beyond the
  * layer, and the next vertex a free path away.  With them, a direction drawn from the phase function
  * weighs p / ((1 - a - b) p + ...), up to 1 / (1 - a - b) = 4, at each vertex: the second moment of
  * a path's weight grows by that factor per vertex of the forward peak, and over the tens of vertices
  * of a path in fog a rare path carried a map's light (docs/decisions/2026-12-07-fog-reference.md). */
 static double sky_guide_share(const path_context *ctx, double sigma_s)
 {
-    return ctx->sky_guide && sigma_s < GUIDE_DENSE_SIGMA ? ctx->sky_guide_fraction : 0.0;
+    return ctx->sky_guide && sigma_s < FM_DENSE_SIGMA_PER_M ? ctx->sky_guide_fraction : 0.0;
 }
 
 /* The sun guide's share about each of the walk's suns (path_context.suns) at x, each sun's
