@@ -4,7 +4,8 @@ depsgraph-update handler; undo and redo: their handlers) turns the lamp at once
 and asks one `firmament serve` per Blender session for a small preview map: at once when no map is
 awaited, else the changes are coalesced by a DEBOUNCE_S timer (the newest wins; the server also
 drops a waiting request for a newer one),
-and a timer polls the server's replies, so the interface never waits.  The world's image is swapped
+and the reply is awaited right there for at most WAIT_S (so that the frame Blender draws next already
+shows the new map), else a timer polls for it.  The world's image is swapped
 in place when a reply says done, and the lamp takes the reply's strength and colour.
 
 Final renders never use the preview: a render_pre handler renders the final map of the frame's
@@ -26,13 +27,18 @@ LIVE_WIDTH = 512  # px; height 256
 DEBOUNCE_S = 0.03
 RETRY_S = 2.0  # a request refused for want of the executable (or its timing out) is tried again after this
 POLL_S = 0.01
+# The longest a send waits for its reply before Blender draws (the interface is blocked meanwhile):
+# a 512 x 256 preview takes ~20 ms.  Not waited when the last reply's render took longer (clouds, a
+# slow machine): a wait that would time out only delays the interface.
+# docs/decisions/2026-12-07-blender-live-latency.md
+WAIT_S = 0.04
 IMAGE_NAME = "Firmament Live Sky"
 LIVE_TAG = "firmament_live"  # the live image's custom property (not the maps' TAG: never saved or packed)
 FINAL_KEY = "firmament_final_sky"  # the world's custom property: the request of its final map
 
 # the session's one server and what it was last asked
 _state = {"server": None, "restarted": False, "scene": None, "pending": False, "last": None,
-          "sent": None, "next_id": 1, "rendering": False, "refused": None}
+          "sent": None, "next_id": 1, "rendering": False, "refused": None, "server_s": 0.0}
 
 
 def live_settings(s):
@@ -169,7 +175,8 @@ def _ensure_server():
 
 def send_pending():
     """Timer: sends the newest request (two output files in turn: a reply's map is never the one
-    being replaced by the next).  Returns None: a one-shot timer."""
+    being replaced by the next) and awaits its reply for up to WAIT_S, else the poll timer does.
+    Returns None: a one-shot timer."""
     if not _state["pending"]:
         return None
     scene = bpy.data.scenes.get(_state["scene"])
@@ -188,6 +195,8 @@ def send_pending():
     _state["sent"] = {"id": rid, "request": req, "settings": live_settings(properties.to_dict(scene.firmament_sky)),
                       "time": time.monotonic()}
     srv.send(req)
+    if _state["server_s"] <= WAIT_S and poll(WAIT_S) is None:
+        return None  # answered within the bound: applied before Blender draws
     if not bpy.app.timers.is_registered(poll):
         bpy.app.timers.register(poll, first_interval=POLL_S)
     return None
@@ -199,17 +208,20 @@ def _give_up(scene, why):
     scene.firmament_sky.live = False
 
 
-def poll():
-    """Timer: applies the newest done reply, reports errors, restarts a dead server once.  Returns
-    the next interval while a reply is awaited, else None."""
+def poll(wait_s=0.0):
+    """Timer: applies the newest done reply, reports errors, restarts a dead server once; waits up to
+    wait_s for the reply (send_pending; the timer waits for nothing).  Returns the next interval
+    while a reply is awaited, else None."""
     sent, srv = _state["sent"], _state["server"]
     if sent is None or srv is None:
         return None
     scene = bpy.data.scenes.get(_state["scene"])
-    for reply in srv.replies():
+    end = time.monotonic() + wait_s
+    for reply in _replies(srv, end):
         if reply.get("id") != sent["id"]:
             continue  # superseded, or an older map: a newer one is on its way
         _state["sent"] = None
+        _state["server_s"] = reply.get("seconds", 0.0)
         if scene is None:
             return None
         if reply.get("status") == "done":
@@ -229,6 +241,15 @@ def poll():
             return None
         _state["server"].send(sent["request"])
     return POLL_S
+
+
+def _replies(srv, end):
+    """The server's replies until the monotonic time end (those read already when end is past)."""
+    while True:
+        got = srv.replies(max(0.0, end - time.monotonic()))
+        yield from got
+        if not got or time.monotonic() >= end:
+            return
 
 
 def _live_image(path):
@@ -283,7 +304,7 @@ def stop(*_args):
 def _stop_server():
     """Also at Python's exit (atexit), when bpy may be gone: nothing of bpy here."""
     srv = _state["server"]
-    _state.update(server=None, restarted=False, pending=False, last=None, sent=None, refused=None)
+    _state.update(server=None, restarted=False, pending=False, last=None, sent=None, refused=None, server_s=0.0)
     if srv is not None:
         srv.stop()
 

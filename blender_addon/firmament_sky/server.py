@@ -78,8 +78,14 @@ class Server:
     def send(self, request):
         self._outbox.put(json.dumps(request))
 
-    def replies(self):
+    def replies(self, timeout_s=0.0):
+        """The replies read since the last call; when there are none, waits up to timeout_s for one."""
         out = []
+        if timeout_s > 0.0:
+            try:
+                out.append(self._inbox.get(timeout=timeout_s))
+            except queue.Empty:
+                return out
         while True:
             try:
                 out.append(self._inbox.get_nowait())

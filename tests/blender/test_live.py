@@ -7,6 +7,10 @@ what the timers call (live.settle: live.send_pending, then live.poll until the r
   upper hemisphere integrated) is the sidecar's within 3%, and its zenith luminance is that of a
   direct `firmament render` of the same request within 3% (preview noise, and the live path's
   interpolation over sun elevations: within 1% of the final path).
+- A reply within live.WAIT_S is applied in the change's own handler (before Blender draws); after a
+  render longer than the bound, the next change leaves its reply to the poll timer; a server that
+  cannot answer (stopped) holds the handler for the bound (at least, and not 3 s more), then the
+  timer takes the reply.
 - Changes while a map is awaited: only the newest is sent, once.
 - A setting the executable refuses is reported once, not at every depsgraph update.
 - The server's error reply is reported in one sentence; the next change works.
@@ -155,11 +159,50 @@ h.close(lamp.data.energy, max(side["sun"]["direct_normal_irradiance_rgb"]), 1e-3
         "lamp strength from the reply")
 h.check(srv.pid == pid, "the same server")
 
-# changes while a map is awaited are coalesced: the newest is sent, once
+# a reply within live.WAIT_S is applied in the change's own handler, so that the frame Blender draws
+# next shows it; a bound this long, so that no load on the machine makes the reply miss it
+def no_poll_timer():  # headless: a timer registered earlier is never run, so it stays registered
+    if bpy.app.timers.is_registered(live.poll):
+        bpy.app.timers.unregister(live.poll)
+
+
+bound = live.WAIT_S
+live.WAIT_S = 30.0
+no_poll_timer()
+p.sun_elevation = 38.0
+h.check(live._state["sent"] is None and not bpy.app.timers.is_registered(live.poll),
+        "a reply within the bound: nothing awaited once the change's handler returns")
+h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], 38.0, 1e-6,
+        "a reply within the bound: the world shows its map once the change's handler returns")
+# after a reply whose render took longer than the bound, the next change does not wait for its reply
+live._state["server_s"] = 31.0
+no_poll_timer()
+p.sun_elevation = 39.0
+h.check(live._state["sent"] is not None and bpy.app.timers.is_registered(live.poll),
+        "after a render longer than the bound: the reply left to the poll timer")
+settled("after a render longer than the bound")
+# a reply that cannot come (the server stopped): the handler waits the bound, then the timer takes it
+live.WAIT_S, live._state["server_s"] = 0.2, 0.0
+os.kill(srv.pid, signal.SIGSTOP)
+t0 = time.monotonic()
+p.sun_elevation = 34.0
+blocked = time.monotonic() - t0
+os.kill(srv.pid, signal.SIGCONT)
+h.check(live.WAIT_S <= blocked < live.WAIT_S + 3.0 and live._state["sent"] is not None,  # 3 s: a loaded machine
+        "no reply within the bound: the handler waited %.3f s (bound %g s), the reply left to the poll timer"
+        % (blocked, live.WAIT_S))
+settled("the server stopped, then continued")
+h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], 34.0, 1e-6, "the stopped server's map, once it continued")
+live.WAIT_S = bound
+
+# changes while a map is awaited (the bound missed, here by no bound) are coalesced: the newest is
+# sent, once
+live.WAIT_S = 0.0
 first = live._state["next_id"]
 for e in (30.0, 31.0, 32.0, 33.0):
     p.sun_elevation = e
 settled("four quick changes")
+live.WAIT_S = bound
 h.check(live._state["next_id"] - first == 2, "four quick changes: %d requests (the first, then the newest)"
         % (live._state["next_id"] - first))
 h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], 33.0, 1e-6, "the newest change's map")
