@@ -1,20 +1,30 @@
-"""The live sky in a real Blender window (run by bench/blender-live-latency.sh under Xvfb): the time
-from a change of the sun elevation property to the world's image reloaded with the new map, over
-N changes (one at a time, each made once the previous map is in), driven by Blender's own timers as
-an artist's drags are.  Prints the median, 90th percentile and largest, and where the time goes:
-  wait     the change to the request written (the coalescing timer, DEBOUNCE_S)
+"""The live sky in a real Blender window (run by bench/blender-live-latency.sh under Xvfb), with the 3D
+view in Rendered shading (EEVEE, the scene's world: what a user watching the sky looks at): the time
+from a change of the sun elevation property to the world's image reloaded with the new map, and to
+the first completed draw of the 3D view after that (the frame that shows the new sky).  The changes
+are made one at a time, each once the previous one is drawn, from a timer (as a drag of the slider
+makes them: before the pass's redraw), in three interleaved kinds, so that the machine's load is the
+same for each:
+  bounded  the add-on as it is: the reply awaited in the change's handler for up to live.WAIT_S
+  timer    live.WAIT_S = 0: the reply taken by the poll timer only (a later event-loop pass)
+  no map   the lamp turned by hand (the add-on asks for nothing): what a change costs the window
+Lines:
+  change -> image reloaded / drawn   median, 90th percentile, largest, per kind
+  handler  the time the change's assignment took (the interface is blocked meanwhile): median, largest
+  in pass  how many replies were applied within the change's own handler
+  wait     the change to the request written (0 unless coalesced by the DEBOUNCE_S timer)
   server   the server's own "seconds" (atmosphere found, map rendered, files written)
   pipe     the rest until the reader thread has read the reply (the pipes, JSON)
-  poll     the reply read to the poll timer taking it
+  poll     the reply read to its being taken (the wait's wake-up, or the poll timer's next run)
   apply    the image reloaded and the world's nodes and lamp set
   draws    the 3D view's draws from the change to the image reloaded, and the process's CPU time
-           (all its threads: Mesa's software OpenGL draws in them) over the same span
-  loop     the period of Blender's event loop meanwhile (a timer asking to run at once: timers run
-           once per loop, after the windows' redraws), which the wait and the pipe wait for; and,
-           before the first change, the same with only the lamp turned on each pass (Live off:
-           what any change costs the window, without the add-on's map)
-Usage (inside Blender): blender -P bench/blender_live_latency.py -- ZIP EXE OUT [N] [WIDTH]"""
+           (all its threads: Mesa's software OpenGL draws in them) from the change to the drawn frame
+  3D view  the median time of one draw of the 3D view (its PRE_VIEW to POST_PIXEL callbacks), of
+           which a pass of Blender's event loop is mostly made on software OpenGL
+Usage (inside Blender): blender -P bench/blender_live_latency.py -- ZIP EXE OUT [N per kind] [WIDTH] [BOUND_MS]
+(BOUND_MS: the bounded kind's live.WAIT_S instead of the add-on's, to try another bound)"""
 
+import math
 import os
 import statistics
 import sys
@@ -24,56 +34,108 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import harness as h  # noqa: E402
 import bpy  # noqa: E402
 
-N = int(h.argv[3]) if len(h.argv) > 3 else 20
+N = int(h.argv[3]) if len(h.argv) > 3 else 12
 WIDTH = int(h.argv[4]) if len(h.argv) > 4 else 512
-state = {"phase": "start", "i": 0, "t0": None, "applied": [], "rows": [], "ticks": [], "draws": 0}
+BOUND_MS = float(h.argv[5]) if len(h.argv) > 5 else None
+KINDS = ("bounded", "timer", "no map")
+state = {"phase": "start", "i": 0, "t0": None, "applied": [], "rows": {k: [] for k in KINDS},
+         "drawn": [], "pre": None, "view_s": [], "in_handler": False, "applied_in_handler": 0}
 
 
 def cpu_s():
     return sum(os.times()[:2])
 
 
-def count_draw():
-    state["draws"] += 1
+def pre_view():
+    state["pre"] = time.monotonic()
 
 
-def tick():
-    state["ticks"].append(time.monotonic())
-    return 0.0 if state["phase"] in ("change", "waiting") else None
+def post_pixel():
+    t = time.monotonic()
+    state["drawn"].append(t)
+    if state["pre"] is not None:
+        state["view_s"].append(t - state["pre"])
+        state["pre"] = None
+
+
+def view_3d():
+    return next(a for a in bpy.context.window_manager.windows[0].screen.areas if a.type == "VIEW_3D")
+
+
+def install():
+    h.install_and_enable()
+    live = h.submodule("live")
+    live.LIVE_WIDTH = WIDTH
+    state["bound_s"] = live.WAIT_S if BOUND_MS is None else 1e-3 * BOUND_MS
+    apply = live.apply_reply
+
+    def timed_apply(scene, reply, settings):  # when the image is in: after the reload
+        t = time.monotonic()
+        apply(scene, reply, settings)
+        state["applied"].append((time.monotonic(), time.monotonic() - t, reply, state["in_handler"]))
+    live.apply_reply = timed_apply
+    send = live.send_pending
+
+    def timed_send():  # the timer that writes the request (the module's name: the one registered)
+        if live._state["pending"]:
+            state["sent"] = time.monotonic()
+        return send()
+    live.send_pending = timed_send
+    srv = h.submodule("server").Server
+    read = srv._read
+
+    def timed_read(self, stream):  # the reader thread: each reply stamped when read from the pipe
+        inbox = self._inbox
+        put = inbox.put
+        inbox.put = lambda reply, *a: put(dict(reply, read_at=time.monotonic()), *a)
+        return read(self, stream)
+    srv._read = timed_read
+    shading = view_3d().spaces[0].shading
+    shading.type, shading.use_scene_world_render = "RENDERED", True
+    scene = bpy.context.window_manager.windows[0].scene
+    scene.render.engine = "BLENDER_EEVEE"
+    p = scene.firmament_sky
+    p.sun_source, p.biome, p.sun_azimuth, p.sun_elevation = "ANGLES", "rural", 150.0, 20.0
+    p.live = True  # the first map: the server starts, the atmosphere is built
+    state["phase"], state["t0"] = "warm", time.monotonic()
+
+
+def change(live, p, kind):
+    """One change of the given kind; returns the time its assignment took."""
+    live.WAIT_S = 0.0 if kind == "timer" else state["bound_s"]
+    state["t0"], state["cpu0"], state["draws0"] = time.monotonic(), cpu_s(), len(state["drawn"])
+    state["n_applied"], state["in_handler"] = len(state["applied"]), True
+    if kind == "no map":
+        h.sun_lamps()[0].rotation_euler[0] += 0.01 * (1 if state["i"] % 2 else -1)
+    else:
+        p.sun_elevation = 5.0 + (state["i"] * 37 % 60)
+    state["in_handler"] = False
+    return time.monotonic() - state["t0"]
+
+
+def record(kind):
+    """The change's row once its frame is drawn, else None."""
+    if kind == "no map":
+        t1 = state["t0"]
+    elif len(state["applied"]) > state["n_applied"]:
+        t1, apply_s, reply, in_handler = state["applied"][-1]
+    else:
+        return None
+    drawn = [t for t in state["drawn"] if t > t1]
+    if not drawn:
+        return None
+    row = {"drawn": drawn[0] - state["t0"], "handler": state["handler_s"], "cpu": cpu_s() - state["cpu0"]}
+    if kind != "no map":
+        sent = state["sent"]
+        row.update(reloaded=t1 - state["t0"], wait=sent - state["t0"], server=reply["seconds"],
+                   pipe=reply["read_at"] - sent - reply["seconds"], poll=t1 - apply_s - reply["read_at"],
+                   apply=apply_s, in_pass=in_handler, draws=len([t for t in state["drawn"][state["draws0"]:] if t <= t1]))
+    return row
 
 
 def _step():
     if state["phase"] == "start":
-        h.install_and_enable()
-        live = h.submodule("live")
-        live.LIVE_WIDTH = WIDTH
-        apply = live.apply_reply
-
-        def timed_apply(scene, reply, settings):  # when the image is in: after the reload
-            t = time.monotonic()
-            apply(scene, reply, settings)
-            state["applied"].append((time.monotonic(), time.monotonic() - t, reply))
-        live.apply_reply = timed_apply
-        send = live.send_pending
-
-        def timed_send():  # the timer that writes the request (the module's name: the one registered)
-            if live._state["pending"]:
-                state["sent"] = time.monotonic()
-            return send()
-        live.send_pending = timed_send
-        srv = h.submodule("server").Server
-        read = srv._read
-
-        def timed_read(self, stream):  # the reader thread: each reply stamped when read from the pipe
-            inbox = self._inbox
-            put = inbox.put
-            inbox.put = lambda reply, *a: put(dict(reply, read_at=time.monotonic()), *a)
-            return read(self, stream)
-        srv._read = timed_read
-        p = bpy.context.window_manager.windows[0].scene.firmament_sky
-        p.sun_source, p.biome, p.sun_azimuth, p.sun_elevation = "ANGLES", "rural", 150.0, 20.0
-        p.live = True  # the first map: the server starts, the atmosphere is built
-        state["phase"], state["t0"] = "warm", time.monotonic()
+        install()
         return 0.005
     live = h.submodule("live")
     p = bpy.context.window_manager.windows[0].scene.firmament_sky
@@ -83,61 +145,62 @@ def _step():
                 raise RuntimeError("no first map in 120 s: %s" % p.last_message)
             return 0.005
         print("first map (server start, atmosphere built): %.3f s" % (state["applied"][0][0] - state["t0"]))
-        p.live = False
-        state["phase"], state["t0"] = "lamp", time.monotonic()
-    if state["phase"] == "lamp":
-        state["ticks"].append(time.monotonic())
-        t = state["ticks"]
-        if time.monotonic() - state["t0"] < 5.0 or len(t) < 4:
-            h.sun_lamps()[0].rotation_euler[0] += 0.001
-            return 0.0
-        state["lamp_loop"] = statistics.median(b - a for a, b in zip(t, t[1:]))
-        state["ticks"] = []
-        p.live = True
-        state["phase"], state["t0"] = "warm again", time.monotonic()
-        return 0.005
-    if state["phase"] == "warm again":  # the server started again, the atmosphere from the disk
+        p.sun_elevation = 21.0  # one map more: the add-on knows how long a map takes (live.WAIT_S)
+        state["phase"] = "warm again"
+    if state["phase"] == "warm again":
         if len(state["applied"]) < 2:
             return 0.005
-        del state["applied"][0]
         state["phase"] = "change"
-        bpy.app.timers.register(tick, first_interval=0.0)
+        return 0.2
+    kind = KINDS[state["i"] % len(KINDS)]
     if state["phase"] == "waiting":
-        if len(state["applied"]) < state["i"] + 2:
+        row = record(kind)
+        if row is None:
             if time.monotonic() - state["t0"] > 60:
-                raise RuntimeError("no map in 60 s after change %d: %s" % (state["i"], p.last_message))
-            return 0.001
-        t1, apply_s, reply = state["applied"][-1]
-        sent = state["sent"]
-        total = t1 - state["t0"]
-        state["rows"].append((total, sent - state["t0"], reply["seconds"], reply["read_at"] - sent - reply["seconds"],
-                              t1 - apply_s - reply["read_at"], apply_s, state["draws"] - state["draws0"],
-                              cpu_s() - state["cpu0"]))
+                raise RuntimeError("no drawn map in 60 s after change %d: %s" % (state["i"], p.last_message))
+            return 0.0
+        state["rows"][kind].append(row)
         state["i"] += 1
         state["phase"] = "change"
-        if state["i"] == N:
+        if state["i"] == N * len(KINDS):
             return report(live)
-    # one change, as a drag of the slider makes it
-    state["t0"], state["draws0"], state["cpu0"] = time.monotonic(), state["draws"], cpu_s()
-    p.sun_elevation = 5.0 + (state["i"] * 37 % 60)
+        kind = KINDS[state["i"] % len(KINDS)]
+    state["handler_s"] = change(live, p, kind)
     state["phase"] = "waiting"
-    return 0.001
+    return 0.0
+
+
+def ms(values, how):
+    return 1e3 * (statistics.median(values) if how == "median" else max(values))
+
+
+def spread(values):
+    v = sorted(values)  # p90: the nearest rank
+    return "median %.1f ms, p90 %.1f ms, max %.1f ms" % (1e3 * statistics.median(v), 1e3 * v[math.ceil(0.9 * len(v)) - 1], 1e3 * v[-1])
 
 
 def report(live):
-    rows = state["rows"]
-    total = sorted(r[0] for r in rows)
-    print("Blender %s, %d x %d preview map, %d changes of the sun elevation; load average %.1f" % (
-        bpy.app.version_string, WIDTH, WIDTH // 2, len(rows), os.getloadavg()[0]))
-    print("change -> image reloaded: median %.1f ms, p90 %.1f ms, max %.1f ms" % (
-        1e3 * statistics.median(total), 1e3 * total[int(0.9 * (len(total) - 1))], 1e3 * total[-1]))
-    for k, name in enumerate(("wait", "server", "pipe", "poll", "apply"), start=1):
-        print("  %-7s median %.1f ms" % (name, 1e3 * statistics.median(r[k] for r in rows)))
-    print("  draws   median %d of the 3D view, process CPU median %.1f ms" % (
-        statistics.median(r[6] for r in rows), 1e3 * statistics.median(r[7] for r in rows)))
-    t = state["ticks"]
-    print("  loop    median %.1f ms (only the lamp turned each pass, Live off: %.1f ms)" % (
-        1e3 * statistics.median(b - a for a, b in zip(t, t[1:])), 1e3 * state["lamp_loop"]))
+    a = view_3d()
+    print("Blender %s, %d x %d preview map, 3D view %d x %d in Rendered shading (EEVEE), %d changes of each kind; "
+          "load average %.1f" % (bpy.app.version_string, WIDTH, WIDTH // 2, a.width, a.height, N, os.getloadavg()[0]))
+    for kind in KINDS:
+        rows = state["rows"][kind]
+        col = lambda k: [r[k] for r in rows]  # noqa: E731
+        if kind == "bounded":
+            title = "bounded wait (live.WAIT_S = %.0f ms%s)" % (1e3 * state["bound_s"], "" if BOUND_MS else ", the add-on's")
+        else:
+            title = {"timer": "timer only (live.WAIT_S = 0)", "no map": "no map (the lamp turned by hand)"}[kind]
+        print("change (%s)" % title)
+        if kind != "no map":
+            print("  -> image reloaded  %s" % spread(col("reloaded")))
+        print("  -> drawn           %s" % spread(col("drawn")))
+        print("  handler  median %.1f ms, max %.1f ms; process CPU to the drawn frame median %.0f ms" % (
+            ms(col("handler"), "median"), ms(col("handler"), "max"), ms(col("cpu"), "median")))
+        if kind != "no map":
+            print("  in pass  %d of %d replies applied in the change's handler; draws before the reload median %d" % (
+                sum(col("in_pass")), len(rows), statistics.median(col("draws"))))
+            print("  " + ", ".join("%s %.1f ms" % (k, ms(col(k), "median")) for k in ("wait", "server", "pipe", "poll", "apply")))
+    print("  3D view  one draw median %.1f ms" % (1e3 * statistics.median(state["view_s"])))
     live.stop()
     sys.stdout.flush()
     os._exit(0)
@@ -155,5 +218,6 @@ def step():
         os._exit(1)
 
 
-bpy.types.SpaceView3D.draw_handler_add(count_draw, (), "WINDOW", "POST_PIXEL")
+bpy.types.SpaceView3D.draw_handler_add(pre_view, (), "WINDOW", "PRE_VIEW")
+bpy.types.SpaceView3D.draw_handler_add(post_pixel, (), "WINDOW", "POST_PIXEL")
 bpy.app.timers.register(step, first_interval=0.5)
