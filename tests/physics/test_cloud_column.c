@@ -75,7 +75,8 @@ static void altostratus_against_the_path_tracer(void **state)
 
 /* Where the column applies under an elevated layer: from FOG_TABLE_MIN_TAU up, with the sun
  * FOG_TABLE_MIN_SUN_DEG_PER_KM degrees per km of the layer's base up or more; a thinner layer from
- * FOG_TABLE_MIN_TAU_THIN up, with the sun FOG_TABLE_THIN_MIN_SUN_DEG up or more. */
+ * FOG_TABLE_MIN_TAU_THIN up, with the sun FOG_TABLE_THIN_MIN_SUN_DEG up or more, or
+ * FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG for a layer of ice. */
 static void where_the_column_applies(void **state)
 {
     (void)state;
@@ -90,7 +91,9 @@ static void where_the_column_applies(void **state)
                  {"altostratus", FOG_TABLE_MIN_TAU_THIN, 60.0, 1},
                  {"altostratus", 0.99 * FOG_TABLE_MIN_TAU_THIN, 60.0, 0},
                  {"cirrostratus", 1.0, FOG_TABLE_THIN_MIN_SUN_DEG + 0.01, 1},
-                 {"cirrostratus", 1.0, FOG_TABLE_THIN_MIN_SUN_DEG - 0.01, 0},
+                 {"cirrostratus", 1.0, FOG_TABLE_THIN_MIN_SUN_DEG - 0.01, 1},
+                 {"cirrostratus", 1.0, FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG + 0.01, 1},
+                 {"cirrostratus", 1.0, FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG - 0.01, 0},
                  {"cirrostratus", FOG_TABLE_MIN_TAU, 8.0 * FOG_TABLE_MIN_SUN_DEG_PER_KM - 0.01, 0},
                  {"stratus", 30.0, 3.0, 1}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {

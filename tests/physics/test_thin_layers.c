@@ -5,14 +5,16 @@
  * 180: the diffuse irradiance at the ground and views across the sky, near the horizon, 4-12 degrees
  * from the sun and on the 22-degree halo, within 2 % plus 3 standard errors.
  * Cases: cirrostratus (8-9.5 km, optical depth 1) at FOG_TABLE_THIN_MIN_SUN_DEG (24 degrees), where a
- * thin layer starts taking the column; cirrostratus over altostratus (3-4 km, 10) at
- * FOG_TABLE_MIN_SUN_DEG_CLOUDS (8), where two layers start taking it (the cirrostratus in the column's
- * air above the deck, under its pseudo-spherical beam).
- * Faults it fails on (the decision record says by how much): the column's own order 1 not
+ * thin layer takes the column at one sun; the same at sun 3, where it takes it at several suns, each
+ * view lit by the sun where it meets the layer (render/fog_local_sun.h); cirrostratus over
+ * altostratus (3-4 km, 10) at FOG_TABLE_MIN_SUN_DEG_CLOUDS (8), where two layers start taking it (the
+ * cirrostratus in the column's air above the deck, under its pseudo-spherical beam).
+ * Faults it fails on (the decision records say by how much): the column's own order 1 not
  * subtracted (counted twice with the single-scattering table's); the plane's beam cosine above the
- * deck instead of the pseudo-spherical one.
+ * deck instead of the pseudo-spherical one; at sun 3, one sun for every view, or the arcs toward the
+ * sun counted once (docs/decisions/2026-12-07-thin-layers-low-sun.md).
  * Run with arguments CLOUDS TAU SUN PATHS for one case (a sweep by hand; TAU 0 keeps the presets').
- * About 40 s of CPU, nearly all of it the path tracer. */
+ * About 45 s of CPU, nearly all of it the path tracer. */
 #include "check.h"
 
 #include "column_tables.h"
@@ -87,6 +89,12 @@ static void thin_cirrostratus_against_the_path_tracer(void **state)
     assert_int_equal(against_the_path_tracer("cirrostratus", 1.0, FOG_TABLE_THIN_MIN_SUN_DEG, 60000), 0);
 }
 
+static void thin_cirrostratus_at_a_low_sun(void **state)
+{
+    (void)state;
+    assert_int_equal(against_the_path_tracer("cirrostratus", 1.0, 3.0, 60000), 0);
+}
+
 static void two_layers_against_the_path_tracer(void **state)
 {
     (void)state;
@@ -99,6 +107,7 @@ int main(int argc, char **argv)
         return against_the_path_tracer(argv[1], atof(argv[2]), atof(argv[3]), atoi(argv[4])) != 0;
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(thin_cirrostratus_against_the_path_tracer),
+        cmocka_unit_test(thin_cirrostratus_at_a_low_sun),
         cmocka_unit_test(two_layers_against_the_path_tracer),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -50,8 +50,18 @@ static void view_weights(const atmosphere *atm, double e, double base_m, double 
         w[VIEW_STEPS * K + k] = exp(-tau[k]);
 }
 
+/* Table t's value at column c, wavelength k, at elevation e: linear in the sky rows' u. */
+static double at_elevation(const sky_grid *g, const double *t, int c, int k, int K, double e)
+{
+    const double h = g->horizon_elevation, u = sqrt(fmax(0.0, fmin(e, 0.5 * FM_PI) - h) / (0.5 * FM_PI - h));
+    const double x = u * (g->rows_sky - 1);
+    const int r = x >= g->rows_sky - 1 ? g->rows_sky - 2 : (int)x;
+    const double f = x - r;
+    return (1.0 - f) * t[((size_t)r * g->cols + c) * K + k] + f * t[((size_t)(r + 1) * g->cols + c) * K + k];
+}
+
 void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double base_m, double span, double shift,
-                           const double *const at[FOG_LOCAL_SUNS], double *out)
+                           double toward, int tilt, const double *const at[FOG_LOCAL_SUNS], double *out)
 {
     const int K = atm->grid.count, cols = grid->cols, nodes = sky_grid_nodes(grid);
     double arc[VIEW_STEPS + 1], w[(VIEW_STEPS + 1) * FM_MAX_WAVELENGTHS];
@@ -62,13 +72,20 @@ void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double b
         for (int c = 0; c < cols; c++) {
             const int i = r * cols + c;
             sky_grid_node_angles(grid, i, &e, &phi);
+            const double scale = shift * cos(phi) * (1.0 + 0.5 * (toward - 1.0) * (1.0 + cos(phi))) / span;
             for (int k = 0; k < K; k++) {
                 const size_t n = (size_t)i * K + k;
                 double L = 0.0;
                 for (int s = 0; s <= VIEW_STEPS; s++) {
                     /* toward the sun's azimuth the sun stands higher by the arc */
-                    const double x = fmin(1.0, fmax(-1.0, shift * arc[s] * cos(phi) / span));
-                    L += w[s * K + k] * interpolate(at[0][n], at[1][n], at[2][n], x);
+                    const double x = fmin(1.0, fmax(-1.0, scale * arc[s]));
+                    /* tilted: the view as seen there, higher over that point's horizon by the arc (its
+                     * angle from the sun kept) */
+                    const double v = tilt ? interpolate(at_elevation(grid, at[0], c, k, K, e + arc[s]),
+                                                        at_elevation(grid, at[1], c, k, K, e + arc[s]),
+                                                        at_elevation(grid, at[2], c, k, K, e + arc[s]), x)
+                                          : interpolate(at[0][n], at[1][n], at[2][n], x);
+                    L += w[s * K + k] * v;
                 }
                 out[n] = L;
             }

@@ -22,10 +22,22 @@
  * the sun's largest shift over the deck's visible part, and the spacing of the suns. */
 double fog_local_sun_span(const atmosphere *atm, double base_m);
 
+/* Under a thin layer of ice the arcs toward the sun's azimuth count this many times, falling to once
+ * away from it ((1 + cos phi) / 2 between): with the arcs as they are the views within 15 degrees of
+ * the sun and toward it came out 8 to 14 % dark at sun 3 to 10 (cirrostratus of optical depth 1),
+ * and with every point of a view at its base's arc +24 % at the horizon toward the sun and -32 %
+ * away.  The light the air under the layer scatters toward the observer about the sun is the layer's
+ * forward glow, which comes from farther along than the air itself; an effective scale, fitted
+ * (docs/decisions/2026-12-07-thin-layers-low-sun.md). */
+#define FOG_LOCAL_SUN_THIN_TOWARD 2.0
+
 /* The table's sums at every node from the tables at[j] ([node][K] each, made at the observer's sun
  * plus (j - 1) span), the deck's base at base_m, each point's shift from the observer's sun times
- * `shift` (0 to 1): into out ([node][K]).  The ground rows (looking down) take the observer's sun. */
+ * `shift` (0 to 1) and toward the sun's azimuth `toward` times (1 for a deck), each point's view
+ * tilted (nonzero: its elevation over the point's horizon, the arc higher) or not: into out
+ * ([node][K]); shifts beyond span take the nearest table.  The ground rows (looking down) take the
+ * observer's sun. */
 void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double base_m, double span, double shift,
-                           const double *const at[FOG_LOCAL_SUNS], double *out);
+                           double toward, int tilt, const double *const at[FOG_LOCAL_SUNS], double *out);
 
 #endif

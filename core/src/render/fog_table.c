@@ -1,5 +1,6 @@
 #include "render/fog_table.h"
 
+#include "aerosol/cloud.h"
 #include "base/quadrature.h"
 #include "base/threads.h"
 #include "base/units.h"
@@ -122,6 +123,19 @@ int fog_table_local_sun(const render_job *job)
            job->sky->composition.cloud[column_cloud(job->sky)].base_m > FOG_TABLE_FROM_ABOVE_MAX_BASE_M;
 }
 
+/* A thin layer of ice (below FOG_TABLE_MIN_TAU) alone, elevated, over an observer on the ground:
+ * the column at several suns takes it from FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG. */
+static int thin_ice_alone(const fm_sky *sky)
+{
+    const int cloud = column_cloud(sky);
+    const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    if (cloud < 0 || sky->composition.cloud_count != 1 || altitude >= FOG_TABLE_ON_GROUND_M)
+        return 0;
+    const cloud_type *type = cloud_type_find(sky->composition.cloud[cloud].type);
+    return sky->composition.cloud[cloud].tau550 < FOG_TABLE_MIN_TAU && sky->composition.cloud[cloud].base_m > 0.0 &&
+           type && type->ice;
+}
+
 int fog_table_applies(const render_job *job)
 {
     if (fog_table_from_above(job))
@@ -131,6 +145,8 @@ int fog_table_applies(const render_job *job)
     if (cloud < 0 || job->twilight || job->under_deck || job->params->quality == FM_QUALITY_REFERENCE)
         return 0;
     double min_sun = sky->composition.cloud_count > 1 ? FOG_TABLE_MIN_SUN_DEG_CLOUDS : FOG_TABLE_MIN_SUN_DEG;
+    if (thin_ice_alone(sky))
+        return sky->sun_dir.z >= sin(FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG * FM_DEG);
     min_sun = fmax(min_sun, FOG_TABLE_MIN_SUN_DEG_PER_KM * sky->composition.cloud[cloud].base_m / 1000.0);
     if (sky->composition.cloud[cloud].tau550 < FOG_TABLE_MIN_TAU)
         min_sun = fmax(min_sun, FOG_TABLE_THIN_MIN_SUN_DEG);
@@ -816,16 +832,29 @@ static fm_status table_sums(render_job *job, double share, fog_tables_fn tables,
  * noise it averages. */
 #define LOCAL_SUN_PATH_SHARE 4
 
-/* Under an elevated deck (fog_table_local_sun): the table at the suns fog_local_sun.h spans, each
- * node's along its view.  The observer's sun goes last: the peak and the ground are its.  The shift
- * fades with the column lit from above's share, so that where the day's column (one sun) takes the
- * table alone the views do not jump (3.4 % at the horizon across 5.8 degrees under altostratus). */
-static fm_status local_sun_sums(render_job *job, fog_tables_fn tables, double *ground, int *on_ground)
+/* A thin layer of ice alone by day below FOG_TABLE_THIN_MIN_SUN_DEG: the day's column at several
+ * suns, each view at the sun where it meets the layer. */
+static int thin_local_sun(const render_job *job)
+{
+    return thin_ice_alone(job->sky) && job->sky->sun_dir.z < sin(FOG_TABLE_THIN_MIN_SUN_DEG * FM_DEG);
+}
+
+/* Under an elevated deck (fog_table_local_sun) or a thin layer (thin_local_sun): the table at the
+ * suns fog_local_sun.h spans, each node's along its view.  The observer's sun goes last: the peak
+ * and the ground are its.  Under a deck the shift fades with the column lit from above's share, so
+ * that where the day's column (one sun) takes the table alone the views do not jump (3.4 % at the
+ * horizon across 5.8 degrees under altostratus).  Under a thin layer (the day's column alone) the
+ * suns are no farther apart than the observer's is above FOG_TABLE_MIN_SUN_DEG, where the day's
+ * column has its beam (views beyond them take the nearest), the arcs toward the sun count
+ * FOG_LOCAL_SUN_THIN_TOWARD times, and each point takes the view at its own elevation
+ * (fog_local_sun.h; decks as measured before, without). */
+static fm_status local_sun_sums(render_job *job, int thin, fog_tables_fn tables, double *ground, int *on_ground)
 {
     const fm_sky *own = job->sky;
     const size_t n = (size_t)sky_grid_nodes(&job->ms->grid) * own->atm.grid.count;
     const double base = own->composition.cloud[column_cloud(own)].base_m;
     const double span = fog_local_sun_span(&own->atm, base), e0 = asin(clamp_cosine(own->sun_dir.z));
+    const double step = thin ? fmin(span, e0 - FOG_TABLE_MIN_SUN_DEG * FM_DEG) : span;
     double *at = malloc(sizeof(double) * n * FOG_LOCAL_SUNS);
     fm_sky *local = malloc(sizeof *local); /* read alone: the same atmosphere and tables, another sun */
     if (!at || !local) {
@@ -837,13 +866,13 @@ static fm_status local_sun_sums(render_job *job, fog_tables_fn tables, double *g
     static const int order[FOG_LOCAL_SUNS] = {0, 2, 1};
     fm_status s = FM_OK;
     for (int j = 0; j < FOG_LOCAL_SUNS && !s; j++) {
-        const double e = e0 + (order[j] - 1) * span;
+        const double e = e0 + (order[j] - 1) * step;
         local->params.sun_elevation_deg = e / FM_DEG;
         local->sun_dir = direction_from_elevation_azimuth(e, own->params.sun_azimuth_deg * FM_DEG);
         const int paths = job->q.ms_paths;
         job->sky = order[j] == 1 ? own : local;
         job->q.ms_paths = (paths + LOCAL_SUN_PATH_SHARE - 1) / LOCAL_SUN_PATH_SHARE;
-        s = table_sums(job, above_share_at(job->sky), tables, ground, on_ground);
+        s = table_sums(job, thin ? 0.0 : above_share_at(job->sky), tables, ground, on_ground);
         job->sky = own;
         job->q.ms_paths = paths;
         if (!s)
@@ -851,7 +880,8 @@ static fm_status local_sun_sums(render_job *job, fog_tables_fn tables, double *g
     }
     const double *const tables_at[FOG_LOCAL_SUNS] = {at, at + n, at + 2 * n};
     if (!s)
-        fog_local_sun_combine(&own->atm, &job->ms->grid, base, span, above_share_at(own), tables_at, job->ms->sum);
+        fog_local_sun_combine(&own->atm, &job->ms->grid, base, step, thin ? 1.0 : above_share_at(own),
+                              thin ? FOG_LOCAL_SUN_THIN_TOWARD : 1.0, thin, tables_at, job->ms->sum);
     free(local);
     free(at);
     return s;
@@ -867,7 +897,8 @@ fm_status fog_table_fill(render_job *job, fog_tables_fn tables)
         return FM_ERR_INVALID_ARGUMENT;
     double ground[FM_MAX_WAVELENGTHS];
     int on_ground;
-    fm_status s = fog_table_local_sun(job) ? local_sun_sums(job, tables, ground, &on_ground)
+    const int thin = thin_local_sun(job);
+    fm_status s = fog_table_local_sun(job) || thin ? local_sun_sums(job, thin, tables, ground, &on_ground)
                                            : table_sums(job, fog_table_above_share(job), tables, ground, &on_ground);
     if (!s) {
         /* the nodes as one path each, already the whole of orders >= 2: no fit */

@@ -54,8 +54,17 @@ struct render_job;
  * meets a high layer where the sun stands higher.  At sun 24 cirrostratus (optical depth 0.5 and 1)
  * and altostratus (1) were within 2 % plus 3 standard errors of the reference in every view; at 9.5
  * altostratus (1) was 23 % bright 3.5 degrees below the sun and 10 % dark 4.5 above it
- * (docs/decisions/2026-12-07-thin-layers.md). */
+ * (docs/decisions/2026-12-07-thin-layers.md).  A thin layer of ice alone over an observer on the
+ * ground takes the column below it down to FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG at several suns, each view
+ * lit by the sun where it meets the layer (render/fog_local_sun.h): cirrostratus at sun 1 to 10 within
+ * the reference's tolerance (docs/decisions/2026-12-07-thin-layers-low-sun.md).  Droplets keep this
+ * bound: their truncated peak's light, about the sun, stays the observer's sun's (altostratus of 1 at
+ * sun 15: 11 % dark 9 degrees below the sun with the several suns). */
 #define FOG_TABLE_THIN_MIN_SUN_DEG 24.0
+/* The several suns' lowest is FOG_TABLE_MIN_SUN_DEG, where the day's column has its beam: at sun 1
+ * they are 0.8 degrees apart where the layer a view meets stands up to 2.9 degrees (cirrostratus at 8
+ * km) from the observer's sun, and the views beyond take the nearest. */
+#define FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG 1.0
 
 /* Below FOG_TABLE_MIN_SUN_DEG, down to the end of astronomical twilight, fog alone around an observer
  * on the ground (below FOG_TABLE_ON_GROUND_M), or a deck alone above it (below
@@ -89,8 +98,9 @@ int fog_table_local_sun(const struct render_job *job);
  * (deck_base.h) built, the observer in a fog layer (a cloud layer from the ground up) of
  * FOG_TABLE_MAX_VISIBILITY_M or less or below, inside or above a layer of FOG_TABLE_MIN_TAU or more, the
  * sun FOG_TABLE_MIN_SUN_DEG (FOG_TABLE_MIN_SUN_DEG_CLOUDS with other clouds, and
- * FOG_TABLE_MIN_SUN_DEG_PER_KM per km of an elevated layer's base) or more up.  The ground's irradiance then takes orders >= 2 from the
- * column too (build it without paths). */
+ * FOG_TABLE_MIN_SUN_DEG_PER_KM per km of an elevated layer's base, FOG_TABLE_THIN_MIN_SUN_DEG for a
+ * thinner layer, FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG for a thin layer of ice alone) or more up.  The
+ * ground's irradiance then takes orders >= 2 from the column too (build it without paths). */
 int fog_table_applies(const struct render_job *job);
 /* Whether the sky holds such fog or cloud and no deck that the deck base takes by day (the rest of
  * fog_table_applies is the sun's and the job's): a live sky then sizes every node's table as the
