@@ -61,7 +61,7 @@ static double at_elevation(const sky_grid *g, const double *t, int c, int k, int
 }
 
 void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double base_m, double span, double shift,
-                           double toward, int tilt, const double *const at[FOG_LOCAL_SUNS], double *out)
+                           double toward, double tilt, const double *const at[FOG_LOCAL_SUNS], double *out)
 {
     const int K = atm->grid.count, cols = grid->cols, nodes = sky_grid_nodes(grid);
     double arc[VIEW_STEPS + 1], w[(VIEW_STEPS + 1) * FM_MAX_WAVELENGTHS];
@@ -81,10 +81,11 @@ void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double b
                     const double x = fmin(1.0, fmax(-1.0, scale * arc[s]));
                     /* tilted: the view as seen there, higher over that point's horizon by the arc (its
                      * angle from the sun kept) */
-                    const double v = tilt ? interpolate(at_elevation(grid, at[0], c, k, K, e + arc[s]),
-                                                        at_elevation(grid, at[1], c, k, K, e + arc[s]),
-                                                        at_elevation(grid, at[2], c, k, K, e + arc[s]), x)
-                                          : interpolate(at[0][n], at[1][n], at[2][n], x);
+                    const double et = e + tilt * arc[s];
+                    const double v = tilt > 0.0 ? interpolate(at_elevation(grid, at[0], c, k, K, et),
+                                                              at_elevation(grid, at[1], c, k, K, et),
+                                                              at_elevation(grid, at[2], c, k, K, et), x)
+                                                : interpolate(at[0][n], at[1][n], at[2][n], x);
                     L += w[s * K + k] * v;
                 }
                 out[n] = L;

@@ -34,10 +34,10 @@ double fog_local_sun_span(const atmosphere *atm, double base_m);
 /* The table's sums at every node from the tables at[j] ([node][K] each, made at the observer's sun
  * plus (j - 1) span), the deck's base at base_m, each point's shift from the observer's sun times
  * `shift` (0 to 1) and toward the sun's azimuth `toward` times (1 for a deck), each point's view
- * tilted (nonzero: its elevation over the point's horizon, the arc higher) or not: into out
- * ([node][K]); shifts beyond span take the nearest table.  The ground rows (looking down) take the
+ * tilted by `tilt` (0 to 1) times the arc (1: its elevation over the point's horizon; 0 for a
+ * deck): into out ([node][K]); shifts beyond span take the nearest table.  The ground rows (looking down) take the
  * observer's sun. */
 void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double base_m, double span, double shift,
-                           double toward, int tilt, const double *const at[FOG_LOCAL_SUNS], double *out);
+                           double toward, double tilt, const double *const at[FOG_LOCAL_SUNS], double *out);
 
 #endif

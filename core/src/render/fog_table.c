@@ -839,6 +839,14 @@ static int thin_local_sun(const render_job *job)
     return thin_ice_alone(job->sky) && job->sky->sun_dir.z < sin(FOG_TABLE_THIN_MIN_SUN_DEG * FM_DEG);
 }
 
+/* Under a thin layer the suns' shift and the views' tilt fade over FOG_TABLE_BLEND_DEG below
+ * FOG_TABLE_THIN_MIN_SUN_DEG, where one sun takes the table: without the fade the map moved by 0.40 %
+ * RMS (3.3 % at most) from 23.99 to 24.01 degrees under cirrostratus. */
+static double thin_shift(double sun_rad)
+{
+    return fmin(1.0, (FOG_TABLE_THIN_MIN_SUN_DEG - sun_rad / FM_DEG) / FOG_TABLE_BLEND_DEG);
+}
+
 /* Under an elevated deck (fog_table_local_sun) or a thin layer (thin_local_sun): the table at the
  * suns fog_local_sun.h spans, each node's along its view.  The observer's sun goes last: the peak
  * and the ground are its.  Under a deck the shift fades with the column lit from above's share, so
@@ -880,8 +888,8 @@ static fm_status local_sun_sums(render_job *job, int thin, fog_tables_fn tables,
     }
     const double *const tables_at[FOG_LOCAL_SUNS] = {at, at + n, at + 2 * n};
     if (!s)
-        fog_local_sun_combine(&own->atm, &job->ms->grid, base, step, thin ? 1.0 : above_share_at(own),
-                              thin ? FOG_LOCAL_SUN_THIN_TOWARD : 1.0, thin, tables_at, job->ms->sum);
+        fog_local_sun_combine(&own->atm, &job->ms->grid, base, step, thin ? thin_shift(e0) : above_share_at(own),
+                              thin ? FOG_LOCAL_SUN_THIN_TOWARD : 1.0, thin ? thin_shift(e0) : 0.0, tables_at, job->ms->sum);
     free(local);
     free(at);
     return s;
