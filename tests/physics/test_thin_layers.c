@@ -5,7 +5,8 @@
  * 180: the diffuse irradiance at the ground and views across the sky, near the horizon, 4-12 degrees
  * from the sun and on the 22-degree halo, within 2 % plus 3 standard errors.
  * Cases: cirrostratus (8-9.5 km, optical depth 1) at FOG_TABLE_THIN_MIN_SUN_DEG (24 degrees), where a
- * thin layer takes the column at one sun; the same at sun 3, where it takes it at several suns, each
+ * thin layer takes the column at one sun; the same at FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG (3), where a
+ * layer of ice alone takes it at several suns, each
  * view lit by the sun where it meets the layer (render/fog_local_sun.h); cirrostratus over
  * altostratus (3-4 km, 10) at FOG_TABLE_MIN_SUN_DEG_CLOUDS (8), where two layers start taking it (the
  * cirrostratus in the column's air above the deck, under its pseudo-spherical beam).
@@ -92,7 +93,7 @@ static void thin_cirrostratus_against_the_path_tracer(void **state)
 static void thin_cirrostratus_at_a_low_sun(void **state)
 {
     (void)state;
-    assert_int_equal(against_the_path_tracer("cirrostratus", 1.0, 3.0, 60000), 0);
+    assert_int_equal(against_the_path_tracer("cirrostratus", 1.0, FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG, 60000), 0);
 }
 
 static void two_layers_against_the_path_tracer(void **state)

@@ -56,15 +56,14 @@ struct render_job;
  * altostratus (1) was 23 % bright 3.5 degrees below the sun and 10 % dark 4.5 above it
  * (docs/decisions/2026-12-07-thin-layers.md).  A thin layer of ice alone over an observer on the
  * ground takes the column below it down to FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG at several suns, each view
- * lit by the sun where it meets the layer (render/fog_local_sun.h): cirrostratus at sun 1 to 10 within
- * the reference's tolerance (docs/decisions/2026-12-07-thin-layers-low-sun.md).  Droplets keep this
- * bound: their truncated peak's light, about the sun, stays the observer's sun's (altostratus of 1 at
- * sun 15: 11 % dark 9 degrees below the sun with the several suns). */
+ * lit by the sun where it meets the layer (render/fog_local_sun.h): cirrostratus at sun 3 to 10 within
+ * the reference's tolerance but for a view (docs/decisions/2026-12-07-thin-layers-low-sun.md).
+ * Droplets keep this bound: their truncated peak's light, about the sun, stays the observer's sun's
+ * (altostratus of 1 at sun 15: 11 % dark 9 degrees below the sun with the several suns). */
 #define FOG_TABLE_THIN_MIN_SUN_DEG 24.0
-/* The several suns' lowest is FOG_TABLE_MIN_SUN_DEG, where the day's column has its beam: at sun 1
- * they are 0.8 degrees apart where the layer a view meets stands up to 2.9 degrees (cirrostratus at 8
- * km) from the observer's sun, and the views beyond take the nearest. */
-#define FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG 1.0
+/* Cirrostratus of 0.5 at sun 2 was 17 % dark at the horizon 6 degrees from the sun (at sun 3, 8.7 %;
+ * of 1, within the tolerance down to sun 1). */
+#define FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG 3.0
 
 /* Below FOG_TABLE_MIN_SUN_DEG, down to the end of astronomical twilight, fog alone around an observer
  * on the ground (below FOG_TABLE_ON_GROUND_M), or a deck alone above it (below
