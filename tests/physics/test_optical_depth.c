@@ -250,6 +250,30 @@ static void sun_table_builds_what_it_reads(void **state)
     fm_sky_destroy(b);
 }
 
+/* The compact copy of the few wavelengths' depths (the segment sunlight's proxy reads it) gives the
+ * full table's lookup bit for bit, the shadow included, over altitudes and suns from below the
+ * horizon up: the same floats, weighed alike. */
+static void few_depths_are_the_tables(void **state)
+{
+    const atmosphere *a = &sky->atm;
+    const sun_irradiance *t = &sky->sun_table;
+    int ks[SUN_FEW], n = sun_irradiance_few_wavelengths(a->grid.count, ks);
+    assert_int_equal(n, SUN_FEW);
+    assert_true(ks[0] > 0 && ks[0] < ks[1] && ks[1] < ks[2] && ks[2] < a->grid.count - 1);
+    rng r = rng_for(10, 11, 12);
+    int lit = 0;
+    for (int i = 0; i < 20000; i++) {
+        double rr = a->bottom_radius_m + 100000.0 * pow(rng_uniform(&r), 2.0), mu = -0.3 + 1.3 * rng_uniform(&r);
+        double few[SUN_FEW], some[SUN_FEW];
+        int has_few = sun_irradiance_lookup_few_depths(t, a, &sky->sun, rr, mu, few);
+        int has_some = sun_irradiance_lookup_some_depths(t, a, &sky->sun, rr, mu, n, ks, some);
+        assert_int_equal(has_few, has_some);
+        assert_memory_equal(few, some, sizeof few);
+        lit += has_few;
+    }
+    assert_true(lit > 10000);
+}
+
 /* Delta tracking's majorant bounds the extinction everywhere, for every wavelength. */
 static void majorants_bound_the_medium(void **state)
 {
@@ -501,6 +525,7 @@ int main(void)
         cmocka_unit_test(depth_table_is_the_columns_depth),
         cmocka_unit_test(sun_table_accuracy),
         cmocka_unit_test(sun_table_builds_what_it_reads),
+        cmocka_unit_test(few_depths_are_the_tables),
         cmocka_unit_test(majorants_bound_the_medium),
         cmocka_unit_test(majorant_depth_sums_the_shells),
         cmocka_unit_test(table_rows_hold_the_edges),

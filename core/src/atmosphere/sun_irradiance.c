@@ -84,6 +84,14 @@ static void to_depths(double *t, int K)
         t[k] = dark[k] ? MAX_DEPTH : -t[k];
 }
 
+int sun_irradiance_few_wavelengths(int K, int ks[SUN_FEW])
+{
+    int n = K < SUN_FEW ? K : SUN_FEW;
+    for (int i = 0; i < n; i++)
+        ks[i] = K < SUN_FEW ? i : K * (i + 1) / 4;
+    return n;
+}
+
 /* Node imu of row ir (and its horizontal counterpart on the ground row). */
 static void build_node(const sun_irradiance *t, int ir, int imu)
 {
@@ -98,6 +106,8 @@ static void build_node(const sun_irradiance *t, int ir, int imu)
     to_depths(normal, t->count);
     for (int k = 0; k < t->count; k++)
         t->normal[i * t->count + k] = (float)normal[k];
+    for (int j = 0; j < t->few_count; j++)
+        t->few[i * SUN_FEW + j] = (float)normal[t->few_k[j]];
     if (ir == 0) {
         to_depths(horizontal, t->count);
         for (int k = 0; k < t->count; k++)
@@ -165,10 +175,12 @@ fm_status sun_irradiance_build(sun_irradiance *table, const atmosphere *atm, con
     table->blocks_per_row = (n_mu + SUN_BLOCK - 1) / SUN_BLOCK;
     table->normal = malloc(n * sizeof(float));
     table->horizontal = malloc((size_t)n_mu * (size_t)table->count * sizeof(float));
+    table->few = malloc((size_t)rows * (size_t)n_mu * SUN_FEW * sizeof(float));
+    table->few_count = sun_irradiance_few_wavelengths(table->count, table->few_k);
     table->mu_lo = malloc((size_t)rows * sizeof(double));
     table->block_state = calloc((size_t)rows * (size_t)table->blocks_per_row, sizeof(atomic_uchar));
     table->dense_cell = malloc((size_t)rows);
-    if (!table->normal || !table->horizontal || !table->mu_lo || !table->block_state || !table->dense_cell) {
+    if (!table->normal || !table->horizontal || !table->few || !table->mu_lo || !table->block_state || !table->dense_cell) {
         sun_irradiance_free(table);
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the sun irradiance table");
     }
@@ -185,11 +197,12 @@ void sun_irradiance_free(sun_irradiance *table)
 {
     free(table->normal);
     free(table->horizontal);
+    free(table->few);
     free(table->mu_lo);
     free((void *)table->block_state);
     free(table->dense_cell);
     table->dense_cell = NULL;
-    table->normal = table->horizontal = NULL;
+    table->normal = table->horizontal = table->few = NULL;
     table->mu_lo = NULL;
     table->block_state = NULL;
     table_rows_free(&table->rows);
@@ -397,6 +410,20 @@ int sun_irradiance_lookup_some_depths(const sun_irradiance *table, const atmosph
     int dark = locate(table, atm, sun, r, mu_s, w, idx);
     for (int i = 0; i < n; i++)
         depth[i] = dark ? INFINITY : depth_or_dark(interpolate_depth(table->normal, w, idx, ks[i]));
+    return !dark;
+}
+
+int sun_irradiance_lookup_few_depths(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
+                                     double r, double mu_s, double *depth)
+{
+    double w[4];
+    size_t idx[4];
+    int dark = locate(table, atm, sun, r, mu_s, w, idx);
+    size_t few[4];
+    for (int c = 0; c < 4; c++) /* the corners' nodes in the compact copy */
+        few[c] = idx[c] / (size_t)table->count * SUN_FEW;
+    for (int j = 0; j < table->few_count; j++)
+        depth[j] = dark ? INFINITY : depth_or_dark(interpolate_depth(table->few, w, few, j));
     return !dark;
 }
 

@@ -25,11 +25,20 @@
  * whichever thread reads them first. */
 #define SUN_BLOCK 16
 
+/* The few wavelengths whose depths a segment's sunlight proxy reads at every cell end
+ * (sunlit_segment.c): a quarter, half and three quarters along the grid (or all, for fewer than
+ * SUN_FEW).  They are kept side by side as well (sun_irradiance.few), so that a lookup of them reads
+ * one cache line per corner, not one per wavelength spread over the whole table. */
+#define SUN_FEW 3
+int sun_irradiance_few_wavelengths(int K, int ks[SUN_FEW]);
+
 typedef struct sun_irradiance {
     table_rows rows;   /* the radii, as the column table's */
     int n_mu, count;
     float *normal;     /* [i_r][i_mu][k] Tbar_k */
     float *horizontal; /* [i_mu][k] the same times the cosine to the local zenith, on the ground only */
+    float *few;        /* [i_r][i_mu][j] normal's values at the few wavelengths (SUN_FEW), j of few_count */
+    int few_k[SUN_FEW], few_count;
     double *mu_lo;     /* [i_r] mu_lo of the row's radius (lookups need it for two rows each time) */
     unsigned char *dense_cell; /* [i_r] whether the cell from row i_r up holds cloud or fog */
     /* what the nodes are built from, and each block's state (empty, being built, ready) */
@@ -82,6 +91,11 @@ int sun_irradiance_lookup_depth_at(const sun_irradiance *table, const atmosphere
  * Tbar is 0); returns 0 in the Earth's shadow. */
 int sun_irradiance_lookup_some_depths(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
                                       double r, double mu_s, int n, const int *ks, double *depth);
+
+/* sun_irradiance_lookup_some_depths for the few wavelengths (sun_irradiance_few_wavelengths): the
+ * same values, from the compact copy. */
+int sun_irradiance_lookup_few_depths(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
+                                     double r, double mu_s, double *depth);
 
 /* Whether the whole disk is below the horizon of radius r (the umbra): the table is 0 there, and
  * wherever this holds at the lower of the two table rows around r. */

@@ -220,17 +220,14 @@ static void proxy_init(lit_proxy *p, const path_context *ctx, const ray_segment 
     p->cells = ctx->segment_sunlight == SEGMENT_SUNLIGHT_RISING ? RISING_CELLS : PROXY_CELLS;
     p->lit = lit;
     p->cell = lit / p->cells;
-    int ks[3], nk = K < 3 ? K : 3;
-    for (int i = 0; i < nk; i++)
-        ks[i] = K < 3 ? i : K * (i + 1) / 4;
+    int ks[SUN_FEW], nk = sun_irradiance_few_wavelengths(K, ks);
     /* per cell end and wavelength: sigma_s, and the optical depth from the sun to there and on to the
      * segment's origin, whose exps are then taken all at once in vector lanes */
-    double ds[3], sigma_at[PROXY_CELLS + 1][3] = {{0}}, light[PROXY_CELLS + 1][3] = {{0}};
+    double ds[SUN_FEW], sigma_at[PROXY_CELLS + 1][SUN_FEW] = {{0}}, light[PROXY_CELLS + 1][SUN_FEW] = {{0}};
     for (int j = 0; j <= p->cells; j++) {
         double t = lit_to_t(p->cell * j, u0, u1), rad = ray_segment_radius(seg, t);
         vec3 x = v3_madd(seg->origin, seg->dir, t);
-        if (!sun_irradiance_lookup_some_depths(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, nk,
-                                               ks, ds) ||
+        if (!sun_irradiance_lookup_few_depths(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, ds) ||
             (isinf(ds[0]) && isinf(ds[nk - 1]) && isinf(ds[nk / 2])))
             continue;
         columns_at(sc, t, 0, col);
@@ -243,7 +240,7 @@ static void proxy_init(lit_proxy *p, const path_context *ctx, const ray_segment 
             light[j][i] = -(ds[i] + atmosphere_optical_depth(atm, col, ks[i]));
         }
     }
-    exp_array(&light[0][0], &light[0][0], 3 * (p->cells + 1));
+    exp_array(&light[0][0], &light[0][0], SUN_FEW * (p->cells + 1));
     for (int j = 0; j <= p->cells; j++) {
         p->h[j] = 0.0;
         for (int i = 0; i < nk; i++)
