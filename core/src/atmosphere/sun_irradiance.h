@@ -28,7 +28,8 @@
 /* The few wavelengths whose depths a segment's sunlight proxy reads at every cell end
  * (sunlit_segment.c): a quarter, half and three quarters along the grid (or all, for fewer than
  * SUN_FEW).  They are kept side by side as well (sun_irradiance.few), so that a lookup of them reads
- * one cache line per corner, not one per wavelength spread over the whole table. */
+ * one cache line per corner, not one per wavelength spread over the whole table
+ * (docs/decisions/2026-12-07-live-build-cost.md). */
 #define SUN_FEW 3
 int sun_irradiance_few_wavelengths(int K, int ks[SUN_FEW]);
 
