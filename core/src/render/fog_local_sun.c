@@ -95,3 +95,24 @@ void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double b
     for (size_t n = (size_t)grid->rows_sky * cols * K; n < (size_t)nodes * K; n++)
         out[n] = at[1][n];
 }
+
+void fog_local_sun_combine_down(const atmosphere *atm, const sky_grid *grid, double observer_m, double top_m,
+                                double span, double shift, const double *const at[FOG_LOCAL_SUNS], double *out)
+{
+    const int K = atm->grid.count, cols = grid->cols, nodes = sky_grid_nodes(grid);
+    const double r0 = atm->bottom_radius_m + observer_m, r1 = atm->bottom_radius_m + top_m;
+    for (size_t n = 0; n < (size_t)grid->rows_sky * cols * K; n++)
+        out[n] = at[1][n];
+    for (int i = grid->rows_sky * cols; i < nodes; i++) {
+        double e, phi;
+        sky_grid_node_angles(grid, i, &e, &phi);
+        /* the arc to where the view meets the top: its depression d less the depression there (a view
+         * above the top's horizon grazes it at the horizon's arc) */
+        const double d = -e, c = r0 * cos(d) / r1, arc = c < 1.0 ? d - acos(c) : acos(r1 / r0);
+        const double x = fmin(1.0, fmax(-1.0, shift * arc * cos(phi) / span));
+        for (int k = 0; k < K; k++) {
+            const size_t n = (size_t)i * K + k;
+            out[n] = interpolate(at[0][n], at[1][n], at[2][n], x);
+        }
+    }
+}

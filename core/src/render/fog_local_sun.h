@@ -40,4 +40,11 @@ double fog_local_sun_span(const atmosphere *atm, double base_m);
 void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double base_m, double span, double shift,
                            double toward, double tilt, const double *const at[FOG_LOCAL_SUNS], double *out);
 
+/* Above a deck: the sky rows take the observer's sun (at[1]), each ground row the sun where its view
+ * meets the deck's top at top_m (the observer at observer_m above the ground), shifted from the
+ * observer's by the arc times `shift` (0 to 1), from the tables at[j] made at the observer's sun plus
+ * (j - 1) span; shifts beyond span take the nearest. */
+void fog_local_sun_combine_down(const atmosphere *atm, const sky_grid *grid, double observer_m, double top_m,
+                                double span, double shift, const double *const at[FOG_LOCAL_SUNS], double *out);
+
 #endif

@@ -847,7 +847,28 @@ static double thin_shift(double sun_rad)
     return fmin(1.0, (FOG_TABLE_THIN_MIN_SUN_DEG - sun_rad / FM_DEG) / FOG_TABLE_BLEND_DEG);
 }
 
-/* Under an elevated deck (fog_table_local_sun) or a thin layer (thin_local_sun): the table at the
+/* Above a deck (the column's layer below the observer) by day below FOG_TABLE_ABOVE_LOCAL_SUN_DEG:
+ * the day's column at several suns, each view down at the sun where it meets the deck's top. */
+static int above_local_sun(const render_job *job)
+{
+    const fm_sky *sky = job->sky;
+    const int cloud = column_cloud(sky);
+    const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    return cloud >= 0 && !fog_table_from_above(job) && sky->composition.cloud_count == 1 &&
+           altitude >= sky->composition.cloud[cloud].base_m + sky->composition.cloud[cloud].thickness_m &&
+           sky->sun_dir.z < sin(FOG_TABLE_ABOVE_LOCAL_SUN_DEG * FM_DEG);
+}
+
+/* Its shift fades over FOG_TABLE_BLEND_DEG below the bound, where one sun takes the table. */
+static double above_shift(double sun_rad)
+{
+    return fmin(1.0, (FOG_TABLE_ABOVE_LOCAL_SUN_DEG - sun_rad / FM_DEG) / FOG_TABLE_BLEND_DEG);
+}
+
+enum { LOCAL_DECK, LOCAL_THIN, LOCAL_ABOVE };
+
+/* Under an elevated deck (fog_table_local_sun), a thin layer (thin_local_sun) or above a deck
+ * (above_local_sun): the table at the
  * suns fog_local_sun.h spans, each node's along its view.  The observer's sun goes last: the peak
  * and the ground are its.  Under a deck the shift fades with the column lit from above's share, so
  * that where the day's column (one sun) takes the table alone the views do not jump (3.4 % at the
@@ -856,13 +877,18 @@ static double thin_shift(double sun_rad)
  * column has its beam (views beyond them take the nearest), the arcs toward the sun count
  * FOG_LOCAL_SUN_THIN_TOWARD times, and each point takes the view at its own elevation
  * (fog_local_sun.h; decks as measured before, without). */
-static fm_status local_sun_sums(render_job *job, int thin, fog_tables_fn tables, double *ground, int *on_ground)
+static fm_status local_sun_sums(render_job *job, int mode, fog_tables_fn tables, double *ground, int *on_ground)
 {
     const fm_sky *own = job->sky;
     const size_t n = (size_t)sky_grid_nodes(&job->ms->grid) * own->atm.grid.count;
     const double base = own->composition.cloud[column_cloud(own)].base_m;
-    const double span = fog_local_sun_span(&own->atm, base), e0 = asin(clamp_cosine(own->sun_dir.z));
-    const double step = thin ? fmin(span, e0 - FOG_TABLE_MIN_SUN_DEG * FM_DEG) : span;
+    const double top = base + own->composition.cloud[column_cloud(own)].thickness_m;
+    const double altitude = v3_length(own->observer) - own->atm.bottom_radius_m;
+    const int thin = mode == LOCAL_THIN, day = mode != LOCAL_DECK;
+    const double R = own->atm.bottom_radius_m; /* from above, the arc to the deck top's horizon */
+    const double span = mode == LOCAL_ABOVE ? acos((R + top) / (R + altitude)) : fog_local_sun_span(&own->atm, base);
+    const double e0 = asin(clamp_cosine(own->sun_dir.z));
+    const double step = day ? fmin(span, e0 - FOG_TABLE_MIN_SUN_DEG * FM_DEG) : span;
     double *at = malloc(sizeof(double) * n * FOG_LOCAL_SUNS);
     fm_sky *local = malloc(sizeof *local); /* read alone: the same atmosphere and tables, another sun */
     if (!at || !local) {
@@ -880,16 +906,20 @@ static fm_status local_sun_sums(render_job *job, int thin, fog_tables_fn tables,
         const int paths = job->q.ms_paths;
         job->sky = order[j] == 1 ? own : local;
         job->q.ms_paths = (paths + LOCAL_SUN_PATH_SHARE - 1) / LOCAL_SUN_PATH_SHARE;
-        s = table_sums(job, thin ? 0.0 : above_share_at(job->sky), tables, ground, on_ground);
+        s = table_sums(job, day ? 0.0 : above_share_at(job->sky), tables, ground, on_ground);
         job->sky = own;
         job->q.ms_paths = paths;
         if (!s)
             memcpy(at + order[j] * n, job->ms->sum, sizeof(double) * n);
     }
     const double *const tables_at[FOG_LOCAL_SUNS] = {at, at + n, at + 2 * n};
-    if (!s)
+    if (!s && mode == LOCAL_ABOVE)
+        fog_local_sun_combine_down(&own->atm, &job->ms->grid, altitude, top, step, above_shift(e0), tables_at,
+                                   job->ms->sum);
+    else if (!s)
         fog_local_sun_combine(&own->atm, &job->ms->grid, base, step, thin ? thin_shift(e0) : above_share_at(own),
-                              thin ? FOG_LOCAL_SUN_THIN_TOWARD : 1.0, thin ? thin_shift(e0) : 0.0, tables_at, job->ms->sum);
+                              thin ? FOG_LOCAL_SUN_THIN_TOWARD : 1.0, thin ? thin_shift(e0) : 0.0, tables_at,
+                              job->ms->sum);
     free(local);
     free(at);
     return s;
@@ -905,8 +935,8 @@ fm_status fog_table_fill(render_job *job, fog_tables_fn tables)
         return FM_ERR_INVALID_ARGUMENT;
     double ground[FM_MAX_WAVELENGTHS];
     int on_ground;
-    const int thin = thin_local_sun(job);
-    fm_status s = fog_table_local_sun(job) || thin ? local_sun_sums(job, thin, tables, ground, &on_ground)
+    const int mode = thin_local_sun(job) ? LOCAL_THIN : above_local_sun(job) ? LOCAL_ABOVE : LOCAL_DECK;
+    fm_status s = fog_table_local_sun(job) || mode != LOCAL_DECK ? local_sun_sums(job, mode, tables, ground, &on_ground)
                                            : table_sums(job, fog_table_above_share(job), tables, ground, &on_ground);
     if (!s) {
         /* the nodes as one path each, already the whole of orders >= 2: no fit */

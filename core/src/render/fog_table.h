@@ -64,6 +64,9 @@ struct render_job;
 /* Cirrostratus of 0.5 at sun 2 was 17 % dark at the horizon 6 degrees from the sun (at sun 3, 8.7 %;
  * of 1, within the tolerance down to sun 1). */
 #define FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG 3.0
+/* Above a deck (a layer of FOG_TABLE_MIN_TAU or more below the observer, alone) below this sun the
+ * column is made at several suns, each view down lit by the sun where it meets the deck's top. */
+#define FOG_TABLE_ABOVE_LOCAL_SUN_DEG 10.0
 
 /* Below FOG_TABLE_MIN_SUN_DEG, down to the end of astronomical twilight, fog alone around an observer
  * on the ground (below FOG_TABLE_ON_GROUND_M), or a deck alone above it (below
