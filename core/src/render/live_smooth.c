@@ -1,5 +1,6 @@
 #include "render/live_smooth.h"
 
+#include "base/units.h"
 #include "transport/twilight.h"
 
 #include <math.h>
@@ -81,95 +82,312 @@ fm_status live_smooth_day(fm_sky_live *live, const unsigned char *fresh, double 
     return FM_OK;
 }
 
-/* The weights h[0..n) that give node k's value from the nodes at[0..n): the least-squares quadratic in
- * the sun elevation, weighted by a Gaussian of width_deg, without node `out` (-1: with every node);
- * 0 where they do not make one. */
-static int deep_weights(const fm_sky_live *live, const int *at, int n, int k, int out, double width_deg, double *x,
-                        double *w, double *h)
+/* The weights h[0..n) (summing to 1) that give the value at x = 0 of the weighted least-squares
+ * polynomial of `degree` (0 to 2) through the values at x[0..n): live_quadratic_weights, a weighted
+ * line or a weighted mean; 0 where they do not make one. */
+static int poly_weights(const double *x, const double *w, int n, int degree, double *h)
 {
+    if (degree == 2)
+        return live_quadratic_weights(x, w, n, h);
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+    int used = 0;
     for (int j = 0; j < n; j++) {
-        const double d = (live->nodes[at[j]].sun_elevation_deg - live->nodes[at[k]].sun_elevation_deg) / width_deg;
+        used += w[j] > 0.0;
+        s0 += w[j];
+        s1 += w[j] * x[j];
+        s2 += w[j] * x[j] * x[j];
+    }
+    const double det = s0 * s2 - s1 * s1;
+    if (used <= degree || !(s0 > 0.0) || (degree == 1 && !(det > 1e-12 * s0 * s2)))
+        return 0;
+    for (int j = 0; j < n; j++)
+        h[j] = degree == 0 ? w[j] / s0 : w[j] * (s2 - s1 * x[j]) / det;
+    return 1;
+}
+
+/* One way to smooth across the nodes: a polynomial of `degree` in the sun elevation, weighted by a
+ * Gaussian of width_deg. */
+typedef struct deep_fit {
+    int degree;
+    double width_deg;
+} deep_fit;
+
+static const deep_fit DEEP_FITS[] = LIVE_SMOOTH_DEEP_FITS;
+#define DEEP_FIT_COUNT ((int)(sizeof DEEP_FITS / sizeof DEEP_FITS[0]))
+
+/* The weights h[0..n) that give node k's value from the nodes at[0..n) by fit f, without node `out`
+ * (-1: with every node); 0 where they do not make one. */
+static int deep_weights(const fm_sky_live *live, const int *at, int n, int k, int out, deep_fit f, double *h)
+{
+    double x[64], w[64];
+    if (n > 64)
+        return 0;
+    for (int j = 0; j < n; j++) {
+        const double d = (live->nodes[at[j]].sun_elevation_deg - live->nodes[at[k]].sun_elevation_deg) / f.width_deg;
         x[j] = d;
         w[j] = j == out ? 0.0 : exp(-0.5 * d * d);
     }
-    return live_quadratic_weights(x, w, n, h);
+    return poly_weights(x, w, n, f.degree, h);
 }
 
-static int value_lit(const fm_sky_live *live, const int *at, int n, size_t i)
+/* A cosine series over L points spanning 0..pi, both ends included (a DCT-I): the coefficients
+ * a[m * stride] of the values v[c * stride], v[c] = sum_m a[m] cos(pi m c / (L - 1)), the cosines
+ * orthogonal under the trapezoid rule's weights.  With the ends included it suits the table's
+ * columns (relative azimuth 0 to pi) and its rows (u from 0 to 1). */
+static double cosine_at(int m, int c, int L) { return cos(FM_PI * m * c / (L - 1)); }
+
+static void cosine_series(const double *v, int L, int stride, double *a)
+{
+    for (int m = 0; m < L; m++) {
+        double num = 0.0, den = 0.0;
+        for (int c = 0; c < L; c++) {
+            const double t = c == 0 || c == L - 1 ? 0.5 : 1.0, b = cosine_at(m, c, L);
+            num += t * v[c * stride] * b;
+            den += t * b * b;
+        }
+        a[m * stride] = num / den;
+    }
+}
+
+/* The values v[0..L) of the coefficients a[m * stride]. */
+static void cosine_sum(const double *a, int L, int stride, double *v)
+{
+    for (int c = 0; c < L; c++) {
+        double sum = 0.0;
+        for (int m = 0; m < L; m++)
+            sum += a[m * stride] * cosine_at(m, c, L);
+        v[c] = sum;
+    }
+}
+
+/* One domain of the table (the sky's rows or the ground's) in the making: per node, the logarithms
+ * of its luminance as a cosine series over the columns and then over the rows, coef[node][p][m]
+ * (p: the rows' term, m: the azimuth's). */
+typedef struct deep_domain {
+    const int *at;
+    int n, row0, rows, cols, C, lum;
+    double *coef;
+} deep_domain;
+
+/* The terms choose their fit by classes: the level (p = m = 0), the two first-order terms, and the
+ * rest together, each class with terms enough for its leave-one-out score to choose well. */
+#define DEEP_CLASSES 3
+static int term_class(int p, int m) { return p + m < DEEP_CLASSES - 1 ? p + m : DEEP_CLASSES - 1; }
+
+static float *ms_value(fm_sky_live *live, const deep_domain *d, int k, int r, int c)
+{
+    return &live->nodes[d->at[k]].ms.values[((size_t)(d->row0 + r) * d->cols + c) * d->C];
+}
+
+static double *coef_at(const deep_domain *d, double *base, int k, int p, int m)
+{
+    return &base[((size_t)k * d->rows + p) * d->cols + m];
+}
+
+/* The leave-one-out score of fit f for a class of terms: the squared error of each inner deep node's
+ * terms of the class (a node with others on both sides) predicted from the other nodes. */
+static double deep_fit_score(const fm_sky_live *live, const deep_domain *d, int class, deep_fit f)
+{
+    double h[64], score = 0.0;
+    for (int k = 1; k + 1 < d->n; k++) {
+        if (!twilight_deep(live->nodes[d->at[k]].sun_elevation_deg))
+            continue;
+        if (!deep_weights(live, d->at, d->n, k, k, f, h))
+            return INFINITY;
+        for (int p = 0; p < d->rows; p++)
+            for (int m = 0; m < d->cols; m++) {
+                if (term_class(p, m) != class)
+                    continue;
+                double z = -*coef_at(d, d->coef, k, p, m);
+                for (int j = 0; j < d->n; j++)
+                    z += h[j] * *coef_at(d, d->coef, j, p, m);
+                score += z * z;
+            }
+    }
+    return score;
+}
+
+/* The fit of a class: the one of DEEP_FITS whose leave-one-out score is least. */
+static deep_fit deep_fit_for(const fm_sky_live *live, const deep_domain *d, int class)
+{
+    deep_fit best = DEEP_FITS[0];
+    double least = INFINITY;
+    for (int c = 0; c < DEEP_FIT_COUNT; c++) {
+        const double score = deep_fit_score(live, d, class, DEEP_FITS[c]);
+        if (score < least) {
+            least = score;
+            best = DEEP_FITS[c];
+        }
+    }
+    return best;
+}
+
+/* Whether every value of the domain is positive at every node. */
+static int domain_lit(fm_sky_live *live, const deep_domain *d)
 {
     int lit = 1;
-    for (int j = 0; j < n; j++)
-        lit &= live->nodes[at[j]].ms.values[i] > 0.0f;
+    for (int k = 0; k < d->n; k++)
+        for (int r = 0; r < d->rows; r++)
+            for (int c = 0; c < d->cols; c++)
+                lit &= ms_value(live, d, k, r, c)[d->lum] > 0.0f;
     return lit;
 }
 
-/* The leave-one-out score of a width: the squared error of each inner deep node's logarithms (a
- * node with others on both sides) predicted from the other nodes, summed over the lit values. */
-static double deep_width_score(const fm_sky_live *live, const int *at, int n, double width_deg, double *x,
-                               double *w, double *h)
+/* Scales every channel of deep node k's value (r, c) so that its luminance's logarithm becomes l. */
+static void set_log_luminance(fm_sky_live *live, const deep_domain *d, int k, int r, int c, double l)
 {
-    const int C = live->channels, lum = C == 3 ? 1 : 0;
-    const size_t values = (size_t)sky_grid_nodes(&live->nodes[at[0]].ms);
-    double score = 0.0;
-    for (int k = 1; k + 1 < n; k++) {
-        if (!twilight_deep(live->nodes[at[k]].sun_elevation_deg))
-            continue;
-        if (!deep_weights(live, at, n, k, k, width_deg, x, w, h))
-            return INFINITY;
-        for (size_t v = 0; v < values; v++) {
-            if (!value_lit(live, at, n, v * C + lum))
-                continue;
-            double z = -log(live->nodes[at[k]].ms.values[v * C + lum]);
-            for (int j = 0; j < n; j++)
-                z += h[j] * log(live->nodes[at[j]].ms.values[v * C + lum]);
-            score += z * z;
+    float *px = ms_value(live, d, k, r, c);
+    const float ratio = (float)(exp(l) / px[d->lum]);
+    for (int ch = 0; ch < d->C; ch++)
+        px[ch] *= ratio;
+}
+
+/* A lit domain: its terms at every node, each smoothed across the nodes by its class's fit, and the
+ * deep nodes' values scaled to the smoothed logarithms.  work: 2 n rows cols doubles. */
+static void smooth_lit_domain(fm_sky_live *live, deep_domain *d, double *work)
+{
+    const size_t per_node = (size_t)d->rows * (size_t)d->cols;
+    double *smoothed = work + (size_t)d->n * per_node, h[64];
+    d->coef = work;
+    for (int k = 0; k < d->n; k++) {
+        double *c = coef_at(d, d->coef, k, 0, 0);
+        for (int r = 0; r < d->rows; r++)
+            for (int col = 0; col < d->cols; col++)
+                smoothed[r * d->cols + col] = log(ms_value(live, d, k, r, col)[d->lum]);
+        for (int r = 0; r < d->rows; r++) /* over the columns, then over the rows */
+            cosine_series(&smoothed[r * d->cols], d->cols, 1, &c[r * d->cols]);
+        for (int m = 0; m < d->cols; m++) {
+            for (int r = 0; r < d->rows; r++)
+                smoothed[r * d->cols + m] = c[r * d->cols + m];
+            cosine_series(&smoothed[m], d->rows, d->cols, &c[m]);
         }
     }
+    deep_fit fits[DEEP_CLASSES];
+    for (int class = 0; class < DEEP_CLASSES; class++)
+        fits[class] = deep_fit_for(live, d, class);
+    for (int k = 0; k < d->n; k++) {
+        if (!twilight_deep(live->nodes[d->at[k]].sun_elevation_deg))
+            continue;
+        for (int p = 0; p < d->rows; p++)
+            for (int m = 0; m < d->cols; m++) {
+                double z = 0.0;
+                if (!deep_weights(live, d->at, d->n, k, -1, fits[term_class(p, m)], h))
+                    z = *coef_at(d, d->coef, k, p, m);
+                else
+                    for (int j = 0; j < d->n; j++)
+                        z += h[j] * *coef_at(d, d->coef, j, p, m);
+                smoothed[p * d->cols + m] = z;
+            }
+        double l[64];
+        for (int m = 0; m < d->cols; m++) { /* back over the rows, then over the columns */
+            cosine_sum(&smoothed[m], d->rows, d->cols, l);
+            for (int r = 0; r < d->rows; r++)
+                smoothed[r * d->cols + m] = l[r];
+        }
+        for (int r = 0; r < d->rows; r++) {
+            cosine_sum(&smoothed[r * d->cols], d->cols, 1, l);
+            for (int c = 0; c < d->cols; c++)
+                set_log_luminance(live, d, k, r, c, l[c]);
+        }
+    }
+}
+
+/* Whether value (r, c) of the domain is positive at every node. */
+static int value_lit(fm_sky_live *live, const deep_domain *d, int r, int c)
+{
+    int lit = 1;
+    for (int j = 0; j < d->n; j++)
+        lit &= ms_value(live, d, j, r, c)[d->lum] > 0.0f;
+    return lit;
+}
+
+/* The logarithm of the luminance of value (r, c) at node k from the nodes' weights h. */
+static double weighted_log(fm_sky_live *live, const deep_domain *d, int r, int c, const double *h)
+{
+    double z = 0.0;
+    for (int j = 0; j < d->n; j++)
+        z += h[j] * log(ms_value(live, d, j, r, c)[d->lum]);
+    return z;
+}
+
+/* The leave-one-out score of fit f over the values of a domain lit at every node, each on its own. */
+static double value_fit_score(fm_sky_live *live, const deep_domain *d, deep_fit f)
+{
+    double h[64], score = 0.0;
+    for (int k = 1; k + 1 < d->n; k++) {
+        if (!twilight_deep(live->nodes[d->at[k]].sun_elevation_deg))
+            continue;
+        if (!deep_weights(live, d->at, d->n, k, k, f, h))
+            return INFINITY;
+        for (int r = 0; r < d->rows; r++)
+            for (int c = 0; c < d->cols; c++)
+                if (value_lit(live, d, r, c)) {
+                    const double z = weighted_log(live, d, r, c, h) - log(ms_value(live, d, k, r, c)[d->lum]);
+                    score += z * z;
+                }
+    }
     return score;
+}
+
+/* A domain not lit at every node: each value lit at every node smoothed on its own, by the fit whose
+ * leave-one-out score over those values is least; the others stay as they are. */
+static void smooth_unlit_domain(fm_sky_live *live, const deep_domain *d)
+{
+    deep_fit fit = DEEP_FITS[0];
+    double least = INFINITY, h[64], z[64];
+    for (int f = 0; f < DEEP_FIT_COUNT; f++) {
+        const double score = value_fit_score(live, d, DEEP_FITS[f]);
+        if (score < least) {
+            least = score;
+            fit = DEEP_FITS[f];
+        }
+    }
+    for (int r = 0; r < d->rows; r++)
+        for (int c = 0; c < d->cols; c++) {
+            if (!value_lit(live, d, r, c))
+                continue;
+            for (int k = 0; k < d->n; k++) {
+                const int deep = twilight_deep(live->nodes[d->at[k]].sun_elevation_deg);
+                z[k] = deep && deep_weights(live, d->at, d->n, k, -1, fit, h) ? weighted_log(live, d, r, c, h) : NAN;
+            }
+            for (int k = 0; k < d->n; k++) /* after every node: each from the nodes as they were */
+                if (!isnan(z[k]))
+                    set_log_luminance(live, d, k, r, c, z[k]);
+        }
 }
 
 fm_status live_smooth_deep_twilight(fm_sky_live *live, const unsigned char *fresh)
 {
     int *at = malloc(sizeof(int) * (size_t)live->count), n = 0;
-    double *x = malloc(sizeof(double) * 4 * (size_t)live->count);
-    if (!at || !x) {
-        free(at);
-        free(x);
+    if (!at)
         return FM_ERR_OUT_OF_MEMORY;
-    }
-    double *w = x + live->count, *h = w + live->count, *ratio = h + live->count;
     for (int i = 0; i < live->count; i++)
         if (fresh[i] && (twilight_deep(live->nodes[i].sun_elevation_deg) ||
                          live->nodes[i].sun_elevation_deg <= LIVE_SMOOTH_DEEP_WITH_DEG))
             at[n++] = i;
-    const int C = live->channels, lum = C == 3 ? 1 : 0; /* CIE Y, or the one value */
-    const size_t values = n >= LIVE_SMOOTH_DEEP_MIN ? (size_t)sky_grid_nodes(&live->nodes[at[0]].ms) : 0;
-    const double widths[] = LIVE_SMOOTH_DEEP_WIDTHS;
-    double width = widths[0], best = INFINITY;
-    for (size_t c = 0; c < sizeof widths / sizeof widths[0] && values; c++) {
-        double score = deep_width_score(live, at, n, widths[c], x, w, h);
-        if (score < best) {
-            best = score;
-            width = widths[c];
-        }
+    if (n < LIVE_SMOOTH_DEEP_MIN || n > 64) {
+        free(at);
+        return FM_OK;
     }
-    for (size_t v = 0; v < values; v++) {
-        const int lit = value_lit(live, at, n, v * C + lum);
-        for (int k = 0; k < n && lit; k++) {
-            ratio[k] = 1.0; /* the nodes above deep twilight take part as they are */
-            if (!twilight_deep(live->nodes[at[k]].sun_elevation_deg) ||
-                !deep_weights(live, at, n, k, -1, width, x, w, h))
-                continue;
-            double z = 0.0;
-            for (int j = 0; j < n; j++)
-                z += h[j] * log(live->nodes[at[j]].ms.values[v * C + lum]);
-            ratio[k] = exp(z) / live->nodes[at[k]].ms.values[v * C + lum];
-        }
-        for (int k = 0; k < n && lit; k++) /* after every ratio: each from the nodes as they were */
-            for (int c = 0; c < C && twilight_deep(live->nodes[at[k]].sun_elevation_deg); c++)
-                live->nodes[at[k]].ms.values[v * C + c] *= (float)ratio[k];
+    const sky_grid *g = &live->nodes[at[0]].ms;
+    const int most_rows = g->rows_sky > g->rows_ground ? g->rows_sky : g->rows_ground;
+    const size_t work_doubles = 2 * (size_t)n * (size_t)most_rows * (size_t)g->cols;
+    double *work = g->cols <= 64 && most_rows <= 64 ? malloc(sizeof(double) * work_doubles) : NULL;
+    for (int domain = 0; domain < 2 && work; domain++) {
+        deep_domain d = {.at = at,
+                         .n = n,
+                         .row0 = domain ? g->rows_sky : 0,
+                         .rows = domain ? g->rows_ground : g->rows_sky,
+                         .cols = g->cols,
+                         .C = live->channels,
+                         .lum = live->channels == 3 ? 1 : 0 /* CIE Y, or the one value */};
+        if (domain_lit(live, &d))
+            smooth_lit_domain(live, &d, work);
+        else
+            smooth_unlit_domain(live, &d);
     }
+    const int failed = g->cols <= 64 && most_rows <= 64 && !work;
     free(at);
-    free(x);
-    return FM_OK;
+    free(work);
+    return failed ? FM_ERR_OUT_OF_MEMORY : FM_OK;
 }

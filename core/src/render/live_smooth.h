@@ -23,20 +23,26 @@ int live_quadratic_weights(const double *x, const double *w, int n, double *h);
 fm_status live_smooth_day(fm_sky_live *live, const unsigned char *fresh, double from_deg);
 
 /* Deep twilight (twilight.h): its nodes' tables, fitted from a quarter of the preview's paths,
- * keep a noise of several percent spread over the sky by the fit's few terms.  Each value of a
- * fresh deep twilight node is replaced by the least-squares quadratic in the sun elevation through
- * the logarithms of that value at every fresh node up to LIVE_SMOOTH_DEEP_WITH_DEG, weighted by a
- * Gaussian in the elevation (the sky falls by decades there, smoothly, and its nodes are 2 to 2.5
- * degrees apart).  The nodes above deep twilight take part unchanged: their noise is their own
- * (another seed, another estimator of the same light), and with them the highest deep node lies
- * inside the window, not at its end, where a quadratic's value keeps nearly all of its own noise.
- * The Gaussian's width is the one of LIVE_SMOOTH_DEEP_WIDTHS (degrees) that predicts each inner
- * deep node's logarithms best from the other nodes (leave-one-out): the widest averages the most
- * noise (hazy skies), while a clear sky's logarithm, far less noisy, bends more than a quadratic
- * over all the nodes follows (its slope is least near sun -9).  Every channel of a value is scaled
- * alike (the node's colour stays); a value that is not positive at one of the nodes, or fewer than
- * LIVE_SMOOTH_DEEP_MIN such nodes, leave it as it was.  Returns FM_ERR_OUT_OF_MEMORY or FM_OK. */
-#define LIVE_SMOOTH_DEEP_WIDTHS {2.0, 3.0, 5.0}
+ * keep a noise of several percent spread over the sky by the fit's few terms.  The logarithm of the
+ * luminance of each fresh deep twilight node's table is smoothed across the sun elevation, through
+ * every fresh node up to LIVE_SMOOTH_DEEP_WITH_DEG (the sky falls by decades there, smoothly, and its
+ * nodes are 2 to 2.5 degrees apart), term by term of its cosine series over the view direction: per
+ * domain (the sky's rows, the ground's), a DCT-I over the columns (relative azimuth 0 to pi) and then
+ * over the rows.  Each term is replaced by a weighted least-squares polynomial in the sun elevation
+ * through that term at the nodes, weighted by a Gaussian in the elevation: one of LIVE_SMOOTH_DEEP_FITS
+ * ({degree, width in degrees}), chosen per class of terms (the level, the two first-order terms, the
+ * rest) as the one that predicts each inner deep node's terms best from the other nodes
+ * (leave-one-out).  The level falls by decades and bends (a narrow quadratic), while the sky's shape
+ * about it changes slowly with the sun and holds most of a node's noise in its many higher terms: a
+ * wide mean or line across the nodes takes most of that noise, at the lowest node too, where a
+ * quadratic's value keeps nearly all of its own.  The nodes above deep twilight take part unchanged:
+ * their noise is their own (another seed, another estimator of the same light).  Every channel of a
+ * value is scaled alike (the node's colour stays).  A domain with a value that is not positive at one
+ * of the nodes is smoothed value by value (each value lit at every node by the fit chosen over them;
+ * the others stay), and fewer than LIVE_SMOOTH_DEEP_MIN nodes leave the tables as they were
+ * (docs/decisions/2026-12-07-live-deep-denoise.md).  Returns FM_ERR_OUT_OF_MEMORY or FM_OK. */
+#define LIVE_SMOOTH_DEEP_FITS                                                                                   \
+    {{2, 2.0}, {2, 3.0}, {2, 5.0}, {1, 5.0}, {1, 10.0}, {1, 20.0}, {0, 5.0}, {0, 10.0}, {0, 20.0}}
 #define LIVE_SMOOTH_DEEP_WITH_DEG -3.0
 #define LIVE_SMOOTH_DEEP_MIN 4
 fm_status live_smooth_deep_twilight(fm_sky_live *live, const unsigned char *fresh);
