@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Every relative link of the README and of docs/ resolves: the file exists and, for a link to a
 heading (file.md#heading or #heading), the heading is there (GitHub's anchors: lower case, spaces
-to '-', punctuation dropped).  Links in code are not links.  Usage: check_links.py [ROOT]"""
+to '-', punctuation dropped).  Links in code are not links.  And every decision record in
+docs/decisions/ has its line in that folder's index (README.md).  Usage: check_links.py [ROOT]"""
 import os
 import re
 import sys
@@ -34,8 +35,16 @@ def files():
                 yield os.path.join(top, n)
 
 
+def unindexed_decisions():
+    """The decision records that docs/decisions/README.md does not link."""
+    folder = os.path.join(ROOT, "docs", "decisions")
+    linked = set(LINK.findall(prose(open(os.path.join(folder, "README.md"), encoding="utf-8").read())))
+    return [n for n in sorted(os.listdir(folder)) if re.match(r"\d{4}-\d\d-\d\d-.*\.md$", n) and n not in linked]
+
+
 def main():
     bad, count = [], 0
+    bad += [f"docs/decisions/{n}: not in the index (docs/decisions/README.md)" for n in unindexed_decisions()]
     for path in files():
         for target in LINK.findall(prose(open(path, encoding="utf-8").read())):
             if re.match(r"[a-z]+:", target):
