@@ -4,12 +4,14 @@
  *    with three azimuthal modes on the Gauss nodes is a sum of beams, one per node (F0 = I dOmega,
  *    dOmega = 2 pi c_j dmu over the azimuth's modes), so the diffuse light at the bottom and at the
  *    top of a Henyey-Greenstein layer cut in two over a Lambertian ground must be those beams' sum,
- *    mode by mode, to 1e-4 of the mean (the two start doubling at optical depths 1e-6 and 1e-9);
+ *    mode by mode, to 1e-4 of the mean (the two start doubling at optical depths 1e-6 and 1e-9),
+ *    and so must the column's map of the field (plane_column_diffuse_response) applied to it;
  *  - energy: a layer that absorbs nothing over a ground of albedo 1 under an isotropic field sends
  *    all of it back up (the top's upward flux pi I) and, at the bottom, the downward flux less the
  *    upward is nil, to 2e-4 (the doubling from 1e-6).
  * Faults it fails on: the field's azimuthal modes above 0 dropped (its mode 1 and 2 off by their
- * whole size), the ground's reflection left out (every check). Well under a second of CPU. */
+ * whole size), the ground's reflection left out (every check), the map carrying only its first
+ * node's field through the layers (the map's modes 0-2 off). Well under a second of CPU. */
 #include "check.h"
 
 #include "adding_doubling.h"
@@ -77,6 +79,17 @@ static void field_as_beams(void **state)
             check_abs(top[i], want_top[i], 1e-4 * fabs(want_top[k * MODES]), what);
         }
     assert_int_equal(plane_column_diffuse_level(&c, 2, NULL, bottom, NULL, NULL), FM_ERR_INVALID_ARGUMENT);
+    /* the same light from the column's map of the field (plane_column_diffuse_response) */
+    double response[MODES * N_MU * STREAMS];
+    assert_int_equal(plane_column_diffuse_response(&c, 2, response), FM_OK);
+    for (int k = 0; k < N_MU; k++)
+        for (int m = 0; m < MODES; m++) {
+            double L = 0.0;
+            for (int j = 0; j < STREAMS; j++)
+                L += response[(m * N_MU + k) * STREAMS + j] * incident[j * MODES + m];
+            snprintf(what, sizeof what, "bottom from the response, mu %g mode %d", view_mu[k], m);
+            check_abs(L, want_bottom[k * MODES + m], 1e-4 * fabs(want_bottom[k * MODES]), what);
+        }
 }
 
 static void no_energy_lost(void **state)

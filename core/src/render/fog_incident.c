@@ -13,6 +13,11 @@
 /* Azimuths from the sun's, 0 to 180 degrees, for the field's Fourier modes: one degree apart resolves
  * the twilit sky's glow about the sun's azimuth in the modes the column keeps (24). */
 #define AZIMUTHS 181
+/* The field is the sky's half: the table's rows looking down only as many as its fit needs. */
+#define INCIDENT_ROWS_GROUND 3
+/* The share of the quality's ground paths for the light on the fog's top, which the fog's albedo
+ * brings back to the field on the table's nodes over the whole sky. */
+#define INCIDENT_GROUND_SHARE 4
 /* The incident sky's seed, apart from the render's own streams. */
 #define INCIDENT_SEED 0x66f9a1c3u
 
@@ -55,7 +60,9 @@ static fm_status incident_tables(const render_job *job, fog_tables_fn tables, fm
     sp->spectral = 1;
     sp->progress = NULL;
     *sj = (render_job){.sky = sub, .params = sp, .ms = ms, .q = job->q, .cam = job->cam,
-                       .seed = mix64(job->seed ^ INCIDENT_SEED), .channels = sub->atm.grid.count};
+                       .seed = mix64(job->seed ^ INCIDENT_SEED), .channels = sub->atm.grid.count, .one_pass = 1};
+    sj->q.ms_rows_ground = INCIDENT_ROWS_GROUND;
+    sj->q.ground_paths = (job->q.ground_paths + INCIDENT_GROUND_SHARE - 1) / INCIDENT_GROUND_SHARE;
     return tables(sj, tw);
 }
 

@@ -32,6 +32,13 @@ static const double air_breaks_m[] = {1000.0, 2000.0, 4000.0, 7000.0, 11000.0, 1
  * function at the bottom, reached within a milliradian. */
 #define VIEW_MU_MIN 1e-3
 
+/* The column lit from above as a linear map of the field at its top (plane_column_diffuse_response)
+ * at every grid wavelength: the same for each sun where the column's layers are (local_sun_sums). */
+typedef struct column_response {
+    double *values; /* [K][FOG_MOMENTS][rows_sky][FOG_STREAMS] */
+    int ready;      /* filled by a column lit from above */
+} column_response;
+
 typedef struct fog_column {
     render_job *job;
     int layers;                    /* top first */
@@ -47,6 +54,7 @@ typedef struct fog_column {
     double ground[FM_MAX_WAVELENGTHS]; /* what the column adds to the ground's irradiance */
     const fog_incident *incident;  /* at a low sun (fog_table_from_above): the light on the fog's top,
                                     * and the column the fog alone; else NULL */
+    column_response *response;     /* with incident: its map of the field, or NULL (solved per field) */
 } fog_column;
 
 /* ---- where it applies ------------------------------------------------------------------------ */
@@ -571,8 +579,23 @@ static int diffuse_nodes(const fog_column *fc, const scaled_layer *sl, const pla
     const int K = in->K, M = FOG_MOMENTS, cols = t->grid.cols, rows = t->grid.rows_sky;
     plane_column col = {.streams = FOG_STREAMS, .layer_count = fc->layers, .layer = pl,
                         .ground_albedo = fc->job->sky->atm.ground_albedo[k], .mu0 = 1.0, .n_mu = rows, .mu = fc->mu};
-    if (plane_column_diffuse_level(&col, fc->level, in->field + (size_t)k * FOG_STREAMS * M, work, NULL, NULL))
+    const double *field = in->field + (size_t)k * FOG_STREAMS * M;
+    if (fc->response) {
+        const int N = FOG_STREAMS;
+        double *map = fc->response->values + (size_t)k * M * rows * N;
+        if (!fc->response->ready && plane_column_diffuse_response(&col, fc->level, map))
+            return 1;
+        for (int r = 0; r < rows; r++)
+            for (int m = 0; m < M; m++) {
+                const double *row = map + ((size_t)m * rows + r) * N;
+                double sum = 0.0;
+                for (int j = 0; j < N; j++)
+                    sum += row[j] * field[j * M + m];
+                work[r * M + m] = sum;
+            }
+    } else if (plane_column_diffuse_level(&col, fc->level, field, work, NULL, NULL)) {
         return 1;
+    }
     double scaled = 0.0, depth = 0.0;
     for (int l = 0; l < fc->level; l++) {
         scaled += pl[l].tau;
@@ -621,7 +644,8 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
                 above_fog += sl[l].tau * mu0 / mu_l;
         }
         plane_column col = {.streams = FOG_STREAMS, .layer_count = fc->layers, .layer = pl,
-                            .ground_albedo = atm->ground_albedo[k], .mu0 = mu0, .n_mu = fc->n_mu, .mu = fc->mu};
+                            .ground_albedo = atm->ground_albedo[k], .mu0 = mu0,
+                            .n_mu = fc->on_ground ? rows : fc->n_mu, .mu = fc->mu}; /* on the ground: the views up */
         double *down = calloc((size_t)(2 * fc->n_mu * M), sizeof(double)), *up = down + fc->n_mu * M, ground;
         if (!down || (beam && plane_column_level(&col, fc->level, down, fc->on_ground ? NULL : up, NULL)) ||
             (!fc->on_ground && plane_column_level(&col, fc->layers, NULL, NULL, &ground))) {
@@ -735,7 +759,8 @@ static void sphere_sky_cosines(fog_column *fc, const fm_sky *sky, const sky_grid
 /* The column's sums into the table (t->sum and t->peak) and what it adds to the ground's irradiance
  * (ground; on_ground: whether the observer is there), lit by the beam and the air above the fog, or
  * (from_above) the column of the fog alone lit by the sky above it. */
-static fm_status column_sums(render_job *job, int from_above, fog_tables_fn tables, double *ground, int *on_ground)
+static fm_status column_sums(render_job *job, int from_above, fog_tables_fn tables, column_response *response,
+                             double *ground, int *on_ground)
 {
     const fm_sky *sky = job->sky;
     const atmosphere *atm = &sky->atm;
@@ -770,6 +795,7 @@ static fm_status column_sums(render_job *job, int from_above, fog_tables_fn tabl
         if (!s)
             s = fog_incident_build(job, tables, cloud, fog_top, albedo, FOG_STREAMS, FOG_MOMENTS, &t->grid, &incident);
         fc->incident = &incident;
+        fc->response = response;
     }
     free(t->peak);
     if (!s && !(t->peak = calloc(2 * (size_t)K * FOG_PEAK_ANGLES, sizeof(double))))
@@ -781,6 +807,8 @@ static fm_status column_sums(render_job *job, int from_above, fog_tables_fn tabl
         s = parallel_for(p->threads, K, 1, wavelength_nodes, fc, p->cancel, &pp);
         if (!s && atomic_load(&job->no_memory))
             s = FM_ERR_OUT_OF_MEMORY;
+        if (!s && fc->response)
+            fc->response->ready = 1;
     }
     memcpy(ground, fc->ground, sizeof(double) * (size_t)K);
     *on_ground = fc->on_ground;
@@ -805,21 +833,22 @@ double fog_table_above_share(const render_job *job)
 }
 
 /* The table's sums (t->sum, t->peak) and the ground's at the job's sky's sun: the column lit from
- * above and the day's blended by share. */
-static fm_status table_sums(render_job *job, double share, fog_tables_fn tables, double *ground, int *on_ground)
+ * above (with response, where not NULL) and the day's blended by share. */
+static fm_status table_sums(render_job *job, double share, fog_tables_fn tables, column_response *response,
+                            double *ground, int *on_ground)
 {
     ms_table *t = job->ms;
     const size_t n = (size_t)sky_grid_nodes(&t->grid) * job->sky->atm.grid.count;
     double day_ground[FM_MAX_WAVELENGTHS];
     fm_status s = FM_OK;
     double *day = NULL; /* between the thresholds: the column lit by the beam and the air, to blend */
-    if (share > 0.0 && share < 1.0 && !(s = column_sums(job, 0, tables, day_ground, on_ground)) &&
+    if (share > 0.0 && share < 1.0 && !(s = column_sums(job, 0, tables, NULL, day_ground, on_ground)) &&
         (day = malloc(sizeof(double) * n)))
         memcpy(day, t->sum, sizeof(double) * n);
     else if (share > 0.0 && share < 1.0 && !s)
         s = FM_ERR_OUT_OF_MEMORY;
     if (!s)
-        s = column_sums(job, share > 0.0, tables, ground, on_ground);
+        s = column_sums(job, share > 0.0, tables, response, ground, on_ground);
     for (size_t i = 0; i < n && day && !s; i++)
         t->sum[i] = share * t->sum[i] + (1.0 - share) * day[i];
     for (int k = 0; k < job->sky->atm.grid.count && day && !s; k++)
@@ -891,9 +920,13 @@ static fm_status local_sun_sums(render_job *job, int mode, fog_tables_fn tables,
     const double step = day ? fmin(span, e0 - FOG_TABLE_MIN_SUN_DEG * FM_DEG) : span;
     double *at = malloc(sizeof(double) * n * FOG_LOCAL_SUNS);
     fm_sky *local = malloc(sizeof *local); /* read alone: the same atmosphere and tables, another sun */
-    if (!at || !local) {
+    /* the suns' columns lit from above share their layers (the fog's alone, no beam in them) */
+    column_response response = {calloc((size_t)own->atm.grid.count * FOG_MOMENTS * job->ms->grid.rows_sky * FOG_STREAMS,
+                                       sizeof(double)), 0};
+    if (!at || !local || !response.values) {
         free(at);
         free(local);
+        free(response.values);
         return FM_ERR_OUT_OF_MEMORY;
     }
     *local = *own;
@@ -906,7 +939,7 @@ static fm_status local_sun_sums(render_job *job, int mode, fog_tables_fn tables,
         const int paths = job->q.ms_paths;
         job->sky = order[j] == 1 ? own : local;
         job->q.ms_paths = (paths + LOCAL_SUN_PATH_SHARE - 1) / LOCAL_SUN_PATH_SHARE;
-        s = table_sums(job, day ? 0.0 : above_share_at(job->sky), tables, ground, on_ground);
+        s = table_sums(job, day ? 0.0 : above_share_at(job->sky), tables, &response, ground, on_ground);
         job->sky = own;
         job->q.ms_paths = paths;
         if (!s)
@@ -920,6 +953,7 @@ static fm_status local_sun_sums(render_job *job, int mode, fog_tables_fn tables,
         fog_local_sun_combine(&own->atm, &job->ms->grid, base, step, thin ? thin_shift(e0) : above_share_at(own),
                               thin ? FOG_LOCAL_SUN_THIN_TOWARD : 1.0, thin ? thin_shift(e0) : 0.0, tables_at,
                               job->ms->sum);
+    free(response.values);
     free(local);
     free(at);
     return s;
@@ -937,7 +971,7 @@ fm_status fog_table_fill(render_job *job, fog_tables_fn tables)
     int on_ground;
     const int mode = thin_local_sun(job) ? LOCAL_THIN : above_local_sun(job) ? LOCAL_ABOVE : LOCAL_DECK;
     fm_status s = fog_table_local_sun(job) || mode != LOCAL_DECK ? local_sun_sums(job, mode, tables, ground, &on_ground)
-                                           : table_sums(job, fog_table_above_share(job), tables, ground, &on_ground);
+                                           : table_sums(job, fog_table_above_share(job), tables, NULL, ground, &on_ground);
     if (!s) {
         /* the nodes as one path each, already the whole of orders >= 2: no fit */
         t->paths = 1;

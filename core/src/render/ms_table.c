@@ -227,7 +227,7 @@ static void finish_nodes(render_job *job, int paths)
 #define DEEP_EXTRA_MAX 3.0
 static int may_add_deep_twilight_paths(const render_job *job)
 {
-    return job->twilight && job->twilight->deep && job->params->quality == FM_QUALITY_FINAL;
+    return job->twilight && job->twilight->deep && job->params->quality == FM_QUALITY_FINAL && !job->one_pass;
 }
 
 static int deep_twilight_extra_paths(const render_job *job, double sample_scale, double sun_elevation_deg)

@@ -47,6 +47,9 @@ typedef struct render_job {
     int fog_from_above;                /* the caller lets fog below FOG_TABLE_MIN_SUN_DEG take the column
                                         * lit by the sky above the fog (fog_table_from_above): fm_render,
                                         * not the live sky's nodes (a sky more to build per node) */
+    int one_pass;                      /* the multiple-scattering table takes the quality's paths alone, no
+                                        * deep twilight pass (ms_table.c): the skies above fog, whose
+                                        * noise the fog averages over their whole sky */
     fm_image *img;
     atomic_int no_memory; /* a worker could not allocate */
 } render_job;

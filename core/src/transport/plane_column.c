@@ -33,11 +33,12 @@
 
 typedef struct work {
     int n, nq, nc, sun;              /* rows, Gauss nodes, columns; the sun's row */
+    int fields;                      /* the diffuse fields carried at once (1 but for the response) */
     double *xs, *w;                  /* [n]: the rows' cosines and weights (0 past the Gauss nodes) */
     double *lam;                     /* [n][M]: normalised associated Legendre functions of the mode */
     double *pt, *pr;                 /* [n][nc]: the mode's phase kernels, transmission and reflection */
     double *r, *t, *e;               /* the layer: R, T [n][nc], E [n] */
-    double *rs, *tc, *ec;            /* the column above: R* [n][nc], t [n], E [n] */
+    double *rs, *tc, *ec;            /* the column above: R* [n][nc], t [fields][n], E [n] */
     double *q, *s, *d, *u, *v;       /* scratch [n][nc] */
     double *a;                       /* [2][nc][nc] */
 } work;
@@ -227,19 +228,18 @@ static void solve_gauss(work *W, const double *Q, double *y)
     }
 }
 
-/* The beam's diffuse light at the boundary between the column above (rs, tc, ec) and a reflector rb
- * below it (its reflection from above): downward d and, unless NULL, upward u (n each). */
-static void level_light(work *W, const double *rb, double *d, double *u)
+/* The diffuse light at the boundary between the column above (rs, ec) and a reflector rb below it
+ * (its reflection from above), q = R* w R_below, of one field whose diffuse transmission is tc:
+ * downward d and, unless NULL, upward u (n each). */
+static void boundary_light(work *W, const double *q, const double *rb, const double *tc, double *d, double *u)
 {
     const int n = W->n, nq = W->nq, nc = W->nc;
-    double *q = W->q;
     const double e_sun = W->ec[W->sun];
-    mul_w(W, W->rs, rb, q); /* R* w R_below */
     for (int i = 0; i < nq; i++)
-        d[i] = W->tc[i] + e_sun * q[i * nc + nq];
+        d[i] = tc[i] + e_sun * q[i * nc + nq];
     solve_gauss(W, q, d);
     for (int i = nq; i < n; i++) {
-        double sum = W->tc[i] + e_sun * q[i * nc + nq];
+        double sum = tc[i] + e_sun * q[i * nc + nq];
         for (int k = 0; k < nq; k++)
             sum += q[i * nc + k] * W->w[k] * d[k];
         d[i] = sum;
@@ -252,6 +252,14 @@ static void level_light(work *W, const double *rb, double *d, double *u)
     }
 }
 
+/* The light at the boundary (boundary_light) for each field (d and u: [fields][n]). */
+static void level_light(work *W, const double *rb, double *d, double *u)
+{
+    mul_w(W, W->rs, rb, W->q); /* R* w R_below */
+    for (int f = 0; f < W->fields; f++)
+        boundary_light(W, W->q, rb, W->tc + (size_t)f * W->n, d + (size_t)f * W->n, u ? u + (size_t)f * W->n : NULL);
+}
+
 /* Adds the layer in (r, t, e) under the column in (rs, tc, ec). */
 static void add_layer(work *W)
 {
@@ -259,14 +267,18 @@ static void add_layer(work *W)
     double *q = W->q, *s = W->s, *uu = W->u, *dd = W->d, *v = W->v;
     const double e_sun = W->ec[W->sun];
     double dp[MAX_POINTS];
-    level_light(W, W->r, dp, NULL);
-    for (int i = 0; i < n; i++) {
-        double sum = W->e[i] * dp[i] + W->t[i * nc + nq] * e_sun;
-        for (int j = 0; j < nq; j++)
-            sum += W->t[i * nc + j] * W->w[j] * dp[j];
-        uu[i] = sum; /* t' (uu is free scratch until the reflection below) */
+    mul_w(W, W->rs, W->r, q); /* R* w R_k */
+    for (int f = 0; f < W->fields; f++) {
+        double *tc = W->tc + (size_t)f * n;
+        boundary_light(W, q, W->r, tc, dp, NULL);
+        for (int i = 0; i < n; i++) {
+            double sum = W->e[i] * dp[i] + W->t[i * nc + nq] * e_sun;
+            for (int j = 0; j < nq; j++)
+                sum += W->t[i * nc + j] * W->w[j] * dp[j];
+            uu[i] = sum; /* t' (uu is free scratch until the reflection below) */
+        }
+        memcpy(tc, uu, sizeof(double) * (size_t)n);
     }
-    memcpy(W->tc, uu, sizeof(double) * (size_t)n);
     /* the column's reflection of light from below */
     mul_w(W, W->r, W->rs, q); /* Q = R_k w R* */
     resolvent(W, q, s);
@@ -345,12 +357,12 @@ static int column_valid(const plane_column *c)
  * set: the Gauss nodes, the views and the sun; rb, d and u are matrices / vectors of it. */
 static double *work_alloc(work *W, const plane_column *c, double **rb, double **d, double **u)
 {
-    *W = (work){.nq = c->streams, .nc = c->streams + 1};
+    *W = (work){.nq = c->streams, .nc = c->streams + 1, .fields = 1};
     const int nq = W->nq, nc = W->nc, M = 2 * nq, nv = c->n_mu, n = nq + nv + 1;
     W->n = n;
     W->sun = n - 1;
-    const size_t nn = (size_t)n * (size_t)nc;
-    double *block = calloc((size_t)n * (7 + (size_t)M) + nn * 11 + (size_t)(2 * nc * nc), sizeof(double));
+    const size_t nn = (size_t)n * (size_t)nc, nf = (size_t)n * (size_t)nq; /* room for nq fields */
+    double *block = calloc((size_t)n * (4 + (size_t)M) + 3 * nf + nn * 11 + (size_t)(2 * nc * nc), sizeof(double));
     if (!block)
         return NULL;
     double *next = block;
@@ -361,10 +373,10 @@ static double *work_alloc(work *W, const plane_column *c, double **rb, double **
     for (size_t i = 0; i < sizeof mats / sizeof mats[0]; i++)
         *mats[i] = next, next += nn;
     W->e = next, next += n;
-    W->tc = next, next += n;
+    W->tc = next, next += nf;
     W->ec = next, next += n;
-    *d = next, next += n;
-    *u = next, next += n;
+    *d = next, next += nf;
+    *u = next, next += nf;
     W->a = next;
     gauss_rule g;
     gauss_legendre(nq, &g);
@@ -380,8 +392,9 @@ static double *work_alloc(work *W, const plane_column *c, double **rb, double **
 
 /* Fourier mode m of the light at the level (between layers level - 1 and level): the layers below
  * laid over the ground into rb, those above added from the top down, then down d and up u.  With
- * incident (n values: the mode of a diffuse field at the top on the Gauss rows, 0 on the others) the
- * beam is off and that field is the light entering the top. */
+ * incident (W->fields vectors of n values: the mode of a diffuse field at the top on the Gauss rows,
+ * 0 on the others) the beam is off and those fields are the light entering the top (d and u then
+ * [fields][n]). */
 static void level_mode(work *W, const plane_column *c, int level, int m, const double *incident, double *rb, double *d,
                        double *u)
 {
@@ -405,8 +418,8 @@ static void level_mode(work *W, const plane_column *c, int level, int m, const d
     memset(W->tc, 0, sizeof(double) * (size_t)n);
     for (int i = 0; i < n; i++)
         W->ec[i] = 1.0;
-    if (incident) { /* an empty column that lets the field through, and no beam */
-        memcpy(W->tc, incident, sizeof(double) * (size_t)n);
+    if (incident) { /* an empty column that lets the fields through, and no beam */
+        memcpy(W->tc, incident, sizeof(double) * (size_t)n * (size_t)W->fields);
         W->ec[W->sun] = 0.0;
     }
     for (int l = 0; l < level; l++) {
@@ -440,9 +453,17 @@ static fm_status column_level(const plane_column *c, int level, const double *in
     const double scale = incident ? 1.0 : c->mu0 / PC_PI;
     double in[MAX_POINTS] = {0};
     for (int m = 0; m < modes; m++) {
-        for (int j = 0; j < nq && incident; j++)
+        int lit = !incident || m == 0;
+        for (int j = 0; j < nq && incident; j++) {
             in[j] = incident[j * M + m];
-        level_mode(&W, c, level, m, incident ? in : NULL, rb, d, u);
+            lit |= in[j] != 0.0;
+        }
+        if (lit)
+            level_mode(&W, c, level, m, incident ? in : NULL, rb, d, u);
+        else { /* the modes do not mix: one the field does not hold is dark (an isotropic field's m > 0) */
+            memset(d, 0, sizeof(double) * (size_t)W.n);
+            memset(u, 0, sizeof(double) * (size_t)W.n);
+        }
         for (int k = 0; k < nv; k++) {
             if (down)
                 down[k * M + m] = scale * d[nq + k];
@@ -469,6 +490,34 @@ fm_status plane_column_diffuse_level(const plane_column *c, int level, const dou
                                      double *up, double *flux_down)
 {
     return incident ? column_level(c, level, incident, down, up, flux_down) : FM_ERR_INVALID_ARGUMENT;
+}
+
+fm_status plane_column_diffuse_response(const plane_column *c, int level, double *response)
+{
+    if (!column_valid(c) || level < 0 || level > c->layer_count)
+        return FM_ERR_INVALID_ARGUMENT;
+    work W;
+    double *rb, *d, *u;
+    double *block = work_alloc(&W, c, &rb, &d, &u);
+    const int nq = W.nq, M = 2 * nq, nv = c->n_mu, n = W.n;
+    double *unit = calloc((size_t)n * (size_t)nq, sizeof(double)); /* a unit field at each Gauss node */
+    if (!block || !unit) {
+        free(block);
+        free(unit);
+        return FM_ERR_OUT_OF_MEMORY;
+    }
+    for (int j = 0; j < nq; j++)
+        unit[(size_t)j * n + j] = 1.0;
+    W.fields = nq;
+    for (int m = 0; m < M; m++) {
+        level_mode(&W, c, level, m, unit, rb, d, NULL);
+        for (int k = 0; k < nv; k++)
+            for (int j = 0; j < nq; j++)
+                response[((size_t)m * nv + k) * nq + j] = d[(size_t)j * n + nq + k];
+    }
+    free(unit);
+    free(block);
+    return FM_OK;
 }
 
 void plane_column_nodes(int streams, double *mu)

@@ -60,6 +60,11 @@ fm_status plane_column_level(const plane_column *c, int level, double *down, dou
  * at the level (the field's own transmitted part included), in the field's units times sr. */
 fm_status plane_column_diffuse_level(const plane_column *c, int level, const double *incident, double *down,
                                      double *up, double *flux_down);
+/* plane_column_diffuse_level's down as a linear map of the field, for fields that share a column:
+ * response[(m * n_mu + k) * N + j] is mode m of the light at view k from a unit field in mode m at
+ * Gauss node j (the modes do not mix), so down[k * 2N + m] = sum_j response[(m n_mu + k) N + j]
+ * incident[j * 2N + m].  response holds 2N * n_mu * N values.  Errors as plane_column_level's. */
+fm_status plane_column_diffuse_response(const plane_column *c, int level, double *response);
 /* The column's Gauss nodes (zenith cosines, ascending), streams of them. */
 void plane_column_nodes(int streams, double *mu);
 
