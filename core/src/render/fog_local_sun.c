@@ -14,14 +14,31 @@ double fog_local_sun_span(const atmosphere *atm, double base_m)
     return acos(atm->bottom_radius_m / (atm->bottom_radius_m + base_m));
 }
 
-/* The value at x in [-1, 1] from those at -1, 0, 1: quadratic in the logarithm (the twilit sky
- * brightens exponentially with the sun), in the value where one is not positive. */
-static double interpolate(double lo, double mid, double hi, double x)
+/* The quadratic through the values at -1, 0, 1: in the logarithm (the twilit sky brightens
+ * exponentially with the sun), in the value where one is not positive. */
+typedef struct quadratic {
+    double mid, slope, curve; /* b, c - a, a + c - 2 b */
+    int log_space;
+} quadratic;
+
+static quadratic quadratic_through(double lo, double mid, double hi)
 {
     const int log_space = lo > 0.0 && mid > 0.0 && hi > 0.0;
     const double a = log_space ? log(lo) : lo, b = log_space ? log(mid) : mid, c = log_space ? log(hi) : hi;
-    const double v = b + 0.5 * x * (c - a) + 0.5 * x * x * (a + c - 2.0 * b);
-    return log_space ? exp(v) : v;
+    return (quadratic){b, c - a, a + c - 2.0 * b, log_space};
+}
+
+/* Its value at x in [-1, 1]. */
+static double quadratic_at(const quadratic *q, double x)
+{
+    const double v = q->mid + 0.5 * x * q->slope + 0.5 * x * x * q->curve;
+    return q->log_space ? exp(v) : v;
+}
+
+static double interpolate(double lo, double mid, double hi, double x)
+{
+    const quadratic q = quadratic_through(lo, mid, hi);
+    return quadratic_at(&q, x);
 }
 
 /* Along a view at elevation e: the arcs (rad) of the steps' middles and the base, and the weights at
@@ -73,19 +90,24 @@ void fog_local_sun_combine(const atmosphere *atm, const sky_grid *grid, double b
             const int i = r * cols + c;
             sky_grid_node_angles(grid, i, &e, &phi);
             const double scale = shift * cos(phi) * (1.0 + 0.5 * (toward - 1.0) * (1.0 + cos(phi))) / span;
+            double x[VIEW_STEPS + 1], et[VIEW_STEPS + 1];
+            for (int s = 0; s <= VIEW_STEPS; s++) {
+                /* toward the sun's azimuth the sun stands higher by the arc */
+                x[s] = fmin(1.0, fmax(-1.0, scale * arc[s]));
+                /* tilted: the view as seen there, higher over that point's horizon by the arc (its
+                 * angle from the sun kept) */
+                et[s] = e + tilt * arc[s];
+            }
             for (int k = 0; k < K; k++) {
                 const size_t n = (size_t)i * K + k;
+                /* untilted, every step reads the node's own values */
+                const quadratic own = tilt > 0.0 ? (quadratic){0} : quadratic_through(at[0][n], at[1][n], at[2][n]);
                 double L = 0.0;
                 for (int s = 0; s <= VIEW_STEPS; s++) {
-                    /* toward the sun's azimuth the sun stands higher by the arc */
-                    const double x = fmin(1.0, fmax(-1.0, scale * arc[s]));
-                    /* tilted: the view as seen there, higher over that point's horizon by the arc (its
-                     * angle from the sun kept) */
-                    const double et = e + tilt * arc[s];
-                    const double v = tilt > 0.0 ? interpolate(at_elevation(grid, at[0], c, k, K, et),
-                                                              at_elevation(grid, at[1], c, k, K, et),
-                                                              at_elevation(grid, at[2], c, k, K, et), x)
-                                                : interpolate(at[0][n], at[1][n], at[2][n], x);
+                    const double v = tilt > 0.0 ? interpolate(at_elevation(grid, at[0], c, k, K, et[s]),
+                                                              at_elevation(grid, at[1], c, k, K, et[s]),
+                                                              at_elevation(grid, at[2], c, k, K, et[s]), x[s])
+                                                : quadratic_at(&own, x[s]);
                     L += w[s * K + k] * v;
                 }
                 out[n] = L;
