@@ -125,8 +125,37 @@ static void in_twilight(void **state)
     fm_sky_destroy(sky);
 }
 
-int main(void)
+/* By hand: test_deck_twilight SUN PATHS [SEED] prints the table against the reference at the tests' views
+ * and more, whichever column the sun takes. */
+static void measure(double sun, int paths, uint64_t seed)
 {
+    fm_sky *sky = deck_sky(sun);
+    column_tables t;
+    column_tables_start(sky, 0, 1, &t);
+    const int local = fog_table_local_sun(&t.job);
+    column_tables_make(&t);
+    path_context all = sky_path_context(sky, 1, 0);
+    static const double views[][2] = {{0.3, 180}, {1, 180}, {1, 90}, {1, 0}, {3, 180}, {10, 180}, {90, 0}};
+    for (size_t i = 0; i < sizeof views / sizeof views[0]; i++) {
+        double se;
+        const double ref = test_path_radiance(&all, sky->observer,
+                                              render_view_direction(sky, views[i][0] * FM_DEG, views[i][1] * FM_DEG),
+                                              paths, 41, seed + i, &se);
+        char what[96];
+        snprintf(what, sizeof what, "altostratus, sun %g (%s): elevation %.1f, azimuth %.0f", sun,
+                 local ? "three suns" : "one sun", views[i][0], views[i][1]);
+        within_reference(table_radiance(&t, views[i][0], views[i][1]), ref, se, TOLERANCE, what);
+    }
+    column_tables_free(&t);
+    fm_sky_destroy(sky);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc >= 3) {
+        measure(atof(argv[1]), atoi(argv[2]), argc > 3 ? strtoull(argv[3], NULL, 10) : 100);
+        return 0;
+    }
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(at_sun_3_against_the_reference),
         cmocka_unit_test(in_twilight),
