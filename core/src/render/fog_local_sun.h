@@ -23,11 +23,9 @@
 double fog_local_sun_span(const atmosphere *atm, double base_m);
 
 /* Under a thin layer of ice the arcs toward the sun's azimuth count this many times, falling to once
- * away from it ((1 + cos phi) / 2 between): with the arcs as they are the views within 15 degrees of
- * the sun and toward it came out 8 to 14 % dark at sun 3 to 10 (cirrostratus of optical depth 1),
- * and with every point of a view at its base's arc +24 % at the horizon toward the sun and -32 %
- * away.  The light the air under the layer scatters toward the observer about the sun is the layer's
- * forward glow, which comes from farther along than the air itself; an effective scale, fitted
+ * away from it ((1 + cos phi) / 2 between).  The air under the layer scatters toward the observer the
+ * layer's forward glow, which comes from farther along than the air itself: the true arcs are too
+ * short and the layer's own arc too long.  An effective scale fitted to the reference, not derived
  * (docs/decisions/2026-12-07-thin-layers-low-sun.md). */
 #define FOG_LOCAL_SUN_THIN_TOWARD 2.0
 

@@ -61,8 +61,8 @@ struct render_job;
  * Droplets keep this bound: their truncated peak's light, about the sun, stays the observer's sun's
  * (altostratus of 1 at sun 15: 11 % dark 9 degrees below the sun with the several suns). */
 #define FOG_TABLE_THIN_MIN_SUN_DEG 24.0
-/* Cirrostratus of 0.5 at sun 2 was 17 % dark at the horizon 6 degrees from the sun (at sun 3, 8.7 %;
- * of 1, within the tolerance down to sun 1). */
+/* Lower, the thinner ice layers miss the reference at the horizon near the sun (cirrostratus of 0.5
+ * at sun 2: 17 % dark 6 degrees from the sun; of 1, within the tolerance down to sun 1). */
 #define FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG 3.0
 /* Above a deck (a layer of FOG_TABLE_MIN_TAU or more below the observer, alone) below this sun the
  * column is made at several suns, each view down lit by the sun where it meets the deck's top. */
