@@ -14,7 +14,7 @@ zip=$(realpath "$1")
 linux=$(realpath "$2")
 mkdir -p "$3"
 work=$(realpath "$3")
-command -v wine >/dev/null || { echo "FAIL: wine is not installed (scripts/test-package installs wine64)"; exit 1; }
+command -v wine >/dev/null || { echo "FAIL: wine is not installed (scripts/test-package installs Debian's wine and wine64)"; exit 1; }
 export WINEPREFIX=$work/wineprefix WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml=" # no Mono/Gecko
 failures=0
 fail() {
