@@ -184,9 +184,13 @@ static double *coef_at(const deep_domain *d, double *base, int k, int p, int m)
     return &base[((size_t)k * d->rows + p) * d->cols + m];
 }
 
-/* The leave-one-out score of fit f for a class of terms: the squared error of each inner deep node's
- * terms of the class (a node with others on both sides) predicted from the other nodes. */
-static double deep_fit_score(const fm_sky_live *live, const deep_domain *d, int class, deep_fit f)
+/* What a leave-one-out score adds for inner node k predicted by the weights h: the squared errors. */
+typedef void (*loo_errors_fn)(fm_sky_live *live, const deep_domain *d, int k, const double *h, int arg,
+                              double *score);
+
+/* The leave-one-out score of fit f: the errors of each inner deep node (a node with others on both
+ * sides) predicted from the other nodes. */
+static double loo_score(fm_sky_live *live, const deep_domain *d, deep_fit f, loo_errors_fn errors, int arg)
 {
     double h[64], score = 0.0;
     for (int k = 1; k + 1 < d->n; k++) {
@@ -194,32 +198,39 @@ static double deep_fit_score(const fm_sky_live *live, const deep_domain *d, int 
             continue;
         if (!deep_weights(live, d->at, d->n, k, k, f, h))
             return INFINITY;
-        for (int p = 0; p < d->rows; p++)
-            for (int m = 0; m < d->cols; m++) {
-                if (term_class(p, m) != class)
-                    continue;
-                double z = -*coef_at(d, d->coef, k, p, m);
-                for (int j = 0; j < d->n; j++)
-                    z += h[j] * *coef_at(d, d->coef, j, p, m);
-                score += z * z;
-            }
+        errors(live, d, k, h, arg, &score);
     }
     return score;
 }
 
-/* The fit of a class: the one of DEEP_FITS whose leave-one-out score is least. */
-static deep_fit deep_fit_for(const fm_sky_live *live, const deep_domain *d, int class)
+/* The one of DEEP_FITS whose leave-one-out score is least. */
+static deep_fit least_score_fit(fm_sky_live *live, const deep_domain *d, loo_errors_fn errors, int arg)
 {
     deep_fit best = DEEP_FITS[0];
     double least = INFINITY;
     for (int c = 0; c < DEEP_FIT_COUNT; c++) {
-        const double score = deep_fit_score(live, d, class, DEEP_FITS[c]);
+        const double score = loo_score(live, d, DEEP_FITS[c], errors, arg);
         if (score < least) {
             least = score;
             best = DEEP_FITS[c];
         }
     }
     return best;
+}
+
+/* The errors of node k's terms of class `class`. */
+static void term_errors(fm_sky_live *live, const deep_domain *d, int k, const double *h, int class, double *score)
+{
+    (void)live;
+    for (int p = 0; p < d->rows; p++)
+        for (int m = 0; m < d->cols; m++) {
+            if (term_class(p, m) != class)
+                continue;
+            double z = -*coef_at(d, d->coef, k, p, m);
+            for (int j = 0; j < d->n; j++)
+                z += h[j] * *coef_at(d, d->coef, j, p, m);
+            *score += z * z;
+        }
 }
 
 /* Whether every value of the domain is positive at every node. */
@@ -264,7 +275,7 @@ static void smooth_lit_domain(fm_sky_live *live, deep_domain *d, double *work)
     }
     deep_fit fits[DEEP_CLASSES];
     for (int class = 0; class < DEEP_CLASSES; class++)
-        fits[class] = deep_fit_for(live, d, class);
+        fits[class] = least_score_fit(live, d, term_errors, class);
     for (int k = 0; k < d->n; k++) {
         if (!twilight_deep(live->nodes[d->at[k]].sun_elevation_deg))
             continue;
@@ -310,38 +321,24 @@ static double weighted_log(fm_sky_live *live, const deep_domain *d, int r, int c
     return z;
 }
 
-/* The leave-one-out score of fit f over the values of a domain lit at every node, each on its own. */
-static double value_fit_score(fm_sky_live *live, const deep_domain *d, deep_fit f)
+/* The errors of node k's values lit at every node, each on its own. */
+static void value_errors(fm_sky_live *live, const deep_domain *d, int k, const double *h, int unused, double *score)
 {
-    double h[64], score = 0.0;
-    for (int k = 1; k + 1 < d->n; k++) {
-        if (!twilight_deep(live->nodes[d->at[k]].sun_elevation_deg))
-            continue;
-        if (!deep_weights(live, d->at, d->n, k, k, f, h))
-            return INFINITY;
-        for (int r = 0; r < d->rows; r++)
-            for (int c = 0; c < d->cols; c++)
-                if (value_lit(live, d, r, c)) {
-                    const double z = weighted_log(live, d, r, c, h) - log(ms_value(live, d, k, r, c)[d->lum]);
-                    score += z * z;
-                }
-    }
-    return score;
+    (void)unused;
+    for (int r = 0; r < d->rows; r++)
+        for (int c = 0; c < d->cols; c++)
+            if (value_lit(live, d, r, c)) {
+                const double z = weighted_log(live, d, r, c, h) - log(ms_value(live, d, k, r, c)[d->lum]);
+                *score += z * z;
+            }
 }
 
 /* A domain not lit at every node: each value lit at every node smoothed on its own, by the fit whose
  * leave-one-out score over those values is least; the others stay as they are. */
 static void smooth_unlit_domain(fm_sky_live *live, const deep_domain *d)
 {
-    deep_fit fit = DEEP_FITS[0];
-    double least = INFINITY, h[64], z[64];
-    for (int f = 0; f < DEEP_FIT_COUNT; f++) {
-        const double score = value_fit_score(live, d, DEEP_FITS[f]);
-        if (score < least) {
-            least = score;
-            fit = DEEP_FITS[f];
-        }
-    }
+    const deep_fit fit = least_score_fit(live, d, value_errors, 0);
+    double h[64], z[64];
     for (int r = 0; r < d->rows; r++)
         for (int c = 0; c < d->cols; c++) {
             if (!value_lit(live, d, r, c))
