@@ -27,7 +27,6 @@ def register():
         properties.set_ranges(preferences.executable_and_options()[1])
     except (preferences.NotFound, options.OptionsError, AttributeError, KeyError):
         pass  # no executable yet: Generate checks against it when there is one
-    properties.set_updates()
     for cls in _classes:
         bpy.utils.register_class(cls)
     properties.register()

@@ -1,6 +1,7 @@
-"""The live sky.  While a scene's Live toggle is on, every change of its sky settings (an edit: the
-properties' update callbacks; a keyframed value: the frame-change handler; a driven value: the
-depsgraph-update handler; undo and redo: their handlers) turns the lamp at once
+"""The live sky.  While a scene's Live toggle is on, every change of its sky settings (an edit or a
+script: the watch timer, which compares the settings at each pass of Blender's event loop before it
+draws; a keyframed value: the frame-change handler; a driven value: the depsgraph-update handler;
+undo and redo: their handlers) turns the lamp at once
 and asks one `firmament serve` per Blender session for a small preview map: at once when no map is
 awaited, else the changes are coalesced by a DEBOUNCE_S timer (the newest wins; the server also
 drops a waiting request for a newer one),
@@ -27,6 +28,10 @@ LIVE_WIDTH = 512  # px; height 256
 DEBOUNCE_S = 0.03
 RETRY_S = 2.0  # a request refused for want of the executable (or its timing out) is tried again after this
 POLL_S = 0.01
+# The watch timer runs at every pass of the event loop (a pass is >= 5 ms when Blender is idle): it
+# must run in the pass of the edit, before that pass's draw.  The settings have no update callbacks:
+# a Python one costs the next draw a re-sync of the whole scene (docs/decisions/2026-12-07-blender-live-latency.md).
+WATCH_S = 0.0
 # The longest a send waits for its reply before Blender draws (the interface is blocked meanwhile):
 # a 512 x 256 preview takes ~20 ms.  Not waited when the last reply's render took longer (clouds, a
 # slow machine): a wait that would time out only delays the interface.
@@ -39,6 +44,7 @@ FINAL_KEY = "firmament_final_sky"  # the world's custom property: the request of
 # the session's one server and what it was last asked
 _state = {"server": None, "restarted": False, "scene": None, "pending": False, "last": None,
           "sent": None, "next_id": 1, "rendering": False, "refused": None, "server_s": 0.0}
+_seen = {}  # scene name -> its LIVE_KEYS' values at the watch's last pass
 
 
 def live_settings(s):
@@ -278,9 +284,24 @@ def apply_reply(scene, reply, settings):
                 area.tag_redraw()
 
 
+def watch():
+    """Timer, persistent (every pass of the event loop, before Blender draws it): a live scene whose
+    sky settings changed since the last pass asks for its map.  Returns WATCH_S."""
+    for scene in bpy.data.scenes:
+        p = scene.firmament_sky
+        if p.live:
+            values = properties.live_values(p)
+            if _seen.get(scene.name) != values:
+                _seen[scene.name] = values
+                request_update(scene)
+    return WATCH_S
+
+
 def settle(timeout_s=60.0):
-    """Runs the timers' work until the newest request is answered (background mode and tests, where
-    Blender's timers do not run while a script does).  Returns True when nothing is awaited."""
+    """Runs the timers' work (a watch pass, then until the newest request is answered) in background
+    mode and tests, where Blender's timers do not run while a script does.  Returns True when nothing
+    is awaited."""
+    watch()
     end = time.monotonic() + timeout_s
     while time.monotonic() < end:
         if _state["pending"]:
@@ -309,11 +330,6 @@ def _stop_server():
         srv.stop()
 
 
-def on_setting_changed(self, context):
-    """The update callback of every sky setting."""
-    request_update(self.id_data)
-
-
 def on_live_toggled(self, context):
     if self.live:
         _state.update(last=None, refused=None)
@@ -331,15 +347,15 @@ def on_frame_change(scene, _depsgraph=None):
 
 @bpy.app.handlers.persistent
 def on_depsgraph_update(scene, _depsgraph=None):
-    """Drivers set settings without their update callbacks (the driven value is flushed to the
-    scene's own settings before this runs): each update compares the request with the last."""
+    """Drivers set settings (the driven value is flushed to the scene's own settings before this
+    runs): each update compares the request with the last."""
     if scene.firmament_sky.live:
         request_update(scene)
 
 
 @bpy.app.handlers.persistent
 def on_undo_redo(scene, *_args):
-    """Undo and redo restore settings without their update callbacks, and the world's image from a
+    """Undo and redo restore settings, and the world's image from a
     step whose file may hold another map since: the map is asked for again; a restored Live off
     ends the server."""
     live_scene = bpy.data.scenes.get(_state["scene"] or "")
@@ -429,11 +445,14 @@ _HANDLERS = (("frame_change_post", on_frame_change), ("depsgraph_update_post", o
 def register():
     for name, fn in _HANDLERS:
         getattr(bpy.app.handlers, name).append(fn)
+    bpy.app.timers.register(watch, first_interval=WATCH_S, persistent=True)
     atexit.register(_stop_server)  # quitting Blender ends the server too
 
 
 def unregister():
     stop()
+    if bpy.app.timers.is_registered(watch):
+        bpy.app.timers.unregister(watch)
     atexit.unregister(_stop_server)
     for name, fn in _HANDLERS:
         handlers = getattr(bpy.app.handlers, name)

@@ -69,12 +69,6 @@ def _live_toggled(self, context):
     live.on_live_toggled(self, context)
 
 
-def _setting_changed(self, context):
-    """The update callback of the LIVE_KEYS (set by register())."""
-    from . import live
-    live.on_setting_changed(self, context)
-
-
 class FirmamentSkySettings(bpy.types.PropertyGroup):
     # Ranges are the executable's (`firmament options --json`), set by register(): none are copied here.
     sun_source: EnumProperty(name="Sun From", items=[
@@ -230,9 +224,16 @@ PRESET_KEYS = ("sun_source", "year", "month", "day", "hour", "minute", "second",
                "cloud_base", "cloud_thickness", "use_fog", "fog_visibility", "ozone_mode", "ozone_du", "albedo",
                "altitude")
 
-# what the live sky follows: the sky and how the world and lamp show it
+# what the live sky follows: the sky and how the world and lamp show it.  No update callbacks: a
+# Python one makes Blender re-sync the whole scene at the next draw (live.watch polls these instead;
+# docs/decisions/2026-12-07-blender-live-latency.md)
 LIVE_KEYS = PRESET_KEYS + ("sun_mode", "camera_disk", "north_offset", "sky_strength", "sun_strength", "ground",
                            "ground_colour")
+
+
+def live_values(p):
+    """The LIVE_KEYS' values, to compare with a later pass's (the colour copied: not a live array)."""
+    return tuple(tuple(p.ground_colour) if k == "ground_colour" else getattr(p, k) for k in LIVE_KEYS)
 
 
 def to_dict(p):
@@ -265,13 +266,6 @@ def set_ranges(opts):
         if prop.function is IntProperty:
             lo, hi = int(lo) + (1 if lo_open else 0), int(hi)
         ann[key] = prop.function(**dict(prop.keywords, min=lo, max=hi))
-
-
-def set_updates():
-    """Gives the LIVE_KEYS their update callback (before the class is registered)."""
-    ann = FirmamentSkySettings.__annotations__
-    for key in LIVE_KEYS:
-        ann[key] = ann[key].function(**dict(ann[key].keywords, update=_setting_changed))
 
 
 def register():

@@ -74,8 +74,10 @@ for what, key, value in (("the sun moved", "sun_elevation", 50.0), ("the deck th
     else:
         p.cloud_amount = "TAU"
     setattr(p, key, value)
+    live.watch()  # the event loop's next pass (headless: called here)
     h.check(lamp.hide_render and lamp.hide_viewport, "Live, %s: the lamp stays off until the map" % what)
 p.cloud = "none"
+live.watch()
 h.check(not lamp.hide_render and not lamp.hide_viewport, "Live, the clouds removed: the lamp on at once")
 h.check(abs(lamp.rotation_euler.to_matrix().col[2].z - math.sin(math.radians(50.0))) < 1e-6,
         "Live: the lamp toward the 50 degree sun")

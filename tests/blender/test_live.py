@@ -1,6 +1,11 @@
 """The live sky (Live toggle): one `firmament serve` per session, the world's image swapped in place
 and the lamp turned at once.  Headless Blender runs no timers while a script runs, so the test calls
-what the timers call (live.settle: live.send_pending, then live.poll until the reply).
+what the timers call: live.watch, the pass of the event loop after a change (the settings have no
+update callbacks), and live.settle (a watch pass, live.send_pending, then live.poll until the reply).
+
+- A setting changed as a script changes it tags no depsgraph update of the scene (a Python update
+  callback would, and Blender would re-sync the whole scene at the next draw); a Scene property with
+  an update (frame_start) is seen by the same check.
 
 - Live on, the sun's elevation changed: the lamp points at the requested sun within 0.1 degree before
   the reply; after it the world's image is the reply's map: its diffuse horizontal illuminance (the
@@ -138,8 +143,30 @@ pid = srv.pid
 img = live_image()
 before = rows(img)
 
-# the elevation changed: the lamp at once, then the map
+# a setting changed as a script changes it (all the live ones, one really) tags no depsgraph update
+# of the scene: with a Python update callback it would, and EEVEE would re-sync the whole scene
+scene_updates = []
+
+
+def record_update(_scene, depsgraph):
+    scene_updates.append(depsgraph.id_type_updated("SCENE"))
+
+
+bpy.context.view_layer.update()  # nothing pending
+bpy.app.handlers.depsgraph_update_post.append(record_update)
+for key in properties.LIVE_KEYS:
+    setattr(p, key, tuple(p.ground_colour) if key == "ground_colour" else getattr(p, key))
 p.sun_elevation = 35.0
+bpy.context.view_layer.update()
+h.check(not any(scene_updates), "a script's change of the live settings: no depsgraph update of the scene (%s)"
+        % scene_updates)
+scene.frame_start = scene.frame_start
+bpy.context.view_layer.update()
+h.check(any(scene_updates), "the check sees a Scene property with an update (frame_start): %s" % scene_updates)
+bpy.app.handlers.depsgraph_update_post.remove(record_update)
+
+# the elevation changed (above): the lamp at the event loop's next pass, before its draw; then the map
+live.watch()
 h.close(angle_deg(lamp_direction(), requested_direction()), 0.0, 0.1, "lamp toward the requested sun before the reply (deg)")
 request = dict(live._state["last"], width=live.LIVE_WIDTH)
 settled("elevation 35")
@@ -170,14 +197,16 @@ bound = live.WAIT_S
 live.WAIT_S = 30.0
 no_poll_timer()
 p.sun_elevation = 38.0
+live.watch()
 h.check(live._state["sent"] is None and not bpy.app.timers.is_registered(live.poll),
-        "a reply within the bound: nothing awaited once the change's handler returns")
+        "a reply within the bound: nothing awaited once the watch pass returns")
 h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], 38.0, 1e-6,
-        "a reply within the bound: the world shows its map once the change's handler returns")
+        "a reply within the bound: the world shows its map once the watch pass returns")
 # after a reply whose render took longer than the bound, the next change does not wait for its reply
 live._state["server_s"] = 31.0
 no_poll_timer()
 p.sun_elevation = 39.0
+live.watch()
 h.check(live._state["sent"] is not None and bpy.app.timers.is_registered(live.poll),
         "after a render longer than the bound: the reply left to the poll timer")
 settled("after a render longer than the bound")
@@ -186,10 +215,11 @@ live.WAIT_S, live._state["server_s"] = 0.2, 0.0
 os.kill(srv.pid, signal.SIGSTOP)
 t0 = time.monotonic()
 p.sun_elevation = 34.0
+live.watch()
 blocked = time.monotonic() - t0
 os.kill(srv.pid, signal.SIGCONT)
 h.check(live.WAIT_S <= blocked < live.WAIT_S + 3.0 and live._state["sent"] is not None,  # 3 s: a loaded machine
-        "no reply within the bound: the handler waited %.3f s (bound %g s), the reply left to the poll timer"
+        "no reply within the bound: the watch waited %.3f s (bound %g s), the reply left to the poll timer"
         % (blocked, live.WAIT_S))
 settled("the server stopped, then continued")
 h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], 34.0, 1e-6, "the stopped server's map, once it continued")
@@ -199,8 +229,9 @@ live.WAIT_S = bound
 # sent, once
 live.WAIT_S = 0.0
 first = live._state["next_id"]
-for e in (30.0, 31.0, 32.0, 33.0):
+for e in (30.0, 31.0, 32.0, 33.0):  # one change per pass, as a drag makes them
     p.sun_elevation = e
+    live.watch()
 settled("four quick changes")
 live.WAIT_S = bound
 h.check(live._state["next_id"] - first == 2, "four quick changes: %d requests (the first, then the newest)"
@@ -224,11 +255,15 @@ h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], 35.0, 1e-6, "after a
 
 # a setting the executable refuses: said once, not again at each depsgraph update (which compares)
 p.biome = "no-such-biome"
+live.watch()
 h.check(p.last_message.startswith("Error: live sky:") and "no-such-biome" in p.last_message,
         "a refused biome reported: %s" % p.last_message)
 p.last_message = ""
+scene.update_tag()
 bpy.context.view_layer.update()
-h.check(p.last_message == "", "the refused biome not reported again at a depsgraph update: %s" % p.last_message)
+live.watch()
+h.check(p.last_message == "", "the refused biome not reported again at a depsgraph update or a pass: %s"
+        % p.last_message)
 p.biome = "rural"
 
 # an executable that cannot be found is not a setting: reported once, and once the preference points
@@ -237,10 +272,12 @@ prefs = h.preferences()
 good = prefs.executable
 prefs.executable = "/nonexistent/firmament"
 p.sun_elevation = 37.0
+live.watch()
 h.check("executable" in p.last_message, "a missing executable reported: %s" % p.last_message)
 prefs.executable = good
 p.last_message = ""
 time.sleep(live.RETRY_S + 0.1)
+scene.update_tag()  # any later depsgraph update (an edit of anything) tries it again
 bpy.context.view_layer.update()
 settled("the executable back")
 h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], 37.0, 1e-6, "the executable back: the refused request made")
@@ -350,6 +387,7 @@ live.apply_reply = lambda scene, reply, settings: (replies.append(reply), apply_
 p.last_message = ""
 p.live = True
 p.sun_source, p.hour, p.minute = "TIME", 10, 30
+live.watch()
 r = subprocess.run(command.sun_arguments(h.EXE, properties.to_dict(p)), capture_output=True, text=True)
 sun = json.loads(r.stdout)
 e, a = math.radians(sun["elevation_deg"]), math.radians(sun["azimuth_deg"])
@@ -391,6 +429,7 @@ if h.LEGACY:  # (one version: each final map costs seconds) an animation: each f
     scene.render.filepath = os.path.join(h.OUT, "frame_")
     bpy.ops.render.render(animation=True)
     h.check(elevations == [20.0, 40.0], "animation: each frame rendered with its own final map: %s" % elevations)
+    scene.animation_data_clear()  # below, the saved file's elevation is the one set, not a keyframe's
 
 # opening a file ends the server; a file saved with Live on resumes it
 p.live = True
