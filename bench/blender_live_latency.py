@@ -2,16 +2,19 @@
 view in Rendered shading (EEVEE, the scene's world: what a user watching the sky looks at): the time
 from a change of the sun elevation property to the world's image reloaded with the new map, and to
 the first completed draw of the 3D view after that (the frame that shows the new sky).  The changes
-are made one at a time, each once the previous one is drawn, from a timer (as a drag of the slider
-makes them: before the pass's redraw), in three interleaved kinds, so that the machine's load is the
-same for each:
-  bounded  the add-on as it is: the reply awaited in the change's handler for up to live.WAIT_S
+are made one at a time, each once the previous one is drawn, by a script: an assignment from a timer,
+which the add-on's watch timer sees in the same pass, before the pass's draw (an edit in the
+interface is also seen before the draw, but Blender's own update of the edited Scene property costs
+that draw a re-sync of the scene: see the decision log).  Three interleaved kinds, so that the
+machine's load is the same for each:
+  bounded  the add-on as it is: the reply awaited in the watch pass for up to live.WAIT_S
   timer    live.WAIT_S = 0: the reply taken by the poll timer only (a later event-loop pass)
   no map   the lamp turned by hand (the add-on asks for nothing): what a change costs the window
 Lines:
   change -> image reloaded / drawn   median, 90th percentile, largest, per kind
-  handler  the time the change's assignment took (the interface is blocked meanwhile): median, largest
-  in pass  how many replies were applied within the change's own handler
+  handler  the time the change took: its assignment and the watch pass that saw it (the interface is
+           blocked meanwhile): median, largest
+  in pass  how many replies were applied within the watch pass that saw the change
   wait     the change to the request written (0 unless coalesced by the DEBOUNCE_S timer)
   server   the server's own "seconds" (atmosphere found, map rendered, files written)
   pipe     the rest until the reader thread has read the reply (the pipes, JSON)
@@ -21,6 +24,7 @@ Lines:
            (all its threads: Mesa's software OpenGL draws in them) from the change to the drawn frame
   3D view  the median time of one draw of the 3D view (its PRE_VIEW to POST_PIXEL callbacks), of
            which a pass of Blender's event loop is mostly made on software OpenGL
+  watch    the watch timer's own cost in a pass that saw no change (the main thread's CPU time)
 Usage (inside Blender): blender -P bench/blender_live_latency.py -- ZIP EXE OUT [N per kind] [WIDTH] [BOUND_MS]
 (BOUND_MS: the bounded kind's live.WAIT_S instead of the add-on's, to try another bound)"""
 
@@ -39,7 +43,8 @@ WIDTH = int(h.argv[4]) if len(h.argv) > 4 else 512
 BOUND_MS = float(h.argv[5]) if len(h.argv) > 5 else None
 KINDS = ("bounded", "timer", "no map")
 state = {"phase": "start", "i": 0, "t0": None, "applied": [], "rows": {k: [] for k in KINDS},
-         "drawn": [], "pre": None, "view_s": [], "in_handler": False, "applied_in_handler": 0}
+         "drawn": [], "pre": None, "view_s": [], "in_handler": False, "applied_in_handler": 0,
+         "changed": False, "watch_s": []}
 
 
 def cpu_s():
@@ -81,6 +86,22 @@ def install():
             state["sent"] = time.monotonic()
         return send()
     live.send_pending = timed_send
+    watch = live.watch
+
+    def timed_watch():  # the change's pass: its time is the handler's; else its own cost per pass
+        t, c = time.monotonic(), time.thread_time()
+        state["in_handler"] = True
+        interval = watch()
+        state["in_handler"] = False
+        if state["changed"]:
+            state["changed"] = False
+            state["handler_s"] += time.monotonic() - t
+        elif state["phase"] in ("change", "waiting"):
+            state["watch_s"].append(time.thread_time() - c)
+        return interval
+    bpy.app.timers.unregister(live.watch)  # registered by the add-on: the timed one runs instead
+    live.watch = timed_watch
+    bpy.app.timers.register(timed_watch, first_interval=live.WATCH_S, persistent=True)
     srv = h.submodule("server").Server
     read = srv._read
 
@@ -109,7 +130,7 @@ def change(live, p, kind):
         h.sun_lamps()[0].rotation_euler[0] += 0.01 * (1 if state["i"] % 2 else -1)
     else:
         p.sun_elevation = 5.0 + (state["i"] * 37 % 60)
-    state["in_handler"] = False
+    state["in_handler"], state["changed"] = False, True
     return time.monotonic() - state["t0"]
 
 
@@ -197,10 +218,13 @@ def report(live):
         print("  handler  median %.1f ms, max %.1f ms; process CPU to the drawn frame median %.0f ms" % (
             ms(col("handler"), "median"), ms(col("handler"), "max"), ms(col("cpu"), "median")))
         if kind != "no map":
-            print("  in pass  %d of %d replies applied in the change's handler; draws before the reload median %d" % (
+            print("  in pass  %d of %d replies applied in the watch pass that saw the change; draws before the reload median %d" % (
                 sum(col("in_pass")), len(rows), statistics.median(col("draws"))))
             print("  " + ", ".join("%s %.1f ms" % (k, ms(col(k), "median")) for k in ("wait", "server", "pipe", "poll", "apply")))
     print("  3D view  one draw median %.1f ms" % (1e3 * statistics.median(state["view_s"])))
+    w = sorted(state["watch_s"])
+    print("  watch    a pass with no change: median %.0f us, p90 %.0f us CPU (%d passes)" % (
+        1e6 * statistics.median(w), 1e6 * w[math.ceil(0.9 * len(w)) - 1], len(w)))
     live.stop()
     sys.stdout.flush()
     os._exit(0)
