@@ -93,7 +93,10 @@ static int rising_segments(const fm_sky *sky, const twilight_sampling *twilight)
         return 0;
     const path_context pc = sky_path_context(sky, 1, 1);
     double r = v3_length(sky->observer), mu_s = v3_dot(sky->observer, sky->sun_dir) / r, T[FM_MAX_WAVELENGTHS];
-    if (!(mu_s > 0.0 && asin(clamp_cosine(mu_s)) < RISING_SUN_DEG * FM_DEG))
+    /* mu_s = 0 included: a sun on the horizon (the live sky's node at 0 degrees) takes no twilight
+     * sampling either, and its paths without these segments are 2.5 times as noisy (the decision record
+     * 2026-12-07-live-sun-on-the-horizon.md) */
+    if (!(mu_s >= 0.0 && asin(clamp_cosine(mu_s)) < RISING_SUN_DEG * FM_DEG))
         return 0; /* a higher sun, or night (no twilight sampling: a black sky) */
     sun_irradiance_lookup(pc.sun_table, &sky->atm, pc.sun, r, mu_s, T);
     assert(T[sky->atm.grid.count / 2] >= 0.0 && T[sky->atm.grid.count / 2] <= 1.0); /* a transmittance */
