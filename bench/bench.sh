@@ -247,7 +247,9 @@ if [ "${1:-}" = "--clouds" ]; then
     # (sun -3: lit by the sky above them, docs/decisions/2026-12-07-twilight-fog.md), and the stratus seen
     # from above (a mountain top at 3 km, sun 30 and 3: docs/decisions/2026-12-07-above-deck.md), the
     # altostratus (3-4 km) at dusk (sun -4: docs/decisions/2026-12-07-deck-local-sun.md), the High
-    # cirrostratus preset and cirrostratus over altostratus at sun 10 (docs/decisions/2026-12-07-thin-layers.md) as 4096 x 2048 colour maps at
+    # cirrostratus preset and cirrostratus over altostratus at sun 10 (docs/decisions/2026-12-07-thin-layers.md), and the
+    # Misty morning preset (shallow fog: 0-100 m, visibility 400 m, optical depth 1, sun 12.4;
+    # docs/decisions/2026-12-07-shallow-fog.md) as 4096 x 2048 colour maps at
     # final quality: wall and CPU seconds (user + system; on a loaded machine compare CPU), peak memory,
     # and one map's noise: the RMS relative luminance difference of two seeds' maps over sqrt(2)
     printf '%-34s %-10s %7s %7s %9s %9s %6s\n' sky size "wall s" "CPU s" "peak MiB" "noise %" paths
@@ -257,7 +259,8 @@ if [ "${1:-}" = "--clouds" ]; then
         "stratus-dusk --cloud stratus --sun-elevation -3" "above-overcast --cloud stratus --altitude 3000" \
         "above-overcast-low-sun --cloud stratus --altitude 3000 --sun-elevation 3" \
         "altostratus-dusk --cloud altostratus --sun-elevation -4" \
-        "high-cirrostratus --preset high-cirrostratus" "two-layers --cloud cirrostratus,altostratus --sun-elevation 10"; do
+        "high-cirrostratus --preset high-cirrostratus" "two-layers --cloud cirrostratus,altostratus --sun-elevation 10" \
+        "misty-morning --preset misty-morning"; do
         read -r name extra <<<"$job"
         read -r -a extra <<<"$extra"
         for seed in 1 2; do

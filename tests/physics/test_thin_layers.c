@@ -9,13 +9,18 @@
  * layer of ice alone takes it at several suns, each
  * view lit by the sun where it meets the layer (render/fog_local_sun.h); cirrostratus over
  * altostratus (3-4 km, 10) at FOG_TABLE_MIN_SUN_DEG_CLOUDS (8), where two layers start taking it (the
- * cirrostratus in the column's air above the deck, under its pseudo-spherical beam).
+ * cirrostratus in the column's air above the deck, under its pseudo-spherical beam); the Misty
+ * morning preset's shallow fog around the observer (0-100 m, visibility 400 m: optical depth 0.98)
+ * at its sun of 12.4 degrees, where fog alone takes the column however thin
+ * (docs/decisions/2026-12-07-shallow-fog.md).
  * Faults it fails on (the decision records say by how much): the column's own order 1 not
  * subtracted (counted twice with the single-scattering table's); the plane's beam cosine above the
  * deck instead of the pseudo-spherical one; at sun 3, one sun for every view, or the arcs toward the
  * sun counted once (docs/decisions/2026-12-07-thin-layers-low-sun.md).
- * Run with arguments CLOUDS TAU SUN PATHS for one case (a sweep by hand; TAU 0 keeps the presets').
- * About 45 s of CPU, nearly all of it the path tracer. */
+ * The shallow fog fails where the thin layers' sun bound (FOG_TABLE_THIN_MIN_SUN_DEG) is put back on
+ * fog (the column does not apply).
+ * Run with arguments CLOUDS TAU SUN PATHS [THICKNESS_KM] for one case (a sweep by hand; TAU 0 keeps
+ * the presets'). About 50 s of CPU, nearly all of it the path tracer. */
 #include "check.h"
 
 #include "column_tables.h"
@@ -37,10 +42,12 @@ static const double fixed_views[][2] = {{1, 90}, {3, 180}, {6, 0}, {15, 90}, {60
 static const double sun_views[][2] = {{4, 0}, {8, 0}, {12, 0}, {0, 6}, {22, 0}, {24, 0}};
 
 /* Whether every view and the irradiance were within the tolerance (0) or how many were not. */
-static int against_the_path_tracer(const char *clouds, double tau, double sun_deg, int paths)
+static int against_the_path_tracer(const char *clouds, double tau, double sun_deg, int paths, double thickness_km)
 {
     fm_sky_params p = fm_sky_params_default();
     p.clouds = clouds;
+    if (thickness_km > 0.0)
+        p.cloud_thickness_km = thickness_km;
     if (tau > 0.0)
         p.cloud_tau550 = tau;
     p.wavelength_nm = 550.0;
@@ -87,29 +94,37 @@ static int against_the_path_tracer(const char *clouds, double tau, double sun_de
 static void thin_cirrostratus_against_the_path_tracer(void **state)
 {
     (void)state;
-    assert_int_equal(against_the_path_tracer("cirrostratus", 1.0, FOG_TABLE_THIN_MIN_SUN_DEG, 60000), 0);
+    assert_int_equal(against_the_path_tracer("cirrostratus", 1.0, FOG_TABLE_THIN_MIN_SUN_DEG, 60000, 0.0), 0);
 }
 
 static void thin_cirrostratus_at_a_low_sun(void **state)
 {
     (void)state;
-    assert_int_equal(against_the_path_tracer("cirrostratus", 1.0, FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG, 60000), 0);
+    assert_int_equal(against_the_path_tracer("cirrostratus", 1.0, FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG, 60000, 0.0), 0);
 }
 
 static void two_layers_against_the_path_tracer(void **state)
 {
     (void)state;
-    assert_int_equal(against_the_path_tracer("cirrostratus,altostratus", 0.0, FOG_TABLE_MIN_SUN_DEG_CLOUDS, 40000), 0);
+    assert_int_equal(against_the_path_tracer("cirrostratus,altostratus", 0.0, FOG_TABLE_MIN_SUN_DEG_CLOUDS, 40000, 0.0), 0);
+}
+
+static void shallow_fog_against_the_path_tracer(void **state)
+{
+    (void)state;
+    assert_int_equal(against_the_path_tracer("fog", 3.912 / 400.0 * 100.0, 12.4, 60000, 0.1), 0);
 }
 
 int main(int argc, char **argv)
 {
-    if (argc == 5)
-        return against_the_path_tracer(argv[1], atof(argv[2]), atof(argv[3]), atoi(argv[4])) != 0;
+    if (argc == 5 || argc == 6)
+        return against_the_path_tracer(argv[1], atof(argv[2]), atof(argv[3]), atoi(argv[4]),
+                                       argc == 6 ? atof(argv[5]) : 0.0) != 0;
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(thin_cirrostratus_against_the_path_tracer),
         cmocka_unit_test(thin_cirrostratus_at_a_low_sun),
         cmocka_unit_test(two_layers_against_the_path_tracer),
+        cmocka_unit_test(shallow_fog_against_the_path_tracer),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

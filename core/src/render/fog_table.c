@@ -144,6 +144,16 @@ static int thin_ice_alone(const fm_sky *sky)
            type && type->ice;
 }
 
+/* Whether the layer is fog alone around the observer (from the ground up, its top above the
+ * observer): however thin, its forward light near the sun is the fog's around the observer, the
+ * column's own, not a distant layer's under another sun (docs/decisions/2026-12-07-shallow-fog.md). */
+static int fog_alone_around_observer(const fm_sky *sky, int cloud)
+{
+    const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    return sky->composition.cloud_count == 1 && sky->composition.cloud[cloud].base_m <= 0.0 &&
+           altitude < sky->composition.cloud[cloud].base_m + sky->composition.cloud[cloud].thickness_m;
+}
+
 int fog_table_applies(const render_job *job)
 {
     if (fog_table_from_above(job))
@@ -156,7 +166,7 @@ int fog_table_applies(const render_job *job)
     if (thin_ice_alone(sky))
         return sky->sun_dir.z >= sin(FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG * FM_DEG);
     min_sun = fmax(min_sun, FOG_TABLE_MIN_SUN_DEG_PER_KM * sky->composition.cloud[cloud].base_m / 1000.0);
-    if (sky->composition.cloud[cloud].tau550 < FOG_TABLE_MIN_TAU)
+    if (sky->composition.cloud[cloud].tau550 < FOG_TABLE_MIN_TAU && !fog_alone_around_observer(sky, cloud))
         min_sun = fmax(min_sun, FOG_TABLE_THIN_MIN_SUN_DEG);
     return sky->sun_dir.z >= sin(min_sun * FM_DEG);
 }
