@@ -59,7 +59,10 @@ struct render_job;
  * lit by the sun where it meets the layer (render/fog_local_sun.h): cirrostratus at sun 3 to 10 within
  * the reference's tolerance but for a view (docs/decisions/2026-12-07-thin-layers-low-sun.md).
  * Droplets keep this bound: their truncated peak's light, about the sun, stays the observer's sun's
- * (altostratus of 1 at sun 15: 11 % dark 9 degrees below the sun with the several suns). */
+ * (altostratus of 1 at sun 15: 11 % dark 9 degrees below the sun with the several suns).  Fog alone
+ * around the observer does not: it is around the observer at the observer's sun, so a shallow fog
+ * (Misty morning: 100 m of 400 m visibility, optical depth 1) takes the column with the fog's bounds
+ * (docs/decisions/2026-12-07-shallow-fog.md). */
 #define FOG_TABLE_THIN_MIN_SUN_DEG 24.0
 /* Lower, the thinner ice layers miss the reference at the horizon near the sun (cirrostratus of 0.5
  * at sun 2: 17 % dark 6 degrees from the sun; of 1, within the tolerance down to sun 1). */
@@ -101,7 +104,8 @@ int fog_table_local_sun(const struct render_job *job);
  * FOG_TABLE_MAX_VISIBILITY_M or less or below, inside or above a layer of FOG_TABLE_MIN_TAU or more, the
  * sun FOG_TABLE_MIN_SUN_DEG (FOG_TABLE_MIN_SUN_DEG_CLOUDS with other clouds, and
  * FOG_TABLE_MIN_SUN_DEG_PER_KM per km of an elevated layer's base, FOG_TABLE_THIN_MIN_SUN_DEG for a
- * thinner layer, FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG for a thin layer of ice alone) or more up.  The
+ * thinner layer but fog alone around the observer, FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG for a thin layer
+ * of ice alone) or more up.  The
  * ground's irradiance then takes orders >= 2 from the column too (build it without paths). */
 int fog_table_applies(const struct render_job *job);
 /* Whether the sky holds such fog or cloud and no deck that the deck base takes by day (the rest of
