@@ -7,7 +7,9 @@
  * Cases: cirrostratus (8-9.5 km, optical depth 1) at FOG_TABLE_THIN_MIN_SUN_DEG (24 degrees), where a
  * thin layer takes the column at one sun; the same at FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG (3), where a
  * layer of ice alone takes it at several suns, each
- * view lit by the sun where it meets the layer (render/fog_local_sun.h); cirrostratus over
+ * view lit by the sun where it meets the layer (render/fog_local_sun.h), and of optical depth 1 at
+ * FOG_TABLE_THIN_LOW_SUN_DEG (1), where the lowest of the suns is held at FOG_TABLE_MIN_SUN_DEG (the
+ * day's column has no beam below); cirrostratus over
  * altostratus (3-4 km, 10) at FOG_TABLE_MIN_SUN_DEG_CLOUDS (8), where two layers start taking it (the
  * cirrostratus in the column's air above the deck, under its pseudo-spherical beam); the Misty
  * morning preset's shallow fog around the observer (0-100 m, visibility 400 m: optical depth 0.98)
@@ -16,11 +18,12 @@
  * Faults it fails on (the decision records say by how much): the column's own order 1 not
  * subtracted (counted twice with the single-scattering table's); the plane's beam cosine above the
  * deck instead of the pseudo-spherical one; at sun 3, one sun for every view, or the arcs toward the
- * sun counted once (docs/decisions/2026-12-07-thin-layers-low-sun.md).
+ * sun counted once (docs/decisions/2026-12-07-thin-layers-low-sun.md); at sun 1, the bound lowered
+ * to sun 0.5 or to optical depth 0.75 (docs/decisions/2026-12-07-thin-layers-twilight.md).
  * The shallow fog fails where the thin layers' sun bound (FOG_TABLE_THIN_MIN_SUN_DEG) is put back on
  * fog (the column does not apply).
  * Run with arguments CLOUDS TAU SUN PATHS [THICKNESS_KM] for one case (a sweep by hand; TAU 0 keeps
- * the presets'). About 50 s of CPU, nearly all of it the path tracer. */
+ * the presets'). About 60 s of CPU, nearly all of it the path tracer. */
 #include "check.h"
 
 #include "column_tables.h"
@@ -103,6 +106,14 @@ static void thin_cirrostratus_at_a_low_sun(void **state)
     assert_int_equal(against_the_path_tracer("cirrostratus", 1.0, FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG, 60000, 0.0), 0);
 }
 
+static void thick_cirrostratus_at_sun_1(void **state)
+{
+    (void)state;
+    assert_int_equal(against_the_path_tracer("cirrostratus", FOG_TABLE_THIN_LOW_SUN_MIN_TAU, FOG_TABLE_THIN_LOW_SUN_DEG,
+                                             60000, 0.0),
+                     0);
+}
+
 static void two_layers_against_the_path_tracer(void **state)
 {
     (void)state;
@@ -123,6 +134,7 @@ int main(int argc, char **argv)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(thin_cirrostratus_against_the_path_tracer),
         cmocka_unit_test(thin_cirrostratus_at_a_low_sun),
+        cmocka_unit_test(thick_cirrostratus_at_sun_1),
         cmocka_unit_test(two_layers_against_the_path_tracer),
         cmocka_unit_test(shallow_fog_against_the_path_tracer),
     };

@@ -132,7 +132,8 @@ int fog_table_local_sun(const render_job *job)
 }
 
 /* A thin layer of ice (below FOG_TABLE_MIN_TAU) alone, elevated, over an observer on the ground:
- * the column at several suns takes it from FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG. */
+ * the column at several suns takes it from FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG (FOG_TABLE_THIN_LOW_SUN_DEG
+ * from FOG_TABLE_THIN_LOW_SUN_MIN_TAU up). */
 static int thin_ice_alone(const fm_sky *sky)
 {
     const int cloud = column_cloud(sky);
@@ -163,8 +164,10 @@ int fog_table_applies(const render_job *job)
     if (cloud < 0 || job->twilight || job->under_deck || job->params->quality == FM_QUALITY_REFERENCE)
         return 0;
     double min_sun = sky->composition.cloud_count > 1 ? FOG_TABLE_MIN_SUN_DEG_CLOUDS : FOG_TABLE_MIN_SUN_DEG;
-    if (thin_ice_alone(sky))
-        return sky->sun_dir.z >= sin(FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG * FM_DEG);
+    if (thin_ice_alone(sky)) {
+        const int low = sky->composition.cloud[cloud].tau550 >= FOG_TABLE_THIN_LOW_SUN_MIN_TAU;
+        return sky->sun_dir.z >= sin((low ? FOG_TABLE_THIN_LOW_SUN_DEG : FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG) * FM_DEG);
+    }
     min_sun = fmax(min_sun, FOG_TABLE_MIN_SUN_DEG_PER_KM * sky->composition.cloud[cloud].base_m / 1000.0);
     if (sky->composition.cloud[cloud].tau550 < FOG_TABLE_MIN_TAU && !fog_alone_around_observer(sky, cloud))
         min_sun = fmax(min_sun, FOG_TABLE_THIN_MIN_SUN_DEG);

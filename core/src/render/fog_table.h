@@ -67,6 +67,11 @@ struct render_job;
 /* Lower, the thinner ice layers miss the reference at the horizon near the sun (cirrostratus of 0.5
  * at sun 2: 17 % dark 6 degrees from the sun; of 1, within the tolerance down to sun 1). */
 #define FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG 3.0
+/* A layer of ice of FOG_TABLE_THIN_LOW_SUN_MIN_TAU or more takes it down to this sun: cirrostratus of
+ * 1 and 1.9 at sun 1 within the tolerance in every view, of 0.75 at sun 1 and of 1 at sun 0.5 15-18 %
+ * dark 4-8 degrees above the sun (docs/decisions/2026-12-07-thin-layers-twilight.md). */
+#define FOG_TABLE_THIN_LOW_SUN_DEG 1.0
+#define FOG_TABLE_THIN_LOW_SUN_MIN_TAU 1.0
 /* Above a deck (a layer of FOG_TABLE_MIN_TAU or more below the observer, alone) below this sun the
  * column is made at several suns, each view down lit by the sun where it meets the deck's top. */
 #define FOG_TABLE_ABOVE_LOCAL_SUN_DEG 10.0
@@ -105,7 +110,8 @@ int fog_table_local_sun(const struct render_job *job);
  * sun FOG_TABLE_MIN_SUN_DEG (FOG_TABLE_MIN_SUN_DEG_CLOUDS with other clouds, and
  * FOG_TABLE_MIN_SUN_DEG_PER_KM per km of an elevated layer's base, FOG_TABLE_THIN_MIN_SUN_DEG for a
  * thinner layer but fog alone around the observer, FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG for a thin layer
- * of ice alone) or more up.  The
+ * of ice alone, FOG_TABLE_THIN_LOW_SUN_DEG for one of FOG_TABLE_THIN_LOW_SUN_MIN_TAU or more) or more
+ * up.  The
  * ground's irradiance then takes orders >= 2 from the column too (build it without paths). */
 int fog_table_applies(const struct render_job *job);
 /* Whether the sky holds such fog or cloud and no deck that the deck base takes by day (the rest of
