@@ -43,7 +43,7 @@ FINAL_KEY = "firmament_final_sky"  # the world's custom property: the request of
 
 # the session's one server and what it was last asked
 _state = {"server": None, "restarted": False, "scene": None, "pending": False, "last": None,
-          "sent": None, "next_id": 1, "rendering": False, "refused": None, "server_s": 0.0}
+          "sent": None, "next_id": 1, "rendering": False, "refused": None, "server_s": 0.0, "shown": None}
 _seen = {}  # scene name -> its LIVE_KEYS' values at the watch's last pass
 
 
@@ -139,8 +139,11 @@ def request_update(scene):
     req = None
     try:
         req = request_of(s)
-        if (req == _state["last"] and scene.name == _state["scene"]) or refused_already(scene, req):
-            return  # nothing the map depends on changed (e.g. a frame without keyframes), or said already
+        if req == _state["last"] and scene.name == _state["scene"]:
+            _reshow(scene, s)  # a setting of the world or the lamp only (north, strengths, ground), if any
+            return  # nothing the map depends on changed (e.g. a frame without keyframes)
+        if refused_already(scene, req):
+            return
         exe, opts = preferences.executable_and_options()
         command.validate(s, opts)
         direction, elevation = sun_direction(s)
@@ -273,15 +276,42 @@ def _live_image(path):
 
 
 def apply_reply(scene, reply, settings):
-    """A done reply: the world shows its map (in place) and the lamp its sun."""
+    """A done reply: the world shows its map (its nodes updated in place) and the lamp its sun, with
+    the settings it was asked with, or the current ones when they ask for the same map (a change of
+    the world's or the lamp's own settings meanwhile)."""
     sun = world.sidecar_fields(reply, "reply %s" % reply.get("id"))
     img = _live_image(reply["output"])
-    w = world.set_world(scene, settings, sun, img)
-    w.pop(FINAL_KEY, None)
+    current = live_settings(properties.to_dict(scene.firmament_sky))
+    if request_of(current) == request_of(settings):
+        settings = current
+    _show(scene, settings, sun, img)
     for window in bpy.context.window_manager.windows if bpy.context.window_manager else ():
         for area in window.screen.areas:
             if area.type == "VIEW_3D":  # the world's nodes and the lamp tag their own updates
                 area.tag_redraw()
+
+
+def _show(scene, settings, sun, img):
+    w = world.set_world(scene, settings, sun, img)
+    if FINAL_KEY in w:
+        del w[FINAL_KEY]
+    _state["shown"] = {"scene": scene.name, "settings": settings, "sun": sun}
+
+
+def _reshow(scene, settings):
+    """Settings that the map does not depend on (north offset, sky and sun strengths, ground, camera
+    disk) changed: the world and the lamp follow at once from the map shown, with no request.  A map
+    awaited takes the current settings when it comes."""
+    shown = _state["shown"]
+    if _state["sent"] is not None or shown is None or shown["scene"] != scene.name or shown["settings"] == settings:
+        return
+    img = next((i for i in bpy.data.images if i.get(LIVE_TAG)), None)
+    if img is None:
+        return
+    try:
+        _show(scene, settings, shown["sun"], img)
+    except world.SetupError as e:
+        report(scene, e)
 
 
 def watch():
@@ -325,7 +355,8 @@ def stop(*_args):
 def _stop_server():
     """Also at Python's exit (atexit), when bpy may be gone: nothing of bpy here."""
     srv = _state["server"]
-    _state.update(server=None, restarted=False, pending=False, last=None, sent=None, refused=None, server_s=0.0)
+    _state.update(server=None, restarted=False, pending=False, last=None, sent=None, refused=None, server_s=0.0,
+                  shown=None)
     if srv is not None:
         srv.stop()
 

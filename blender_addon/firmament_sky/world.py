@@ -5,9 +5,10 @@ property "firmament_sky", nodes are named "Firmament ...") so that re-generating
 
 import json
 import math
+from array import array
 
 import bpy
-from mathutils import Color, Vector
+from mathutils import Color, Euler, Vector
 
 TAG = "firmament_sky"
 NODE_PREFIX = "Firmament "
@@ -136,63 +137,137 @@ def _world_output(nodes):
     return nodes.new("ShaderNodeOutputWorld")
 
 
-def _env_node(nodes, links, mapping, image, name, x, y):
-    env = nodes.new("ShaderNodeTexEnvironment")
-    env.name = env.label = NODE_PREFIX + name
-    env.image = image
-    env.interpolation = "Linear"
-    env.location = (x, y)
-    links.new(mapping.outputs["Vector"], env.inputs["Vector"])
-    bg = nodes.new("ShaderNodeBackground")
-    bg.name = bg.label = NODE_PREFIX + name + " Background"
-    bg.inputs["Strength"].default_value = 1.0  # pixel values are radiance: 1:1 with the lamp (x Sky Strength)
-    bg.location = (x + 300, y)
-    links.new(env.outputs["Color"], bg.inputs["Color"])
+class _Rebuild(Exception):
+    """The world's firmament nodes are not those the settings and sun call for: build them anew."""
+
+
+def _float32(x):
+    return array("f", [x])[0]
+
+
+def _same(current, value):
+    """Whether a property already holds value (sockets hold float32: compared as such)."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return isinstance(current, (int, float)) and _float32(current) == _float32(value)
+    if isinstance(value, (tuple, list, Vector, Color, Euler)):
+        current = tuple(current)
+        return len(current) == len(value) and all(_same(c, v) for c, v in zip(current, value))
+    return current is value or current == value
+
+
+def set_changed(owner, attr, value):
+    """Sets owner.attr only when it differs: even a set to the same value tags Blender's update."""
+    if not _same(getattr(owner, attr), value):
+        setattr(owner, attr, value)
+
+
+class _Tree:
+    """The world's firmament nodes as the builders below make them.  Building, each call creates its
+    node, link or value; updating, the same calls find the nodes already there (a missing one, or
+    one of another kind, raises _Rebuild), make no links, and set only the values that differ, so
+    that the values come from one code whether the nodes are new or not."""
+
+    def __init__(self, node_tree, build):
+        self.nodes, self.links, self.build, self.seen = node_tree.nodes, node_tree.links, build, set()
+
+    def node(self, kind, name, location, **attrs):
+        """The node NODE_PREFIX + name, of bl_idname kind, with attrs: its structure (a value of the
+        nodes the same call made goes through value/set)."""
+        full = NODE_PREFIX + name
+        n = self.nodes.get(full)
+        if full in self.seen:
+            return n  # made already by this build (a node two builders share)
+        self.seen.add(full)
+        if not self.build:
+            if n is None or n.bl_idname != kind or any(getattr(n, k) != v for k, v in attrs.items()):
+                raise _Rebuild
+            return n
+        n = self.nodes.new(kind)
+        n.name = n.label = full
+        n.location = location
+        for k, v in attrs.items():
+            setattr(n, k, v)
+        return n
+
+    def link(self, from_socket, to_socket):
+        if self.build:
+            self.links.new(from_socket, to_socket)
+
+    def set(self, owner, attr, value):
+        if self.build:
+            setattr(owner, attr, value)
+        else:
+            set_changed(owner, attr, value)
+
+    def value(self, socket, value):
+        self.set(socket, "default_value", value)
+
+
+def _env_node(tree, mapping, image, name, x, y, strength):
+    env = tree.node("ShaderNodeTexEnvironment", name, (x, y), interpolation="Linear")
+    if not tree.build and env.image_user.use_auto_refresh:
+        raise _Rebuild  # a baked day's image sequence
+    tree.set(env, "image", image)
+    tree.link(mapping.outputs["Vector"], env.inputs["Vector"])
+    bg = tree.node("ShaderNodeBackground", name + " Background", (x + 300, y))
+    tree.value(bg.inputs["Strength"], strength)  # pixel values are radiance: 1:1 with the lamp (x Sky Strength)
+    tree.link(env.outputs["Color"], bg.inputs["Color"])
     return bg
 
 
-def build_world_nodes(world, sky_image, disk_image, rotation_z, settings=None, sun=None):
+def _ours(nodes):
+    return [n for n in nodes if n.name.startswith(NODE_PREFIX)]
+
+
+def build_world_nodes(world, sky_image, disk_image, rotation_z, settings=None, sun=None, rebuild=False):
+    """The world's firmament nodes for these maps, settings and sun: the nodes already there updated
+    in place (only the values that changed) when they are those these call for, else built anew
+    (or when rebuild).  Returns whether they were built anew."""
     if world.node_tree is None:  # before 5.0 a new world has no tree until use_nodes (deprecated in 5.0)
         world.use_nodes = True
-    nodes, links = world.node_tree.nodes, world.node_tree.links
-    for n in [n for n in nodes if n.name.startswith(NODE_PREFIX)]:
+    args = (sky_image, disk_image, rotation_z, settings or {}, sun)
+    ours = _ours(world.node_tree.nodes)
+    if ours and not rebuild:
+        tree = _Tree(world.node_tree, build=False)
+        try:
+            _world_graph(tree, *args)
+            if tree.seen == {n.name for n in ours}:
+                return False
+        except _Rebuild:
+            pass
+    nodes = world.node_tree.nodes
+    for n in _ours(nodes):
         nodes.remove(n)
-    out = _world_output(nodes)
-    out.location = (900, 300)
-    coords = nodes.new("ShaderNodeTexCoord")
-    coords.name = coords.label = NODE_PREFIX + "Coordinates"
-    coords.location = (-500, 300)
-    mapping = nodes.new("ShaderNodeMapping")
-    mapping.name = mapping.label = NODE_PREFIX + "North"
-    mapping.vector_type = "POINT"
-    mapping.inputs["Rotation"].default_value = (0.0, 0.0, rotation_z)
-    mapping.location = (-300, 300)
-    links.new(coords.outputs["Generated"], mapping.inputs["Vector"])
-    sky_bg = _env_node(nodes, links, mapping, sky_image, "Sky", 0, 300)
-    settings = settings or {}
-    sky_bg.inputs["Strength"].default_value = settings.get("sky_strength", 1.0)
+    _world_graph(_Tree(world.node_tree, build=True), *args)
+    return True
+
+
+def _world_graph(tree, sky_image, disk_image, rotation_z, settings, sun):
+    out = _world_output(tree.nodes)
+    if tree.build:
+        out.location = (900, 300)
+    coords = tree.node("ShaderNodeTexCoord", "Coordinates", (-500, 300))
+    mapping = tree.node("ShaderNodeMapping", "North", (-300, 300), vector_type="POINT")
+    tree.value(mapping.inputs["Rotation"], (0.0, 0.0, rotation_z))
+    tree.link(coords.outputs["Generated"], mapping.inputs["Vector"])
+    sky_bg = _env_node(tree, mapping, sky_image, "Sky", 0, 300, settings.get("sky_strength", 1.0))
     if settings.get("ground", "MAP") != "MAP":
-        _ground_nodes(nodes, links, mapping, sky_bg, settings, sun)
+        _ground_nodes(tree, mapping, sky_bg, settings, sun)
     if settings.get("sun_mode") == "LAMP" and settings.get("camera_disk") and sun and \
             sun["elevation_deg"] + sun["angular_diameter_deg"] / 2 >= 0.0:
-        _camera_rolloff_nodes(nodes, links, sky_bg, settings, sun)  # before the disk: the disk stays whole
-        _camera_disk_nodes(nodes, links, mapping, sky_bg, settings, sun)
+        _camera_rolloff_nodes(tree, sky_bg, settings, sun)  # before the disk: the disk stays whole
+        _camera_disk_nodes(tree, mapping, sky_bg, settings, sun)
     if disk_image is None:
-        links.new(sky_bg.outputs["Background"], out.inputs["Surface"])
+        tree.link(sky_bg.outputs["Background"], out.inputs["Surface"])
         return
     # camera rays see the map with the disk; every other ray the one without (the lamp lights)
-    disk_bg = _env_node(nodes, links, mapping, disk_image, "Sky With Disk", 0, 0)
-    disk_bg.inputs["Strength"].default_value = settings.get("sky_strength", 1.0)
-    path = nodes.new("ShaderNodeLightPath")
-    path.name = path.label = NODE_PREFIX + "Light Path"
-    path.location = (300, 600)
-    mix = nodes.new("ShaderNodeMixShader")
-    mix.name = mix.label = NODE_PREFIX + "Camera Sees Disk"
-    mix.location = (650, 300)
-    links.new(path.outputs["Is Camera Ray"], mix.inputs["Fac"])
-    links.new(sky_bg.outputs["Background"], mix.inputs[1])
-    links.new(disk_bg.outputs["Background"], mix.inputs[2])
-    links.new(mix.outputs["Shader"], out.inputs["Surface"])
+    disk_bg = _env_node(tree, mapping, disk_image, "Sky With Disk", 0, 0, settings.get("sky_strength", 1.0))
+    path = tree.node("ShaderNodeLightPath", "Light Path", (300, 600))
+    mix = tree.node("ShaderNodeMixShader", "Camera Sees Disk", (650, 300))
+    tree.link(path.outputs["Is Camera Ray"], mix.inputs["Fac"])
+    tree.link(sky_bg.outputs["Background"], mix.inputs[1])
+    tree.link(disk_bg.outputs["Background"], mix.inputs[2])
+    tree.link(mix.outputs["Shader"], out.inputs["Surface"])
 
 
 def _clear_animation(obj):
@@ -201,40 +276,31 @@ def _clear_animation(obj):
             idb.animation_data_clear()
 
 
-def _mix_into(nodes, links, bg, name, factor, rgb, location):
+def _mix_into(tree, bg, name, factor, rgb, location):
     """Between the Background's colour and what feeds it: where factor is 1, the colour rgb."""
-    source = bg.inputs["Color"].links[0].from_socket
-    mix = _node(nodes, "ShaderNodeMix", name, location, data_type="RGBA")
+    source = bg.inputs["Color"].links[0].from_socket if tree.build else None
+    mix = tree.node("ShaderNodeMix", name, location, data_type="RGBA")
     fac = [i for i in mix.inputs if i.name == "Factor" and i.type == "VALUE"][0]
     a, b = [i for i in mix.inputs if i.type == "RGBA"][:2]
-    links.new(factor, fac)
-    links.new(source, a)
-    b.default_value = (rgb[0], rgb[1], rgb[2], 1.0)
-    links.new([o for o in mix.outputs if o.type == "RGBA"][0], bg.inputs["Color"])
+    tree.link(factor, fac)
+    tree.link(source, a)
+    tree.value(b, (rgb[0], rgb[1], rgb[2], 1.0))
+    tree.link([o for o in mix.outputs if o.type == "RGBA"][0], bg.inputs["Color"])
 
 
-def _node(nodes, kind, name, location, **attrs):
-    n = nodes.new(kind)
-    n.name = n.label = NODE_PREFIX + name
-    n.location = location
-    for k, v in attrs.items():
-        setattr(n, k, v)
-    return n
-
-
-def _ground_nodes(nodes, links, mapping, bg, settings, sun):
+def _ground_nodes(tree, mapping, bg, settings, sun):
     """Below the horizon (the looked-up direction's z < 0) the world shows a chosen ground instead of
     the map's: black, or a Lambertian ground of the given reflectance under this sky (radiance
     reflectance x global horizontal illuminance / (683 pi), in Blender's units)."""
-    sep = _node(nodes, "ShaderNodeSeparateXYZ", "Direction", (-100, 600))
-    links.new(mapping.outputs["Vector"], sep.inputs["Vector"])
-    below = _node(nodes, "ShaderNodeMath", "Below Horizon", (100, 600), operation="LESS_THAN")
-    below.inputs[1].default_value = 0.0
-    links.new(sep.outputs["Z"], below.inputs[0])
+    sep = tree.node("ShaderNodeSeparateXYZ", "Direction", (-100, 600))
+    tree.link(mapping.outputs["Vector"], sep.inputs["Vector"])
+    below = tree.node("ShaderNodeMath", "Below Horizon", (100, 600), operation="LESS_THAN")
+    tree.value(below.inputs[1], 0.0)
+    tree.link(sep.outputs["Z"], below.inputs[0])
     lum = (sun or {}).get("global_lux") or 0.0
     k = lum / (683.0 * math.pi) if settings["ground"] == "COLOUR" else 0.0
     rgb = Color(settings.get("ground_colour", (0.0, 0.0, 0.0)))
-    _mix_into(nodes, links, bg, "Ground", below.outputs["Value"], [c * k for c in rgb], (250, 450))
+    _mix_into(tree, bg, "Ground", below.outputs["Value"], [c * k for c in rgb], (250, 450))
 
 
 # The camera's highlight roll-off, in scene-linear values after the suggested exposure: Filmic and AgX
@@ -246,20 +312,20 @@ ROLLOFF_KNEE = 2.5
 ROLLOFF_STOPS = 1.2
 
 
-def _math(nodes, links, name, location, operation, a, b=None, c=None):
+def _math(tree, name, location, operation, a, b=None, c=None):
     """A Math node; its inputs are sockets (linked) or numbers."""
-    m = _node(nodes, "ShaderNodeMath", name, location, operation=operation)
+    m = tree.node("ShaderNodeMath", name, location, operation=operation)
     for i, v in enumerate((a, b, c)):
         if v is None:
             continue
         if isinstance(v, (int, float)):
-            m.inputs[i].default_value = v
+            tree.value(m.inputs[i], v)
         else:
-            links.new(v, m.inputs[i])
+            tree.link(v, m.inputs[i])
     return m.outputs["Value"]
 
 
-def _camera_rolloff_nodes(nodes, links, bg, settings, sun):
+def _camera_rolloff_nodes(tree, bg, settings, sun):
     """For camera rays only, the world's highlights above the knee rolled off (hue kept: the colour
     scaled by the luminance's ratio), so that at the suggested exposure the aureole stays below white
     and the camera's sun disk stands out of it.  Every other ray (lighting, reflections) sees the map
@@ -268,46 +334,46 @@ def _camera_rolloff_nodes(nodes, links, bg, settings, sun):
     if ev is None:
         return
     knee = ROLLOFF_KNEE * 2.0 ** -ev / max(settings.get("sky_strength", 1.0), 1e-6)  # in the map's values
-    source = bg.inputs["Color"].links[0].from_socket
-    lum = _node(nodes, "ShaderNodeRGBToBW", "Luminance", (-100, 1200))
-    links.new(source, lum.inputs["Color"])
-    above = _math(nodes, links, "Over Knee", (50, 1200), "MAXIMUM", lum.outputs["Val"], knee)
-    x = _math(nodes, links, "Stops Over Knee", (200, 1200), "LOGARITHM", _math(
-        nodes, links, "Ratio to Knee", (100, 1350), "DIVIDE", above, knee), 2.0)
-    fall = _math(nodes, links, "Shoulder", (350, 1200), "EXPONENT",
-                 _math(nodes, links, "Shoulder Rate", (250, 1350), "MULTIPLY", x, -1.0 / ROLLOFF_STOPS))
-    shown = _math(nodes, links, "Stops Shown", (500, 1200), "MULTIPLY_ADD", fall, -ROLLOFF_STOPS, ROLLOFF_STOPS)
-    scale = _math(nodes, links, "Roll-off", (650, 1200), "POWER", 2.0,
-                  _math(nodes, links, "Stops Removed", (550, 1350), "SUBTRACT", shown, x))
-    path = _node(nodes, "ShaderNodeLightPath", "Camera Path", (100, 1000))  # the disk's nodes use it too
-    mix = _node(nodes, "ShaderNodeMix", "Camera Roll-off", (800, 1200), data_type="RGBA", blend_type="MULTIPLY")
+    source = bg.inputs["Color"].links[0].from_socket if tree.build else None
+    lum = tree.node("ShaderNodeRGBToBW", "Luminance", (-100, 1200))
+    tree.link(source, lum.inputs["Color"])
+    above = _math(tree, "Over Knee", (50, 1200), "MAXIMUM", lum.outputs["Val"], knee)
+    x = _math(tree, "Stops Over Knee", (200, 1200), "LOGARITHM", _math(
+        tree, "Ratio to Knee", (100, 1350), "DIVIDE", above, knee), 2.0)
+    fall = _math(tree, "Shoulder", (350, 1200), "EXPONENT",
+                 _math(tree, "Shoulder Rate", (250, 1350), "MULTIPLY", x, -1.0 / ROLLOFF_STOPS))
+    shown = _math(tree, "Stops Shown", (500, 1200), "MULTIPLY_ADD", fall, -ROLLOFF_STOPS, ROLLOFF_STOPS)
+    scale = _math(tree, "Roll-off", (650, 1200), "POWER", 2.0,
+                  _math(tree, "Stops Removed", (550, 1350), "SUBTRACT", shown, x))
+    path = tree.node("ShaderNodeLightPath", "Camera Path", (100, 1000))  # the disk's nodes use it too
+    mix = tree.node("ShaderNodeMix", "Camera Roll-off", (800, 1200), data_type="RGBA", blend_type="MULTIPLY")
     fac = [i for i in mix.inputs if i.name == "Factor" and i.type == "VALUE"][0]
     a, b = [i for i in mix.inputs if i.type == "RGBA"][:2]
-    links.new(path.outputs["Is Camera Ray"], fac)
-    links.new(source, a)
-    links.new(scale, b)
-    links.new([o for o in mix.outputs if o.type == "RGBA"][0], bg.inputs["Color"])
+    tree.link(path.outputs["Is Camera Ray"], fac)
+    tree.link(source, a)
+    tree.link(scale, b)
+    tree.link([o for o in mix.outputs if o.type == "RGBA"][0], bg.inputs["Color"])
 
 
-def _camera_disk_nodes(nodes, links, mapping, bg, settings, sun):
+def _camera_disk_nodes(tree, mapping, bg, settings, sun):
     """The sun disk for camera rays only (the lamp lights; nothing is counted twice): a uniform
     disk of the sun's angular size and its radiance, the direct normal irradiance / the disk's solid
     angle, where the looked-up direction is within the sun's radius."""
     radius = math.radians(sun["angular_diameter_deg"]) / 2
     solid_angle = 2 * math.pi * (1 - math.cos(radius))
-    dot = _node(nodes, "ShaderNodeVectorMath", "Toward Sun", (-100, 800), operation="DOT_PRODUCT")
-    links.new(mapping.outputs["Vector"], dot.inputs[0])
-    dot.inputs[1].default_value = sun["direction"]  # the map's frame: the mapping's output
-    inside = _node(nodes, "ShaderNodeMath", "In Sun Disk", (100, 800), operation="GREATER_THAN")
-    inside.inputs[1].default_value = math.cos(radius)
-    links.new(dot.outputs["Value"], inside.inputs[0])
-    path = nodes.get(NODE_PREFIX + "Camera Path") or _node(nodes, "ShaderNodeLightPath", "Camera Path", (100, 1000))
-    camera = _node(nodes, "ShaderNodeMath", "Camera Sees Sun", (250, 900), operation="MULTIPLY")
-    links.new(inside.outputs["Value"], camera.inputs[0])
-    links.new(path.outputs["Is Camera Ray"], camera.inputs[1])
+    dot = tree.node("ShaderNodeVectorMath", "Toward Sun", (-100, 800), operation="DOT_PRODUCT")
+    tree.link(mapping.outputs["Vector"], dot.inputs[0])
+    tree.value(dot.inputs[1], sun["direction"])  # the map's frame: the mapping's output
+    inside = tree.node("ShaderNodeMath", "In Sun Disk", (100, 800), operation="GREATER_THAN")
+    tree.value(inside.inputs[1], math.cos(radius))
+    tree.link(dot.outputs["Value"], inside.inputs[0])
+    path = tree.node("ShaderNodeLightPath", "Camera Path", (100, 1000))
+    camera = tree.node("ShaderNodeMath", "Camera Sees Sun", (250, 900), operation="MULTIPLY")
+    tree.link(inside.outputs["Value"], camera.inputs[0])
+    tree.link(path.outputs["Is Camera Ray"], camera.inputs[1])
     scale = settings.get("sun_strength", 1.0) / max(settings.get("sky_strength", 1.0), 1e-6) / solid_angle
     rgb = Color(sun["irradiance_rgb"]).from_rec709_linear_to_scene_linear()
-    _mix_into(nodes, links, bg, "Sun Disk", camera.outputs["Value"], [c * scale for c in rgb], (450, 600))
+    _mix_into(tree, bg, "Sun Disk", camera.outputs["Value"], [c * scale for c in rgb], (450, 600))
 
 
 def _scene_bounds(scene):
@@ -337,10 +403,11 @@ def setup_lamp(scene, sun, north_offset, strength=1.0):
     # Blender converts the map tagged Linear Rec.709
     rgb = list(Color(sun["irradiance_rgb"]).from_rec709_linear_to_scene_linear())
     peak = max(rgb)
-    light.energy = max(peak, 0.0) * sun.get("strength", 1.0)
-    light.color = [c / peak for c in rgb] if peak > 0.0 else (1.0, 1.0, 1.0)
-    light.angle = math.radians(sun["angular_diameter_deg"])
-    obj[CLOUD_KEY] = sun.get("cloud_transmittance", 1.0)
+    set_changed(light, "energy", max(peak, 0.0) * sun.get("strength", 1.0))
+    set_changed(light, "color", [c / peak for c in rgb] if peak > 0.0 else (1.0, 1.0, 1.0))
+    set_changed(light, "angle", math.radians(sun["angular_diameter_deg"]))
+    if obj.get(CLOUD_KEY) != sun.get("cloud_transmittance", 1.0):
+        obj[CLOUD_KEY] = sun.get("cloud_transmittance", 1.0)
     point_lamp(scene, sun["direction"], north_offset,
                sun["elevation_deg"] + sun["angular_diameter_deg"] / 2 < 0.0 or peak <= 0.0)
     return obj
@@ -353,10 +420,10 @@ def point_lamp(scene, direction, north_offset, below, cloudless=False):
     its map arrives keeps its deck's verdict instead of flashing on until the map hides it."""
     obj = _ensure_lamp(scene)
     d = scene_direction(direction, north_offset)
-    obj.rotation_mode = "XYZ"
-    obj.rotation_euler = d.to_track_quat("Z", "Y").to_euler()  # the lamp shines along its -Z
+    set_changed(obj, "rotation_mode", "XYZ")
+    set_changed(obj, "rotation_euler", d.to_track_quat("Z", "Y").to_euler())  # the lamp shines along its -Z
     centre, radius = _scene_bounds(scene)
-    obj.location = centre + d * (radius + 2.0)  # only for the viewport: outside the scene, toward the sun
+    set_changed(obj, "location", centre + d * (radius + 2.0))  # only for the viewport: outside the scene, toward the sun
     hidden = below or (not cloudless and obj.get(CLOUD_KEY, 1.0) < HIDDEN_BY_CLOUDS)
     if obj.hide_viewport != hidden or obj.hide_render != hidden:  # each set re-syncs the scene's collections
         obj.hide_render = obj.hide_viewport = hidden
@@ -411,9 +478,9 @@ def set_world(scene, settings, sun, sky_image, disk_image=None):
     else:
         setup_lamp(scene, sun, settings["north_offset"], settings.get("sun_strength", 1.0))
     if mode == "DISK" and hasattr(world, "cycles"):  # resolve the small, bright disk when sampling the map
-        world.cycles.sample_map_resolution = max(world.cycles.sample_map_resolution, sky_image.size[0] // 2)
+        set_changed(world.cycles, "sample_map_resolution", max(world.cycles.sample_map_resolution, sky_image.size[0] // 2))
     if hasattr(world, "sun_threshold"):  # EEVEE (4.2+): extract a sun from the map only when it has one
-        world.sun_threshold = 10.0 if mode == "DISK" else 0.0
+        set_changed(world, "sun_threshold", 10.0 if mode == "DISK" else 0.0)
     return world
 
 
@@ -455,7 +522,7 @@ def apply_series(scene, settings, frames):
     if world is None:
         world = scene.world = bpy.data.worlds.new("Firmament World")
     build_world_nodes(world, sky_image, None, mapping_rotation_z(settings["north_offset"], suns[0]["azimuth_at_center_deg"]),
-                      dict(settings, ground="MAP", camera_disk=False))  # a static disk would not follow the lamp
+                      dict(settings, ground="MAP", camera_disk=False), rebuild=True)  # a static disk would not follow the lamp
     env = world.node_tree.nodes[NODE_PREFIX + "Sky"]
     first = scene.frame_start
     iu = env.image_user

@@ -12,6 +12,10 @@ update callbacks), and live.settle (a watch pass, live.send_pending, then live.p
   upper hemisphere integrated) is the sidecar's within 3%, and its zenith luminance is that of a
   direct `firmament render` of the same request within 3% (preview noise, and the live path's
   interpolation over sun elevations: within 1% of the final path).
+- A reply that leaves the world's node structure as it is (the camera's disk on) updates the nodes
+  in place: the same node objects (a mark set on each survives), the image the new map, the disk's
+  direction the new sun's.  The sky and sun strengths and the north offset (no new map) change the
+  world's nodes and the lamp at the next pass, with no request.
 - A reply within live.WAIT_S is applied in the change's own handler (before Blender draws); after a
   render longer than the bound, the next change leaves its reply to the poll timer; a server that
   cannot answer (stopped) holds the handler for the bound (at least, and not 3 s more), then the
@@ -185,6 +189,46 @@ lamp = h.sun_lamps()[0]
 h.close(lamp.data.energy, max(side["sun"]["direct_normal_irradiance_rgb"]), 1e-3 * lamp.data.energy,
         "lamp strength from the reply")
 h.check(srv.pid == pid, "the same server")
+
+# a reply that leaves the world's nodes as they are (the camera's disk on: values that follow the sun)
+# updates them in place: the same node objects (a mark on each survives), the new map in the image
+p.camera_disk = True
+settled("the camera's disk on")
+nodes = scene.world.node_tree.nodes
+ours = sorted(n.name for n in nodes if n.name.startswith(world.NODE_PREFIX))
+h.check(world.NODE_PREFIX + "Toward Sun" in ours, "the camera's disk nodes: %s" % ours)
+for n in nodes:
+    n["firmament_test_mark"] = 1
+p.sun_elevation = 36.5
+settled("elevation 36.5")
+nodes = scene.world.node_tree.nodes
+h.check(sorted(n.name for n in nodes if n.name.startswith(world.NODE_PREFIX)) == ours and
+        all(n.get("firmament_test_mark") for n in nodes), "a reply of the same structure: the nodes kept, not rebuilt")
+side = h.sidecar_of(live_image())
+h.close(side["sun"]["elevation_deg"], 36.5, 1e-6, "the nodes kept: the image is the new map")
+h.check(rows(live_image())[0] != zenith, "the nodes kept: the image's pixels are the new map's")
+h.close(max(abs(a - b) for a, b in zip(nodes[world.NODE_PREFIX + "Toward Sun"].inputs[1].default_value,
+                                       side["sun"]["direction"])), 0.0, 1e-6, "the nodes kept: the disk toward the new sun")
+
+# the world's and the lamp's own settings (no new map) follow at once, with no request
+sent = live._state["next_id"]
+p.sky_strength, p.sun_strength, p.north_offset = 2.0, 0.5, math.radians(30.0)
+live.watch()
+h.check(live._state["next_id"] == sent and live._state["sent"] is None, "strengths and north: no request")
+h.close(nodes[world.NODE_PREFIX + "Sky Background"].inputs["Strength"].default_value, 2.0, 1e-6,
+        "the sky strength at once")
+h.close(nodes[world.NODE_PREFIX + "North"].inputs["Rotation"].default_value[2],
+        world.mapping_rotation_z(p.north_offset, side["image"].get("azimuth_at_center_deg", 90.0)), 1e-6,
+        "the north offset at once: the map's rotation")
+h.close(angle_deg(lamp_direction(), world.scene_direction(side["sun"]["direction"], p.north_offset)), 0.0, 0.1,
+        "the north offset at once: the lamp (deg)")
+lamp = h.sun_lamps()[0]
+h.close(lamp.data.energy, 0.5 * max(side["sun"]["direct_normal_irradiance_rgb"]), 1e-3 * lamp.data.energy,
+        "the sun strength at once")
+h.check(all(n.get("firmament_test_mark") for n in nodes), "strengths and north: the nodes kept")
+p.sky_strength, p.sun_strength, p.north_offset, p.camera_disk = 1.0, 1.0, 0.0, False
+settled("strengths, north and disk back")
+h.close(angle_deg(lamp_direction(), Vector(side["sun"]["direction"])), 0.0, 0.1, "north back: the lamp (deg)")
 
 # a reply within live.WAIT_S is applied in the change's own handler, so that the frame Blender draws
 # next shows it; a bound this long, so that no load on the machine makes the reply miss it
