@@ -284,7 +284,9 @@ def apply_reply(scene, reply, settings):
     current = live_settings(properties.to_dict(scene.firmament_sky))
     if request_of(current) == request_of(settings):
         settings = current
-    _show(scene, settings, sun, img)
+    # A reload alone costs EEVEE's draw no world update (its lighting's refresh: 1.3 s of software GL
+    # here) and leaving its lighting on the old map is not tried: the world is tagged as a rebuild did
+    _show(scene, settings, sun, img).update_tag()
     for window in bpy.context.window_manager.windows if bpy.context.window_manager else ():
         for area in window.screen.areas:
             if area.type == "VIEW_3D":  # the world's nodes and the lamp tag their own updates
@@ -296,6 +298,7 @@ def _show(scene, settings, sun, img):
     if FINAL_KEY in w:
         del w[FINAL_KEY]
     _state["shown"] = {"scene": scene.name, "settings": settings, "sun": sun}
+    return w
 
 
 def _reshow(scene, settings):
