@@ -77,8 +77,8 @@ static void altostratus_against_the_path_tracer(void **state)
  * FOG_TABLE_MIN_SUN_DEG_PER_KM degrees per km of the layer's base up or more; a thinner layer from
  * FOG_TABLE_MIN_TAU_THIN up, with the sun FOG_TABLE_THIN_MIN_SUN_DEG up or more, or
  * FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG for a layer of ice (FOG_TABLE_THIN_LOW_SUN_DEG from
- * FOG_TABLE_THIN_LOW_SUN_MIN_TAU up); fog alone around the observer at any optical
- * depth with the fog's bounds (docs/decisions/2026-12-07-shallow-fog.md). */
+ * FOG_TABLE_THIN_LOW_SUN_MIN_TAU up); fog alone around the observer of FOG_TABLE_MIN_TAU_FOG or more
+ * from FOG_TABLE_SHALLOW_FOG_MIN_SUN_DEG (docs/decisions/2026-12-07-shallow-fog.md). */
 static void where_the_column_applies(void **state)
 {
     (void)state;
@@ -100,8 +100,11 @@ static void where_the_column_applies(void **state)
                  {"cirrostratus", FOG_TABLE_THIN_LOW_SUN_MIN_TAU, FOG_TABLE_THIN_LOW_SUN_DEG - 0.01, 0},
                  {"cirrostratus", FOG_TABLE_MIN_TAU, 8.0 * FOG_TABLE_MIN_SUN_DEG_PER_KM - 0.01, 0},
                  {"stratus", 30.0, 3.0, 1},
-                 /* fog alone around the observer however thin, not under another layer */
-                 {"fog", 1.0, FOG_TABLE_BLEND_TO_DEG, 1},
+                 /* fog alone around the observer from FOG_TABLE_MIN_TAU_FOG, not under another layer */
+                 {"fog", 1.0, FOG_TABLE_SHALLOW_FOG_MIN_SUN_DEG, 1},
+                 {"fog", 1.0, FOG_TABLE_SHALLOW_FOG_MIN_SUN_DEG - 0.01, 0},
+                 {"fog", FOG_TABLE_MIN_TAU_FOG, FOG_TABLE_SHALLOW_FOG_MIN_SUN_DEG, 1},
+                 {"fog", 0.99 * FOG_TABLE_MIN_TAU_FOG, FOG_TABLE_THIN_MIN_SUN_DEG - 0.01, 0},
                  {"fog,cirrostratus", 1.0, FOG_TABLE_THIN_MIN_SUN_DEG - 0.01, 0}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         fm_sky_params p = fm_sky_params_default();

@@ -13,7 +13,7 @@
  * altostratus (3-4 km, 10) at FOG_TABLE_MIN_SUN_DEG_CLOUDS (8), where two layers start taking it (the
  * cirrostratus in the column's air above the deck, under its pseudo-spherical beam); the Misty
  * morning preset's shallow fog around the observer (0-100 m, visibility 400 m: optical depth 0.98)
- * at its sun of 12.4 degrees, where fog alone takes the column however thin
+ * at its sun of 12.4 degrees, where fog alone of FOG_TABLE_MIN_TAU_FOG or more takes the column
  * (docs/decisions/2026-12-07-shallow-fog.md).
  * Faults it fails on (the decision records say by how much): the column's own order 1 not
  * subtracted (counted twice with the single-scattering table's); the plane's beam cosine above the

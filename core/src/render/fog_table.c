@@ -146,13 +146,14 @@ static int thin_ice_alone(const fm_sky *sky)
 }
 
 /* Whether the layer is fog alone around the observer (from the ground up, its top above the
- * observer): however thin, its forward light near the sun is the fog's around the observer, the
- * column's own, not a distant layer's under another sun (docs/decisions/2026-12-07-shallow-fog.md). */
+ * observer) of FOG_TABLE_MIN_TAU_FOG or more: its forward light near the sun is the fog's around the
+ * observer, not a distant layer's under another sun (docs/decisions/2026-12-07-shallow-fog.md). */
 static int fog_alone_around_observer(const fm_sky *sky, int cloud)
 {
     const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
     return sky->composition.cloud_count == 1 && sky->composition.cloud[cloud].base_m <= 0.0 &&
-           altitude < sky->composition.cloud[cloud].base_m + sky->composition.cloud[cloud].thickness_m;
+           altitude < sky->composition.cloud[cloud].base_m + sky->composition.cloud[cloud].thickness_m &&
+           sky->composition.cloud[cloud].tau550 >= FOG_TABLE_MIN_TAU_FOG;
 }
 
 int fog_table_applies(const render_job *job)
@@ -169,8 +170,9 @@ int fog_table_applies(const render_job *job)
         return sky->sun_dir.z >= sin((low ? FOG_TABLE_THIN_LOW_SUN_DEG : FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG) * FM_DEG);
     }
     min_sun = fmax(min_sun, FOG_TABLE_MIN_SUN_DEG_PER_KM * sky->composition.cloud[cloud].base_m / 1000.0);
-    if (sky->composition.cloud[cloud].tau550 < FOG_TABLE_MIN_TAU && !fog_alone_around_observer(sky, cloud))
-        min_sun = fmax(min_sun, FOG_TABLE_THIN_MIN_SUN_DEG);
+    if (sky->composition.cloud[cloud].tau550 < FOG_TABLE_MIN_TAU)
+        min_sun = fmax(min_sun, fog_alone_around_observer(sky, cloud) ? FOG_TABLE_SHALLOW_FOG_MIN_SUN_DEG
+                                                                       : FOG_TABLE_THIN_MIN_SUN_DEG);
     return sky->sun_dir.z >= sin(min_sun * FM_DEG);
 }
 

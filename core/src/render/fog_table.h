@@ -60,9 +60,8 @@ struct render_job;
  * the reference's tolerance but for a view (docs/decisions/2026-12-07-thin-layers-low-sun.md).
  * Droplets keep this bound: their truncated peak's light, about the sun, stays the observer's sun's
  * (altostratus of 1 at sun 15: 11 % dark 9 degrees below the sun with the several suns).  Fog alone
- * around the observer does not: it is around the observer at the observer's sun, so a shallow fog
- * (Misty morning: 100 m of 400 m visibility, optical depth 1) takes the column with the fog's bounds
- * (docs/decisions/2026-12-07-shallow-fog.md). */
+ * around the observer of FOG_TABLE_MIN_TAU_FOG or more does not: it is around the observer at the
+ * observer's sun (Misty morning: 100 m of 400 m visibility, optical depth 0.98, sun 12.4). */
 #define FOG_TABLE_THIN_MIN_SUN_DEG 24.0
 /* Lower, the thinner ice layers miss the reference at the horizon near the sun (cirrostratus of 0.5
  * at sun 2: 17 % dark 6 degrees from the sun; of 1, within the tolerance down to sun 1). */
@@ -72,6 +71,14 @@ struct render_job;
  * dark 4-8 degrees above the sun (docs/decisions/2026-12-07-thin-layers-twilight.md). */
 #define FOG_TABLE_THIN_LOW_SUN_DEG 1.0
 #define FOG_TABLE_THIN_LOW_SUN_MIN_TAU 1.0
+/* Fog alone around the observer thinner than FOG_TABLE_MIN_TAU but of FOG_TABLE_MIN_TAU_FOG or more
+ * takes the column from FOG_TABLE_SHALLOW_FOG_MIN_SUN_DEG (and below 3, lit from above); thinner fog
+ * keeps FOG_TABLE_THIN_MIN_SUN_DEG.  The column's light near the sun is one beam's, and less fog
+ * hides it less (4 degrees above the sun at sun 12: +5 % at 0.39 and 0.59, +1.6 % at 0.98), the more
+ * so at a low sun (2.5 degrees above a sun of 3.5: -18 % at 0.39, -14 % at 0.85, -8.5 % at 0.98).
+ * Bounds chosen from those measurements (docs/decisions/2026-12-07-shallow-fog.md), not fits. */
+#define FOG_TABLE_MIN_TAU_FOG 0.8
+#define FOG_TABLE_SHALLOW_FOG_MIN_SUN_DEG 6.0
 /* Above a deck (a layer of FOG_TABLE_MIN_TAU or more below the observer, alone) below this sun the
  * column is made at several suns, each view down lit by the sun where it meets the deck's top. */
 #define FOG_TABLE_ABOVE_LOCAL_SUN_DEG 10.0
@@ -109,9 +116,9 @@ int fog_table_local_sun(const struct render_job *job);
  * FOG_TABLE_MAX_VISIBILITY_M or less or below, inside or above a layer of FOG_TABLE_MIN_TAU or more, the
  * sun FOG_TABLE_MIN_SUN_DEG (FOG_TABLE_MIN_SUN_DEG_CLOUDS with other clouds, and
  * FOG_TABLE_MIN_SUN_DEG_PER_KM per km of an elevated layer's base, FOG_TABLE_THIN_MIN_SUN_DEG for a
- * thinner layer but fog alone around the observer, FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG for a thin layer
- * of ice alone, FOG_TABLE_THIN_LOW_SUN_DEG for one of FOG_TABLE_THIN_LOW_SUN_MIN_TAU or more) or more
- * up.  The
+ * thinner layer, FOG_TABLE_SHALLOW_FOG_MIN_SUN_DEG for thinner fog alone around the observer of
+ * FOG_TABLE_MIN_TAU_FOG or more, FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG for a thin layer of ice alone,
+ * FOG_TABLE_THIN_LOW_SUN_DEG for one of FOG_TABLE_THIN_LOW_SUN_MIN_TAU or more) or more up.  The
  * ground's irradiance then takes orders >= 2 from the column too (build it without paths). */
 int fog_table_applies(const struct render_job *job);
 /* Whether the sky holds such fog or cloud and no deck that the deck base takes by day (the rest of
