@@ -21,7 +21,8 @@
  * sun counted once (docs/decisions/2026-12-07-thin-layers-low-sun.md); at sun 1, the bound lowered
  * to sun 0.5 or to optical depth 0.75 (docs/decisions/2026-12-07-thin-layers-twilight.md).
  * The shallow fog fails where the thin layers' sun bound (FOG_TABLE_THIN_MIN_SUN_DEG) is put back on
- * fog (the column does not apply).
+ * fog (the column does not apply), and with the peak's light left out (17 % dark 4 degrees above the
+ * sun).
  * Run with arguments CLOUDS TAU SUN PATHS [THICKNESS_KM] for one case (a sweep by hand; TAU 0 keeps
  * the presets'). About 60 s of CPU, nearly all of it the path tracer. */
 #include "check.h"
