@@ -247,7 +247,8 @@ if [ "${1:-}" = "--clouds" ]; then
     # (sun -3: lit by the sky above them, docs/decisions/2026-12-07-twilight-fog.md), and the stratus seen
     # from above (a mountain top at 3 km, sun 30 and 3: docs/decisions/2026-12-07-above-deck.md), the
     # altostratus (3-4 km) at dusk (sun -4: docs/decisions/2026-12-07-deck-local-sun.md), the High
-    # cirrostratus preset and cirrostratus over altostratus at sun 10 (docs/decisions/2026-12-07-thin-layers.md), the
+    # cirrostratus preset and cirrostratus over altostratus at sun 10 (docs/decisions/2026-12-07-thin-layers.md)
+    # and 3 (docs/decisions/2026-12-07-two-layers-low-sun.md), the
     # Misty morning preset (shallow fog: 0-100 m, visibility 400 m, optical depth 1, sun 12.4;
     # docs/decisions/2026-12-07-shallow-fog.md), and cirrostratus (optical depth 1) at sunrise (sun 1: the
     # column) and at dusk (sun -3: the paths; docs/decisions/2026-12-07-thin-layers-twilight.md) as 4096 x
@@ -262,6 +263,7 @@ if [ "${1:-}" = "--clouds" ]; then
         "above-overcast-low-sun --cloud stratus --altitude 3000 --sun-elevation 3" \
         "altostratus-dusk --cloud altostratus --sun-elevation -4" \
         "high-cirrostratus --preset high-cirrostratus" "two-layers --cloud cirrostratus,altostratus --sun-elevation 10" \
+        "two-layers-low-sun --cloud cirrostratus,altostratus --sun-elevation 3" \
         "misty-morning --preset misty-morning" \
         "cirrostratus-sunrise --cloud cirrostratus --sun-elevation 1" \
         "cirrostratus-dusk --cloud cirrostratus --sun-elevation -3"; do

@@ -22,7 +22,9 @@
  * to sun 0.5 or to optical depth 0.75 (docs/decisions/2026-12-07-thin-layers-twilight.md).
  * The shallow fog fails where the thin layers' sun bound (FOG_TABLE_THIN_MIN_SUN_DEG) is put back on
  * fog (the column does not apply), and with the peak's light left out (17 % dark 4 degrees above the
- * sun).
+ * sun).  Cirrostratus over altostratus at sun 4 (the deck's column lit from above blended with the
+ * day's) fails with the beam above the deck from the points above one another (+70 %;
+ * docs/decisions/2026-12-07-two-layers-low-sun.md).
  * Run with arguments CLOUDS TAU SUN PATHS [THICKNESS_KM] for one case (a sweep by hand; TAU 0 keeps
  * the presets'). About 60 s of CPU, nearly all of it the path tracer. */
 #include "check.h"
@@ -59,7 +61,7 @@ static int against_the_path_tracer(const char *clouds, double tau, double sun_de
     p.sun_azimuth_deg = 180.0;
     fm_sky *sky = test_sky(&p);
     column_tables t;
-    column_tables_start(sky, 0, 0, &t);
+    column_tables_start(sky, 0, 1, &t); /* as a render: below its bound a deck's column lit from above */
     assert_null(t.tw);
     assert_true(fog_table_applies(&t.job));
     column_tables_make(&t);
@@ -127,6 +129,16 @@ static void shallow_fog_against_the_path_tracer(void **state)
     assert_int_equal(against_the_path_tracer("fog", 3.912 / 400.0 * 100.0, 12.4, 60000, 0.1), 0);
 }
 
+/* Below FOG_TABLE_MIN_SUN_DEG_CLOUDS the altostratus takes the column lit from above at three suns,
+ * the sky above it (the cirrostratus's) from the sphere's paths, blended with the day's column up to
+ * FOG_TABLE_BLEND_DEG above its bound (docs/decisions/2026-12-07-two-layers-low-sun.md): at sun 4 a
+ * third the day's, whose beam crosses the cirrostratus as on its way to the deck's top. */
+static void two_layers_at_a_low_sun(void **state)
+{
+    (void)state;
+    assert_int_equal(against_the_path_tracer("cirrostratus,altostratus", 0.0, 4.0, 20000, 0.0), 0);
+}
+
 int main(int argc, char **argv)
 {
     if (argc == 5 || argc == 6)
@@ -138,6 +150,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(thick_cirrostratus_at_sun_1),
         cmocka_unit_test(two_layers_against_the_path_tracer),
         cmocka_unit_test(shallow_fog_against_the_path_tracer),
+        cmocka_unit_test(two_layers_at_a_low_sun),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -114,13 +114,33 @@ static double from_above_below_deg(const fm_sky *sky, int cloud)
     return fmax(FOG_TABLE_MIN_SUN_DEG, FOG_TABLE_MIN_SUN_DEG_PER_KM * sky->composition.cloud[cloud].base_m / 1000.0);
 }
 
+/* Whether every cloud layer but `cloud` is thin (below FOG_TABLE_MIN_TAU) and lies above its top: the
+ * sky without it (fog_incident.h), which lights the column lit from above, holds them (cirrostratus
+ * over an altostratus deck; docs/decisions/2026-12-07-two-layers-low-sun.md).  A thick layer above
+ * (altostratus over stratocumulus) left that sky's paths 40 % dark at sun 2. */
+static int thin_layers_above(const fm_sky *sky, int cloud)
+{
+    const double top = sky->composition.cloud[cloud].base_m + sky->composition.cloud[cloud].thickness_m;
+    for (int i = 0; i < sky->composition.cloud_count; i++)
+        if (i != cloud && (sky->composition.cloud[i].base_m < top || sky->composition.cloud[i].tau550 >= FOG_TABLE_MIN_TAU))
+            return 0;
+    return 1;
+}
+
+/* Whether the column lit from above takes layer `cloud`: alone, or an elevated deck under thin layers. */
+static int from_above_cloud(const fm_sky *sky, int cloud)
+{
+    return cloud >= 0 && (sky->composition.cloud_count == 1 ||
+                          (sky->composition.cloud[cloud].base_m > 0.0 && thin_layers_above(sky, cloud)));
+}
+
 int fog_table_from_above(const render_job *job)
 {
     const fm_sky *sky = job->sky;
     const double z = sky->sun_dir.z, altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
     const int cloud = column_cloud_from(sky, FOG_TABLE_MIN_TAU);
     return job->fog_from_above && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
-           sky->composition.cloud_count == 1 && cloud >= 0 && altitude < FOG_TABLE_ON_GROUND_M &&
+           from_above_cloud(sky, cloud) && altitude < FOG_TABLE_ON_GROUND_M &&
            z < sin((from_above_below_deg(sky, cloud) + FOG_TABLE_BLEND_DEG) * FM_DEG) &&
            z >= sin(FOG_TABLE_TWILIGHT_MIN_SUN_DEG * FM_DEG);
 }
@@ -164,7 +184,10 @@ int fog_table_applies(const render_job *job)
     const int cloud = column_cloud(sky);
     if (cloud < 0 || job->twilight || job->under_deck || job->params->quality == FM_QUALITY_REFERENCE)
         return 0;
-    double min_sun = sky->composition.cloud_count > 1 ? FOG_TABLE_MIN_SUN_DEG_CLOUDS : FOG_TABLE_MIN_SUN_DEG;
+    /* thin layers above a deck that the column lit from above takes below its bound: as one deck */
+    const int as_one = from_above_cloud(sky, column_cloud_from(sky, FOG_TABLE_MIN_TAU)) && job->fog_from_above &&
+                       v3_length(sky->observer) - sky->atm.bottom_radius_m < FOG_TABLE_ON_GROUND_M;
+    double min_sun = sky->composition.cloud_count > 1 && !as_one ? FOG_TABLE_MIN_SUN_DEG_CLOUDS : FOG_TABLE_MIN_SUN_DEG;
     if (thin_ice_alone(sky)) {
         const int low = sky->composition.cloud[cloud].tau550 >= FOG_TABLE_THIN_LOW_SUN_MIN_TAU;
         return sky->sun_dir.z >= sin((low ? FOG_TABLE_THIN_LOW_SUN_DEG : FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG) * FM_DEG);
@@ -562,19 +585,36 @@ static double node_radiance(const fog_column *fc, const scaled_layer *sl, const 
     return L;
 }
 
+/* The sun's zenith cosine at radius r along the ray toward it from the fog's top (ray), or mu0 (the
+ * points above one another). */
+static double ray_cosine(const fog_column *fc, double r, double mu0, int ray)
+{
+    const double q = fc->top_radius / r;
+    return ray ? sqrt(fmax(0.0, 1.0 - q * q * (1.0 - mu0 * mu0))) : mu0;
+}
+
 /* Pseudo-spherical beam in the air above the fog (as DISORT's): each layer's beam cosine is its
  * optical depth over the sphere's slant optical depth across it (from the sun table, at the layer's
  * top and bottom), so the beam reaching and crossing it is dimmed as in the sphere.  At a low sun
  * the plane's 1 / mu0 overstates the slant path high up, where the air scatters the light that
- * enters the fog (1 / mu0 is 5.8 air masses at 10 degrees, the sphere's 5.6; at 1 degree 57 against 26). */
+ * enters the fog (1 / mu0 is 5.8 air masses at 10 degrees, the sphere's 5.6; at 1 degree 57 against 26).
+ * The slants are those along the one ray that reaches the fog's top (at each radius the cosine it
+ * has there): a cloud layer high above is crossed more steeply from lower down, so that the
+ * transmittances toward the sun from the points above one another grow downward below it, which no
+ * plane column holds (their negative differences fell back to the plane's 1 / mu0, and the sum missed
+ * the fog top's transmittance, which scales the column, by a factor of 10 at sun 3 under a
+ * cirrostratus: docs/decisions/2026-12-07-two-layers-low-sun.md). */
 static void air_beam_cosines(const fog_column *fc, const fm_sky *sky, int k, const scaled_layer *sl, plane_layer *pl)
 {
     const atmosphere *atm = &sky->atm;
     const double mu0 = sky->sun_dir.z;
+    const int ray = sky->composition.cloud_count > 1; /* a cloud above the fog (else as before: above one another) */
     double T_top[FM_MAX_WAVELENGTHS], T_bottom[FM_MAX_WAVELENGTHS];
-    sun_irradiance_lookup(&sky->sun_table, atm, &sky->sun, atm->top_radius_m, mu0, T_top);
+    sun_irradiance_lookup(&sky->sun_table, atm, &sky->sun, atm->top_radius_m, ray_cosine(fc, atm->top_radius_m, mu0, ray),
+                          T_top);
     for (int l = 0; l < fc->layers - fc->fog_layers; l++) {
-        sun_irradiance_lookup(&sky->sun_table, atm, &sky->sun, atm->bottom_radius_m + fc->top_m[l + 1], mu0, T_bottom);
+        const double r = atm->bottom_radius_m + fc->top_m[l + 1];
+        sun_irradiance_lookup(&sky->sun_table, atm, &sky->sun, r, ray_cosine(fc, r, mu0, ray), T_bottom);
         const double slant = log(T_top[k]) - log(T_bottom[k]);
         if (sl[l].tau > 1e-9 && slant > 0.0 && T_bottom[k] > 0.0)
             pl[l].mu0 = fmin(1.0, sl[l].tau / slant);

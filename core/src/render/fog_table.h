@@ -36,10 +36,11 @@ struct render_job;
  * up but for a view or two (docs/decisions/2026-12-06-fog-column.md); at the horizon the plane's
  * beam has no cosine. */
 #define FOG_TABLE_MIN_SUN_DEG 0.2
-/* With another cloud layer above the fog or the deck: the air layers' beam cosines come from the sun table's
- * transmittance at their edges, whose interpolation under a cloud at a low sun is off by more than
- * the layers' own slant depths (at 3 degrees under a cirrostratus the diffuse light came out 50
- * times too bright), so a lower sun keeps the paths. */
+/* With another cloud layer above the fog or the deck a lower sun keeps the paths (at 3 degrees under a
+ * cirrostratus the diffuse light came out 50 times too bright when the air layers' beam cosines came
+ * from the points above one another; now from the ray to the column's top, fog_table.c), but for thin
+ * layers above an elevated deck, which takes the column lit from above below its own bound as a deck
+ * alone does (docs/decisions/2026-12-07-two-layers-low-sun.md). */
 #define FOG_TABLE_MIN_SUN_DEG_CLOUDS 8.0
 /* Under an elevated layer the sun at least this many degrees per km of the layer's base: one sun
  * lights the whole plane, while the deck a view meets d km away is lit by a sun d / R higher or
@@ -84,7 +85,7 @@ struct render_job;
 #define FOG_TABLE_ABOVE_LOCAL_SUN_DEG 10.0
 
 /* Below FOG_TABLE_MIN_SUN_DEG, down to the end of astronomical twilight, fog alone around an observer
- * on the ground (below FOG_TABLE_ON_GROUND_M), or a deck alone above it (below
+ * on the ground (below FOG_TABLE_ON_GROUND_M), or a deck alone (or under thin layers) above it (below
  * FOG_TABLE_MIN_SUN_DEG_PER_KM per km of its base; above FOG_TABLE_FROM_ABOVE_MAX_BASE_M at several
  * suns, fog_table_local_sun), takes the
  * column of the layer and the air under it lit from above by the spherical sky without the layer
