@@ -26,7 +26,7 @@
  * day's) fails with the beam above the deck from the points above one another (+70 %;
  * docs/decisions/2026-12-07-two-layers-low-sun.md).
  * Run with arguments CLOUDS TAU SUN PATHS [THICKNESS_KM] for one case (a sweep by hand; TAU 0 keeps
- * the presets'). About 60 s of CPU, nearly all of it the path tracer. */
+ * the presets'). About 75 s of CPU (the two layers at sun 4: 16 s), nearly all of it the path tracer. */
 #include "check.h"
 
 #include "column_tables.h"
