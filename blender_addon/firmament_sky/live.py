@@ -302,9 +302,9 @@ def _show(scene, settings, sun, img):
 
 
 def _reshow(scene, settings):
-    """Settings that the map does not depend on (north offset, sky and sun strengths, ground, camera
-    disk) changed: the world and the lamp follow at once from the map shown, with no request.  A map
-    awaited takes the current settings when it comes."""
+    """Settings that the map does not depend on (north offset, sky and sun strengths, metering, ground,
+    camera disk) changed: the world and the lamp follow at once from the map shown, with no request.  A
+    map awaited takes the current settings when it comes."""
     shown = _state["shown"]
     if _state["sent"] is not None or shown is None or shown["scene"] != scene.name or shown["settings"] == settings:
         return

@@ -227,7 +227,7 @@ PRESET_KEYS = ("sun_source", "year", "month", "day", "hour", "minute", "second",
 # what the live sky follows: the sky and how the world and lamp show it.  No update callbacks: a
 # Python one makes Blender re-sync the whole scene at the next draw (live.watch polls these instead;
 # docs/decisions/2026-12-07-blender-live-latency.md)
-LIVE_KEYS = PRESET_KEYS + ("sun_mode", "camera_disk", "north_offset", "sky_strength", "sun_strength", "ground",
+LIVE_KEYS = PRESET_KEYS + ("sun_mode", "camera_disk", "north_offset", "sky_strength", "sun_strength", "metering", "ground",
                            "ground_colour")
 
 

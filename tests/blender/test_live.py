@@ -226,6 +226,15 @@ lamp = h.sun_lamps()[0]
 h.close(lamp.data.energy, 0.5 * max(side["sun"]["direct_normal_irradiance_rgb"]), 1e-3 * lamp.data.energy,
         "the sun strength at once")
 h.check(all(n.get("firmament_test_mark") for n in nodes), "strengths and north: the nodes kept")
+knee = nodes[world.NODE_PREFIX + "Over Knee"].inputs[1].default_value
+p.metering = "SKY"  # the camera roll-off's knee follows the metered exposure
+live.watch()
+h.check(live._state["next_id"] == sent and live._state["sent"] is None, "metering: no request")
+h.check(abs(nodes[world.NODE_PREFIX + "Over Knee"].inputs[1].default_value - knee) > 1e-3 * knee,
+        "the metering at once: the camera roll-off's knee")
+p.metering = "HORIZONTAL"
+live.watch()
+h.close(nodes[world.NODE_PREFIX + "Over Knee"].inputs[1].default_value, knee, 1e-6 * knee, "the metering back")
 p.sky_strength, p.sun_strength, p.north_offset, p.camera_disk = 1.0, 1.0, 0.0, False
 settled("strengths, north and disk back")
 h.close(angle_deg(lamp_direction(), Vector(side["sun"]["direction"])), 0.0, 0.1, "north back: the lamp (deg)")
