@@ -78,7 +78,8 @@ static void altostratus_against_the_path_tracer(void **state)
  * FOG_TABLE_MIN_TAU_THIN up, with the sun FOG_TABLE_THIN_MIN_SUN_DEG up or more, or
  * FOG_TABLE_THIN_LOCAL_MIN_SUN_DEG for a layer of ice (FOG_TABLE_THIN_LOW_SUN_DEG from
  * FOG_TABLE_THIN_LOW_SUN_MIN_TAU up); fog alone around the observer of FOG_TABLE_MIN_TAU_FOG or more
- * from FOG_TABLE_SHALLOW_FOG_MIN_SUN_DEG (docs/decisions/2026-12-07-shallow-fog.md). */
+ * from FOG_TABLE_SHALLOW_FOG_MIN_SUN_DEG (docs/decisions/2026-12-07-shallow-fog.md); under a cirrostratus,
+ * the day's column from FOG_TABLE_FOG_UNDER_THIN_SUN_DEG + FOG_TABLE_BLEND_DEG (2026-12-07-fog-under-thin-layers.md). */
 static void where_the_column_applies(void **state)
 {
     (void)state;
@@ -105,7 +106,9 @@ static void where_the_column_applies(void **state)
                  {"fog", 1.0, FOG_TABLE_SHALLOW_FOG_MIN_SUN_DEG - 0.01, 0},
                  {"fog", FOG_TABLE_MIN_TAU_FOG, FOG_TABLE_SHALLOW_FOG_MIN_SUN_DEG, 1},
                  {"fog", 0.99 * FOG_TABLE_MIN_TAU_FOG, FOG_TABLE_THIN_MIN_SUN_DEG - 0.01, 0},
-                 {"fog,cirrostratus", 1.0, FOG_TABLE_THIN_MIN_SUN_DEG - 0.01, 0}};
+                 /* under a cirrostratus, without the column lit from above: the day's column above its blend */
+                 {"fog,cirrostratus", 1.0, FOG_TABLE_FOG_UNDER_THIN_SUN_DEG + FOG_TABLE_BLEND_DEG + 0.01, 1},
+                 {"fog,cirrostratus", 1.0, FOG_TABLE_FOG_UNDER_THIN_SUN_DEG + FOG_TABLE_BLEND_DEG - 0.01, 0}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         fm_sky_params p = fm_sky_params_default();
         p.wavelength_nm = 550.0;

@@ -24,9 +24,11 @@
  * fog (the column does not apply), and with the peak's light left out (17 % dark 4 degrees above the
  * sun).  Cirrostratus over altostratus at sun 4 (the deck's column lit from above blended with the
  * day's) fails with the beam above the deck from the points above one another (+70 %;
- * docs/decisions/2026-12-07-two-layers-low-sun.md).
+ * docs/decisions/2026-12-07-two-layers-low-sun.md).  The Misty morning fog under a cirrostratus at
+ * sun 10 (the fog's column lit from above) fails with the day's column alone there (the views +2 to
+ * +10 %; docs/decisions/2026-12-07-fog-under-thin-layers.md).
  * Run with arguments CLOUDS TAU SUN PATHS [THICKNESS_KM] for one case (a sweep by hand; TAU 0 keeps
- * the presets'). About 75 s of CPU (the two layers at sun 4: 16 s), nearly all of it the path tracer. */
+ * the presets'). About 90 s of CPU (the two layers at sun 4: 16 s; the fog under cirrostratus 14 s), nearly all of it the path tracer. */
 #include "check.h"
 
 #include "column_tables.h"
@@ -129,6 +131,15 @@ static void shallow_fog_against_the_path_tracer(void **state)
     assert_int_equal(against_the_path_tracer("fog", 3.912 / 400.0 * 100.0, 12.4, 60000, 0.1), 0);
 }
 
+/* The same fog under a cirrostratus at sun 10, below FOG_TABLE_FOG_UNDER_THIN_SUN_DEG: the fog's column
+ * lit from above by the sky without it, which holds the cirrostratus
+ * (docs/decisions/2026-12-07-fog-under-thin-layers.md). */
+static void fog_under_cirrostratus(void **state)
+{
+    (void)state;
+    assert_int_equal(against_the_path_tracer("fog,cirrostratus", 3.912 / 400.0 * 100.0, 10.0, 60000, 0.1), 0);
+}
+
 /* Below FOG_TABLE_MIN_SUN_DEG_CLOUDS the altostratus takes the column lit from above at three suns,
  * the sky above it (the cirrostratus's) from the sphere's paths, blended with the day's column up to
  * FOG_TABLE_BLEND_DEG above its bound (docs/decisions/2026-12-07-two-layers-low-sun.md): at sun 4 a
@@ -151,6 +162,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(two_layers_against_the_path_tracer),
         cmocka_unit_test(shallow_fog_against_the_path_tracer),
         cmocka_unit_test(two_layers_at_a_low_sun),
+        cmocka_unit_test(fog_under_cirrostratus),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -106,11 +106,40 @@ int fog_table_sky(const fm_sky *sky)
     return 1;
 }
 
+static int thin_layers_above(const fm_sky *sky, int cloud);
+
+/* Whether the layer is fog alone around the observer (from the ground up, its top above the
+ * observer) of FOG_TABLE_MIN_TAU_FOG or more: its forward light near the sun is the fog's around the
+ * observer, not a distant layer's under another sun (docs/decisions/2026-12-07-shallow-fog.md). */
+static int fog_alone_around_observer(const fm_sky *sky, int cloud)
+{
+    const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    return sky->composition.cloud_count == 1 && sky->composition.cloud[cloud].base_m <= 0.0 &&
+           altitude < sky->composition.cloud[cloud].base_m + sky->composition.cloud[cloud].thickness_m &&
+           sky->composition.cloud[cloud].tau550 >= FOG_TABLE_MIN_TAU_FOG;
+}
+
+/* Shallow fog (FOG_TABLE_MIN_TAU_FOG up to FOG_TABLE_MIN_TAU) around the observer under thin layers
+ * only (cirrostratus): the column lit from above (the sky without the fog holds them) takes it from
+ * FOG_TABLE_FOG_UNDER_THIN_MIN_SUN_DEG, the day's column above the blend
+ * (docs/decisions/2026-12-07-fog-under-thin-layers.md). */
+static int shallow_fog_under_thin(const fm_sky *sky, int cloud)
+{
+    const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    if (cloud < 0 || sky->composition.cloud_count < 2)
+        return 0;
+    const double base = sky->composition.cloud[cloud].base_m, tau = sky->composition.cloud[cloud].tau550;
+    return base <= 0.0 && altitude < sky->composition.cloud[cloud].thickness_m && tau >= FOG_TABLE_MIN_TAU_FOG &&
+           tau < FOG_TABLE_MIN_TAU && thin_layers_above(sky, cloud);
+}
+
 /* The sun (degrees) below which the column lit from above is the table: where the day's column
  * starts, FOG_TABLE_MIN_SUN_DEG in fog, FOG_TABLE_MIN_SUN_DEG_PER_KM per km of a deck's base; the
  * blend ends FOG_TABLE_BLEND_DEG above it. */
 static double from_above_below_deg(const fm_sky *sky, int cloud)
 {
+    if (shallow_fog_under_thin(sky, cloud))
+        return FOG_TABLE_FOG_UNDER_THIN_SUN_DEG;
     return fmax(FOG_TABLE_MIN_SUN_DEG, FOG_TABLE_MIN_SUN_DEG_PER_KM * sky->composition.cloud[cloud].base_m / 1000.0);
 }
 
@@ -127,10 +156,11 @@ static int thin_layers_above(const fm_sky *sky, int cloud)
     return 1;
 }
 
-/* Whether the column lit from above takes layer `cloud`: alone, or an elevated deck under thin layers. */
+/* Whether the column lit from above takes layer `cloud`: alone, an elevated deck or shallow fog under
+ * thin layers. */
 static int from_above_cloud(const fm_sky *sky, int cloud)
 {
-    return cloud >= 0 && (sky->composition.cloud_count == 1 ||
+    return cloud >= 0 && (sky->composition.cloud_count == 1 || shallow_fog_under_thin(sky, cloud) ||
                           (sky->composition.cloud[cloud].base_m > 0.0 && thin_layers_above(sky, cloud)));
 }
 
@@ -142,7 +172,8 @@ int fog_table_from_above(const render_job *job)
     return job->fog_from_above && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
            from_above_cloud(sky, cloud) && altitude < FOG_TABLE_ON_GROUND_M &&
            z < sin((from_above_below_deg(sky, cloud) + FOG_TABLE_BLEND_DEG) * FM_DEG) &&
-           z >= sin(FOG_TABLE_TWILIGHT_MIN_SUN_DEG * FM_DEG);
+           z >= sin((shallow_fog_under_thin(sky, cloud) ? FOG_TABLE_FOG_UNDER_THIN_MIN_SUN_DEG
+                                                         : FOG_TABLE_TWILIGHT_MIN_SUN_DEG) * FM_DEG);
 }
 
 int fog_table_local_sun(const render_job *job)
@@ -165,17 +196,6 @@ static int thin_ice_alone(const fm_sky *sky)
            type && type->ice;
 }
 
-/* Whether the layer is fog alone around the observer (from the ground up, its top above the
- * observer) of FOG_TABLE_MIN_TAU_FOG or more: its forward light near the sun is the fog's around the
- * observer, not a distant layer's under another sun (docs/decisions/2026-12-07-shallow-fog.md). */
-static int fog_alone_around_observer(const fm_sky *sky, int cloud)
-{
-    const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
-    return sky->composition.cloud_count == 1 && sky->composition.cloud[cloud].base_m <= 0.0 &&
-           altitude < sky->composition.cloud[cloud].base_m + sky->composition.cloud[cloud].thickness_m &&
-           sky->composition.cloud[cloud].tau550 >= FOG_TABLE_MIN_TAU_FOG;
-}
-
 int fog_table_applies(const render_job *job)
 {
     if (fog_table_from_above(job))
@@ -184,6 +204,8 @@ int fog_table_applies(const render_job *job)
     const int cloud = column_cloud(sky);
     if (cloud < 0 || job->twilight || job->under_deck || job->params->quality == FM_QUALITY_REFERENCE)
         return 0;
+    if (shallow_fog_under_thin(sky, cloud)) /* the day's column alone above the blend */
+        return sky->sun_dir.z >= sin((FOG_TABLE_FOG_UNDER_THIN_SUN_DEG + FOG_TABLE_BLEND_DEG) * FM_DEG);
     /* thin layers above a deck that the column lit from above takes below its bound: as one deck */
     const int as_one = from_above_cloud(sky, column_cloud_from(sky, FOG_TABLE_MIN_TAU)) && job->fog_from_above &&
                        v3_length(sky->observer) - sky->atm.bottom_radius_m < FOG_TABLE_ON_GROUND_M;

@@ -83,6 +83,14 @@ struct render_job;
 /* Above a deck (a layer of FOG_TABLE_MIN_TAU or more below the observer, alone) below this sun the
  * column is made at several suns, each view down lit by the sun where it meets the deck's top. */
 #define FOG_TABLE_ABOVE_LOCAL_SUN_DEG 10.0
+/* Shallow fog around the observer under thin layers only (fog 0-100 m of visibility 400 m under
+ * cirrostratus): the column lit from above below FOG_TABLE_FOG_UNDER_THIN_SUN_DEG, blended with the
+ * day's up to FOG_TABLE_BLEND_DEG above it, the paths below FOG_TABLE_FOG_UNDER_THIN_MIN_SUN_DEG.  The
+ * day's column alone was 2-10 % bright at sun 10 (its one sun for the distant layer above), the
+ * column lit from above 11-12 % dark 12 degrees above a sun of 3 and 1; both within 2 % + 3 se
+ * between (docs/decisions/2026-12-07-fog-under-thin-layers.md).  Measured points, not fits. */
+#define FOG_TABLE_FOG_UNDER_THIN_SUN_DEG 12.0
+#define FOG_TABLE_FOG_UNDER_THIN_MIN_SUN_DEG 5.0
 
 /* Below FOG_TABLE_MIN_SUN_DEG, down to the end of astronomical twilight, fog alone around an observer
  * on the ground (below FOG_TABLE_ON_GROUND_M), or a deck alone (or under thin layers) above it (below
