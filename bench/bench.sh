@@ -251,8 +251,9 @@ if [ "${1:-}" = "--clouds" ]; then
     # and 3 (docs/decisions/2026-12-07-two-layers-low-sun.md), the
     # Misty morning preset (shallow fog: 0-100 m, visibility 400 m, optical depth 1, sun 12.4;
     # docs/decisions/2026-12-07-shallow-fog.md), and cirrostratus (optical depth 1) at sunrise (sun 1: the
-    # column) and at dusk (sun -3: the paths; docs/decisions/2026-12-07-thin-layers-twilight.md) as 4096 x
-    # 2048 colour maps at
+    # column) and at dusk (sun -3: the paths; docs/decisions/2026-12-07-thin-layers-twilight.md), and fog
+    # (200 m, visibility 400 m) under cirrostratus at sun 10 (docs/decisions/2026-12-07-fog-under-thin-layers.md)
+    # as 4096 x 2048 colour maps at
     # final quality: wall and CPU seconds (user + system; on a loaded machine compare CPU), peak memory,
     # and one map's noise: the RMS relative luminance difference of two seeds' maps over sqrt(2)
     printf '%-34s %-10s %7s %7s %9s %9s %6s\n' sky size "wall s" "CPU s" "peak MiB" "noise %" paths
@@ -264,6 +265,7 @@ if [ "${1:-}" = "--clouds" ]; then
         "altostratus-dusk --cloud altostratus --sun-elevation -4" \
         "high-cirrostratus --preset high-cirrostratus" "two-layers --cloud cirrostratus,altostratus --sun-elevation 10" \
         "two-layers-low-sun --cloud cirrostratus,altostratus --sun-elevation 3" \
+        "fog-under-cirrostratus --cloud cirrostratus --fog-visibility 400 --sun-elevation 10" \
         "misty-morning --preset misty-morning" \
         "cirrostratus-sunrise --cloud cirrostratus --sun-elevation 1" \
         "cirrostratus-dusk --cloud cirrostratus --sun-elevation -3"; do
