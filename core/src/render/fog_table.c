@@ -59,6 +59,12 @@ typedef struct fog_column {
 
 /* ---- where it applies ------------------------------------------------------------------------ */
 
+/* The observer's height above the ground (m). */
+static double observer_altitude_m(const fm_sky *sky)
+{
+    return v3_length(sky->observer) - sky->atm.bottom_radius_m;
+}
+
 /* The cloud layer the column is for, or -1: the one on the ground that holds the observer with a
  * visibility of FOG_TABLE_MAX_VISIBILITY_M or less (fog), else the lowest whose top is above the
  * observer (who is below or inside it) of optical depth min_tau or more, else the highest layer of
@@ -66,7 +72,7 @@ typedef struct fog_column {
  * holds the observer's level wherever it is, its views down the upward radiance there. */
 static int column_cloud_from(const fm_sky *sky, double min_tau)
 {
-    const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    const double altitude = observer_altitude_m(sky);
     int lowest = -1, below = -1;
     for (int i = 0; i < sky->composition.cloud_count; i++) {
         const double base = sky->composition.cloud[i].base_m, h = sky->composition.cloud[i].thickness_m;
@@ -99,7 +105,7 @@ int fog_table_sky(const fm_sky *sky)
     if (column_cloud_from(sky, FOG_TABLE_MIN_TAU) < 0)
         return 0;
     /* a deck that the deck base takes (from DECK_MIN_SUN_DEG up) leaves the day's nodes to paths */
-    const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    const double altitude = observer_altitude_m(sky);
     for (int i = 0; i < sky->composition.cloud_count && sky->truncated; i++)
         if (sky->composition.cloud[i].tau550 >= SKY_TRUNCATE_TAU && sky->composition.cloud[i].base_m > altitude)
             return 0;
@@ -113,7 +119,7 @@ static int thin_layers_above(const fm_sky *sky, int cloud);
  * observer, not a distant layer's under another sun (docs/decisions/2026-12-07-shallow-fog.md). */
 static int fog_alone_around_observer(const fm_sky *sky, int cloud)
 {
-    const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    const double altitude = observer_altitude_m(sky);
     return sky->composition.cloud_count == 1 && sky->composition.cloud[cloud].base_m <= 0.0 &&
            altitude < sky->composition.cloud[cloud].base_m + sky->composition.cloud[cloud].thickness_m &&
            sky->composition.cloud[cloud].tau550 >= FOG_TABLE_MIN_TAU_FOG;
@@ -125,7 +131,7 @@ static int fog_alone_around_observer(const fm_sky *sky, int cloud)
  * (docs/decisions/2026-12-07-fog-under-thin-layers.md). */
 static int shallow_fog_under_thin(const fm_sky *sky, int cloud)
 {
-    const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    const double altitude = observer_altitude_m(sky);
     if (cloud < 0 || sky->composition.cloud_count < 2)
         return 0;
     const double base = sky->composition.cloud[cloud].base_m, tau = sky->composition.cloud[cloud].tau550;
@@ -167,7 +173,7 @@ static int from_above_cloud(const fm_sky *sky, int cloud)
 int fog_table_from_above(const render_job *job)
 {
     const fm_sky *sky = job->sky;
-    const double z = sky->sun_dir.z, altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    const double z = sky->sun_dir.z, altitude = observer_altitude_m(sky);
     const int cloud = column_cloud_from(sky, FOG_TABLE_MIN_TAU);
     return job->fog_from_above && !job->under_deck && job->params->quality != FM_QUALITY_REFERENCE &&
            from_above_cloud(sky, cloud) && altitude < FOG_TABLE_ON_GROUND_M &&
@@ -188,7 +194,7 @@ int fog_table_local_sun(const render_job *job)
 static int thin_ice_alone(const fm_sky *sky)
 {
     const int cloud = column_cloud(sky);
-    const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    const double altitude = observer_altitude_m(sky);
     if (cloud < 0 || sky->composition.cloud_count != 1 || altitude >= FOG_TABLE_ON_GROUND_M)
         return 0;
     const cloud_type *type = cloud_type_find(sky->composition.cloud[cloud].type);
@@ -208,7 +214,7 @@ int fog_table_applies(const render_job *job)
         return sky->sun_dir.z >= sin((FOG_TABLE_FOG_UNDER_THIN_SUN_DEG + FOG_TABLE_BLEND_DEG) * FM_DEG);
     /* thin layers above a deck that the column lit from above takes below its bound: as one deck */
     const int as_one = from_above_cloud(sky, column_cloud_from(sky, FOG_TABLE_MIN_TAU)) && job->fog_from_above &&
-                       v3_length(sky->observer) - sky->atm.bottom_radius_m < FOG_TABLE_ON_GROUND_M;
+                       observer_altitude_m(sky) < FOG_TABLE_ON_GROUND_M;
     double min_sun = sky->composition.cloud_count > 1 && !as_one ? FOG_TABLE_MIN_SUN_DEG_CLOUDS : FOG_TABLE_MIN_SUN_DEG;
     if (thin_ice_alone(sky)) {
         const int low = sky->composition.cloud[cloud].tau550 >= FOG_TABLE_THIN_LOW_SUN_MIN_TAU;
@@ -959,7 +965,7 @@ static int above_local_sun(const render_job *job)
 {
     const fm_sky *sky = job->sky;
     const int cloud = column_cloud(sky);
-    const double altitude = v3_length(sky->observer) - sky->atm.bottom_radius_m;
+    const double altitude = observer_altitude_m(sky);
     return cloud >= 0 && !fog_table_from_above(job) && sky->composition.cloud_count == 1 &&
            altitude >= sky->composition.cloud[cloud].base_m + sky->composition.cloud[cloud].thickness_m &&
            sky->sun_dir.z < sin(FOG_TABLE_ABOVE_LOCAL_SUN_DEG * FM_DEG);
