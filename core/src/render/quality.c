@@ -6,6 +6,10 @@
 #include <assert.h>
 #include <math.h>
 
+/* The preview's (and so the live sky's) deep twilight paths split at a vertex past this weight x lift
+ * (path.c); the final quality keeps path.c's SPLIT_WEIGHT. */
+#define PREVIEW_VERTEX_SPLIT_WEIGHT 10.0
+
 quality_settings render_quality_settings(fm_quality quality, double scale)
 {
     quality_settings q;
@@ -17,6 +21,8 @@ quality_settings render_quality_settings(fm_quality quality, double scale)
             .ground_paths = 4096, .ground_rows = 24, .ground_cols = 32,
             .subpixels = 2, .reference_paths = 64, .ss_points = 3,
             .guide_offsets = 1, /* the offsets' tables would be a third of a preview's time */
+            /* fewer copies in haze: less noise per CPU second (docs/decisions/2026-12-07-deep-split-in-haze.md) */
+            .deep_vertex_split_weight = PREVIEW_VERTEX_SPLIT_WEIGHT,
             .deck_photons = 4096,
         };
         break;
@@ -29,6 +35,7 @@ quality_settings render_quality_settings(fm_quality quality, double scale)
             .ground_paths = 16384, .ground_rows = 32, .ground_cols = 32,
             .subpixels = 3, .reference_paths = 256, .ss_points = 3,
             .guide_offsets = SKY_GUIDE_MAX_OFFSETS,
+            .deep_vertex_split_weight = 0.0, /* path.c's */
             .deck_photons = 32768,
         };
         break;

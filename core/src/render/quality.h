@@ -16,6 +16,7 @@ typedef struct quality_settings {
     int ss_points;                            /* single-scattering quadrature points per piece */
     int ground_rows, ground_cols;             /* the ground irradiance's order-1 quadrature */
     int guide_offsets;                        /* deep twilight: the sky guide's offsets toward the sun */
+    double deep_vertex_split_weight;          /* deep twilight: path_context.vertex_split_weight */
     int deck_photons;                         /* under a deck: photons per sun angle and wavelength (deck_base.h) */
 } quality_settings;
 

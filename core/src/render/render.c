@@ -220,6 +220,8 @@ static fm_status make_twilight(const fm_sky *sky, const quality_settings *q, con
                                const shadow_flight_columns *shared, twilight_sampling **tw, fm_error *err)
 {
     fm_status s = twilight_sampling_create(sky, q->guide_offsets, shared, params->threads, params->cancel, tw);
+    if (!s && *tw)
+        (*tw)->vertex_split_weight = q->deep_vertex_split_weight;
     if (s == FM_ERR_CANCELLED || (params->cancel && atomic_load(params->cancel)))
         return fm_fail(err, FM_ERR_CANCELLED, "render cancelled");
     return s ? fm_fail(err, s, "the twilight guide: %s", fm_status_name(s)) : FM_OK;

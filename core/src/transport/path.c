@@ -31,7 +31,9 @@
  * path estimates, left whole, has no variance (docs/decisions/2026-12-06-path-splitting.md).  A
  * copy inherits what is left of that budget, which bounds the waiting copies (PATH_STACK) but not
  * their number: where nearly every vertex passes the split weight the copies of copies multiply, so
- * a path and all its copies make at most SPLIT_TOTAL together. */
+ * a path and all its copies make at most SPLIT_TOTAL together.  The light-led split at a vertex may
+ * take a larger weight (path_context.vertex_split_weight: the preview's, in haze fewer copies for
+ * less noise per CPU second, docs/decisions/2026-12-07-deep-split-in-haze.md). */
 #define SPLIT_WEIGHT 3.0
 #define SPLIT_COPIES 4
 #define SPLIT_BUDGET 32
@@ -82,12 +84,13 @@ static double light_lift(const path_context *ctx, vec3 x, double start_light)
     return light > start_light ? light / start_light : 1.0;
 }
 
-/* How many copies a path of weight m (as roulette weighs it, times lift) splits into: 1 for none. */
-static int split_copies(double m, int splits_left)
+/* How many copies a path of weight m (as roulette weighs it, times lift) splits into past the split
+ * weight `at`: 1 for none. */
+static int split_copies(double m, double at, int splits_left)
 {
-    if (!(m > SPLIT_WEIGHT) || splits_left <= 0)
+    if (!(m > at) || splits_left <= 0)
         return 1;
-    int copies = m < SPLIT_COPIES * SPLIT_WEIGHT ? (int)ceil(m / SPLIT_WEIGHT) : SPLIT_COPIES;
+    int copies = m < SPLIT_COPIES * at ? (int)ceil(m / at) : SPLIT_COPIES;
     return copies - 1 < splits_left ? copies : splits_left + 1;
 }
 
@@ -141,6 +144,7 @@ typedef struct tracer {
     double *const *L, *const *L_later;
     int light_led;      /* deep twilight's roulette at the new vertex (path_context.light_led_roulette) */
     double min_survive; /* the roulette's floor: LIGHT_LED_MIN_SURVIVAL when light-led, else 0 */
+    double vertex_split; /* the light-led split's weight (path_context.vertex_split_weight) */
     int copies_made;    /* by the path and its copies, together (at most SPLIT_TOTAL) */
     int waiting;
     waiting_path stack[PATH_STACK];
@@ -433,7 +437,7 @@ static int scatter_vertex(tracer *tr, path_state *p, vec3 x, int along, int late
     p->counted = 0;
     p->pos = x;
     int copies = ctx->shadow_flights && ctx->split_heavy_paths && tr->light_led
-                     ? split_copies(path_weight(p->W, p->q, p->w, tr->K) * lift, splits_left(tr, p))
+                     ? split_copies(path_weight(p->W, p->q, p->w, tr->K) * lift, tr->vertex_split, splits_left(tr, p))
                      : 1;
     if (copies == 1)
         return leave_scatter_vertex(tr, p);
@@ -462,7 +466,7 @@ static int leave_scatter_vertex(tracer *tr, path_state *p)
     p->vertices_done = 1;
     p->stage = STAGE_FLIGHT;
     int copies = ctx->shadow_flights && ctx->split_heavy_paths
-                     ? split_copies(path_weight(p->W, p->q, p->w, K), splits_left(tr, p))
+                     ? split_copies(path_weight(p->W, p->q, p->w, K), SPLIT_WEIGHT, splits_left(tr, p))
                      : 1;
     if (copies == 1)
         return 1;
@@ -616,6 +620,7 @@ static int trace_from(const path_context *ctx, vec3 origin, vec3 dir, const doub
     tr.L_later = L_later;
     tr.light_led = ctx->shadow_flights && ctx->light_led_roulette;
     tr.min_survive = tr.light_led ? LIGHT_LED_MIN_SURVIVAL : 0.0;
+    tr.vertex_split = ctx->vertex_split_weight > 0.0 ? ctx->vertex_split_weight : SPLIT_WEIGHT;
     tr.copies_made = 0;
     tr.waiting = 0;
     path_state p;

@@ -56,6 +56,9 @@ typedef struct path_context {
     /* With shadow_flights: paths whose weight has grown far past 1 are split into copies that share
      * it (path.c); 0 leaves them whole. */
     int split_heavy_paths;
+    /* With split_heavy_paths and the light-led roulette: the weight x lift past which a path splits
+     * at a vertex (path.c); 0 for path.c's SPLIT_WEIGHT. */
+    double vertex_split_weight;
     /* Under a deck (deck_base.h), for paths that start below its base: a segment that reaches the
      * base ends there and counts the light coming down from it (orders >= 3); no flight is forced
      * (none leaves the atmosphere).  NULL otherwise. */

@@ -48,6 +48,7 @@ fm_status twilight_sampling_create(const fm_sky *sky, int guide_offsets, const s
     double sun_elevation = asin(clamp_cosine(v3_dot(v3_normalize(sky->observer), sky->sun_dir)));
     tw->deep = twilight_deep(sun_elevation / FM_DEG);
     tw->split = tw->deep && sun_elevation > SPLIT_UNTIL_DEG * FM_DEG;
+    tw->vertex_split_weight = 0.0;
     /* the flights' table first: in deep twilight the sky guide adds the light of order 2 from it */
     int usable = 0;
     fm_status s = tw->deep ? shadow_flight_build(&tw->flights, &single, sky->observer, shared, threads, cancel) : FM_OK;
@@ -70,6 +71,7 @@ path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *t
         pc.shadow_flights = tw->deep ? &tw->flights : NULL;
         pc.light_led_roulette = tw->deep;
         pc.split_heavy_paths = tw->split;
+        pc.vertex_split_weight = tw->vertex_split_weight;
         pc.first_vertex_light_share = tw->deep ? FIRST_VERTEX_LIGHT_SHARE : 0.0;
         pc.sky_guide_fraction = SKY_GUIDE_FRACTION;
         /* every segment along its length: with guided directions of small weight, a point estimate

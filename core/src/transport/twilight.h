@@ -21,6 +21,7 @@ typedef struct twilight_sampling {
     sky_guide guide;
     int deep;  /* the flights below are in use */
     int split; /* heavy paths split (deep twilight above night, twilight.c) */
+    double vertex_split_weight; /* path_context.vertex_split_weight: 0 unless the quality sets it */
     shadow_flight_table flights;
 } twilight_sampling;
 
