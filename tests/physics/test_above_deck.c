@@ -125,7 +125,7 @@ static void deck_from_above_against_adding_doubling(void **state)
 /* ---- in the atmosphere, against the path tracer ----------------------------------------------- */
 
 /* Views (elevation, azimuth from the sun's, degrees): the sky above, down to 2 degrees up (where the
- * sphere's slant depth is finite and the plane's is not: fog_table.c, sphere_sky_cosines), and the
+ * sphere's slant depth is finite and the plane's is not: fog_column.c, fog_sphere_sky_cosines), and the
  * deck below, from 3 degrees down (where the view meets the deck's top 40 km away) to the nadir (the
  * glory at -30/180 left out: the single-scattering table's nodes are a degree or two apart). */
 static const double views[][2] = {{60, 180}, {40, 0},  {30, 20},  {20, 90},  {5, 180}, {5, 0},  {2, 90},

@@ -169,7 +169,7 @@ static void fast_tables(const fm_sky *sky, column_tables *t)
 
 /* Views (elevation, azimuth from the sun's, degrees): across the sky, and NEAR_SUN 4 to 9 degrees
  * from the sun (the first three and the last), where the tolerance is NEAR_SUN_TOLERANCE: there the
- * light scattered several times within the droplets' truncated peak (fog_table.c, peak_light) is
+ * light scattered several times within the droplets' truncated peak (fog_peak.c, fog_peak_light) is
  * positive within about 5 degrees and takes light back beyond; with the observer at 100 m the views
  * there are still 1-3 % bright (the decision record). */
 static const double views[][2] = {{30, 10}, {38, 0}, {22, 0}, {30, 30}, {50, 0}, {30, 90},

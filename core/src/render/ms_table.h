@@ -36,7 +36,7 @@ typedef struct ms_table {
     double *block;          /* the one allocation behind the per-node arrays of doubles */
     /* fog around the observer (fog_table.h), else NULL: the light scattered two or more times within
      * the droplets' truncated peak by angle from the sun, per grid wavelength, in two parts (the
-     * layout is fog_table.c's) */
+     * layout is fog_peak.c's) */
     double *peak;
 } ms_table;
 
