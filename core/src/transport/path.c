@@ -348,7 +348,7 @@ static flight delta_tracking(tracer *tr, path_state *p, const ray_segment *seg, 
  * collision forced inside a segment that would leave through the top (thin air's paths stay
  * useful). */
 /* Whether deep twilight's shadow flight places the segment's next vertex: not from a point in cloud or
- * fog (FM_DENSE_SIGMA_PER_M), where the next vertex lies a free path away and the light the flight aims at
+ * fog (path_cloud_sigma), where the next vertex lies a free path away and the light the flight aims at
  * beyond the layer.  A flight's cells there are far longer than a free path, and a vertex it places
  * by the physical part of its density weighs more than 1: over the tens of vertices of a path in fog
  * the weights' second moment grew geometrically (docs/decisions/2026-12-07-fog-reference.md). */
@@ -360,7 +360,7 @@ static int flight_placed(const tracer *tr, const ray_segment *seg)
     atmosphere_densities(tr->atm, v3_length(seg->origin), n);
     for (int c = 0; c < tr->atm->scattering_count; c++)
         sig_s += tr->atm->species[c].sigma_s[tr->h] * n[c];
-    return sig_s < FM_DENSE_SIGMA_PER_M;
+    return sig_s < path_cloud_sigma(tr->ctx);
 }
 
 static flight free_flight(tracer *tr, path_state *p, const ray_segment *seg, collision_fn on_collision, double *t)

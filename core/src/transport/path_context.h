@@ -43,6 +43,11 @@ typedef struct path_context {
      * (sky_guide.h), toward the sunlit air; NULL when the sun is up. */
     const struct sky_guide *sky_guide;
     double sky_guide_fraction;
+    /* The scattering coefficient (m^-1, at the hero wavelength) from which a vertex counts as in cloud,
+     * where the guides take no share of the directions (path_direction.c) and no shadow flight starts
+     * (path.c): FM_DENSE_SIGMA_PER_M, lower in a sky with a thinner cloud layer (sky_path.c); 0 reads
+     * as FM_DENSE_SIGMA_PER_M (path_cloud_sigma). */
+    double cloud_sigma_per_m;
     /* Deep twilight: segments place their next interaction by shadow_flight (shadow_flight.h)
      * instead of delta tracking; NULL otherwise. */
     const struct shadow_flight_table *shadow_flights;
@@ -72,6 +77,12 @@ typedef struct path_context {
 } path_context;
 
 #define PATH_SUNS_MAX 4
+
+/* path_context.cloud_sigma_per_m, or FM_DENSE_SIGMA_PER_M where it is not set. */
+static inline double path_cloud_sigma(const path_context *c)
+{
+    return c->cloud_sigma_per_m > 0.0 ? c->cloud_sigma_per_m : FM_DENSE_SIGMA_PER_M;
+}
 
 /* The suns a walk serves (path_context.suns) and the s-th of them. */
 static inline int path_sun_count(const path_context *c) { return c->suns > 0 ? c->suns : 1; }

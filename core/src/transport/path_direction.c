@@ -60,7 +60,7 @@ static double sun_guide_share(const path_context *ctx, vec3 sun_dir, vec3 x, int
 {
     if (!ctx->sun_guide)
         return 0.0;
-    if (sigma_s < FM_DENSE_SIGMA_PER_M) /* no path in haze takes enough vertices for the weights to matter */
+    if (sigma_s < path_cloud_sigma(ctx)) /* no path in haze takes enough vertices for the weights to matter */
         return ctx->sun_guide_fraction;
     double r = v3_length(x), depth;
     if (!sun_irradiance_lookup_some_depths(ctx->sun_table, ctx->atm, ctx->sun, r, v3_dot(x, sun_dir) / r, 1, &h,
@@ -72,14 +72,14 @@ static double sun_guide_share(const path_context *ctx, vec3 sun_dir, vec3 x, int
 }
 
 /* Twilight's guides (the sky guide, the sun guide in the Earth's shadow) take no share of the
- * directions at a vertex in cloud or fog (FM_DENSE_SIGMA_PER_M): the light they aim at is beyond the
- * layer, and the next vertex a free path away.  With them, a direction drawn from the phase function
+ * directions at a vertex in cloud or fog (path_cloud_sigma: a thin layer too): the light they aim at
+ * is beyond the layer, and the next vertex a free path away.  With them, a direction drawn from the phase function
  * weighs p / ((1 - a - b) p + ...), up to 1 / (1 - a - b) = 4, at each vertex: the second moment of
  * a path's weight grows by that factor per vertex of the forward peak, and over the tens of vertices
  * of a path in fog a rare path carried a map's light (docs/decisions/2026-12-07-fog-reference.md). */
 static double sky_guide_share(const path_context *ctx, double sigma_s)
 {
-    return ctx->sky_guide && sigma_s < FM_DENSE_SIGMA_PER_M ? ctx->sky_guide_fraction : 0.0;
+    return ctx->sky_guide && sigma_s < path_cloud_sigma(ctx) ? ctx->sky_guide_fraction : 0.0;
 }
 
 /* The sun guide's share about each of the walk's suns (path_context.suns) at x, each sun's
