@@ -80,6 +80,9 @@ static int against_the_path_tracer(const char *clouds, double tau, double sun_de
     snprintf(what, sizeof what, "%s, sun %g: diffuse irradiance at the ground", clouds, sun_deg);
     failures += !within_reference(diffuse, E, se, TOLERANCE, what);
     path_context all = sky_path_context(sky, 1, 0);
+    /* the plain paths' sampling as these cases were measured with: the guides in thin layers too
+     * (path_context.cloud_sigma_per_m; docs/decisions/2026-12-07-thin-layers-dusk.md) */
+    all.cloud_sigma_per_m = FM_DENSE_SIGMA_PER_M;
     const size_t nf = sizeof fixed_views / sizeof fixed_views[0], ns = sizeof sun_views / sizeof sun_views[0];
     for (size_t i = 0; i < nf + ns; i++) {
         const double e = (i < nf ? fixed_views[i][0] : sun_deg + sun_views[i - nf][0]) * FM_DEG;
