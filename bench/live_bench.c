@@ -31,6 +31,12 @@
  *                                       0 degrees and up, whose shared walks stay within the band) and
  *                                       prints each band's nodes, wall and CPU time: where the build's
  *                                       time goes
+ *   live-bench refine BIOME WIDTH ref N ROUNDS E...
+ *                                       the product's build refined round by round (fm_sky_live_refine)
+ *                                       up to ROUNDS: each round's CPU time, and after each (0: as
+ *                                       built) the live map at each E against the mean of N final seeds
+ *                                       as accuracy's ref N (RMS, bias, the reference's noise, the RMS
+ *                                       less it)
  *   live-bench sweep BIOME FROM TO STEP the zenith luminance (cd/m^2) of the live map from FROM to TO
  *                                       degrees in steps of STEP, and the largest step of its logarithm
  *                                       across a grid elevation against the largest elsewhere */
@@ -413,6 +419,61 @@ static int accuracy(const char *biome_arg, int width, int noise, int refs, int s
     return 0;
 }
 
+/* The product's live sky of BIOME refined round by round (fm_sky_live_refine) up to `rounds`: per
+ * round its CPU time, then at each sun the live map against the mean of `refs` final seeds (as
+ * accuracy's ref N): RMS, bias, the reference's noise and the RMS less it. */
+static int refine(const char *biome_arg, int width, int refs, int rounds, int count, char **elevations)
+{
+    double build_s;
+    fm_sky_live *live = build(biome_arg, &build_s);
+    fm_error err;
+    if (fm_sky_live_complete(live, NULL, &err)) {
+        fprintf(stderr, "live-bench: %s\n", err.message);
+        return 1;
+    }
+    fm_image **want = malloc(sizeof *want * (size_t)count);
+    double *ref_noise = malloc(sizeof *ref_noise * (size_t)count);
+    for (int i = 0; i < count; i++)
+        want[i] = final_reference(biome_arg, atof(elevations[i]), width, refs, &ref_noise[i]);
+    printf("%-8s %7s %6s %9s %8s %8s %12s %13s\n", "biome", "sun", "round", "CPU s", "RMS %", "bias %", "ref noise %",
+           "RMS less it %");
+    for (int r = 0; r <= rounds; r++) {
+        const double cpu0 = cpu_now();
+        if (r > 0 && fm_sky_live_refine(live, NULL, &err)) {
+            fprintf(stderr, "live-bench: %s\n", err.message);
+            return 1;
+        }
+        const double cpu = cpu_now() - cpu0;
+        if (fm_sky_live_rounds(live) != r) {
+            fprintf(stderr, "live-bench: the library refines %d rounds at most\n", fm_sky_live_rounds(live));
+            break;
+        }
+        for (int i = 0; i < count; i++) {
+            fm_render_params rp = fm_render_params_default();
+            rp.width = width;
+            rp.sun_disk = 0;
+            fm_image *got;
+            fm_comparison c;
+            if (fm_sky_live_render(live, atof(elevations[i]), 180.0, &rp, &got, &err) ||
+                fm_image_compare(got, want[i], 0.0, &c, &err)) {
+                fprintf(stderr, "live-bench: %s\n", err.message);
+                return 1;
+            }
+            printf("%-8s %7.2f %6d %9.2f %8.3f %8.3f %12.3f %13.3f\n", biome_arg, atof(elevations[i]), r, cpu,
+                   100 * c.rms, 100 * c.mean, 100 * ref_noise[i],
+                   100 * sqrt(fmax(0.0, c.rms * c.rms - ref_noise[i] * ref_noise[i])));
+            fflush(stdout);
+            fm_image_destroy(got);
+        }
+    }
+    for (int i = 0; i < count; i++)
+        fm_image_destroy(want[i]);
+    free(want);
+    free(ref_noise);
+    fm_sky_live_destroy(live);
+    return 0;
+}
+
 /* Mean luminance (cd/m^2) of the map's top row: the zenith. */
 static double zenith(fm_sky_live *live, double e)
 {
@@ -478,11 +539,14 @@ int main(int argc, char **argv)
         if (refs >= 1 && refs <= 64 && seeds >= 1 && seeds <= 64 && at < argc)
             return accuracy(argv[2], atoi(argv[3]), noise, refs, seeds, argc - at, argv + at);
     }
+    if (argc >= 8 && !strcmp(argv[1], "refine") && !strcmp(argv[4], "ref") && atoi(argv[5]) >= 1 &&
+        atoi(argv[5]) <= 64 && atoi(argv[6]) >= 0)
+        return refine(argv[2], atoi(argv[3]), atoi(argv[5]), atoi(argv[6]), argc - 7, argv + 7);
     if (argc == 3 && !strcmp(argv[1], "bands"))
         return bands(argv[2]);
     if (argc == 6 && !strcmp(argv[1], "sweep"))
         return sweep(argv[2], atof(argv[3]), atof(argv[4]), atof(argv[5]));
-    fprintf(stderr, "usage: live-bench speed BIOME [SUNS] | accuracy BIOME WIDTH [ref N] [noise] [seeds N] E... | sweep BIOME FROM "
+    fprintf(stderr, "usage: live-bench speed BIOME [SUNS] | accuracy BIOME WIDTH [ref N] [noise] [seeds N] E... | refine BIOME WIDTH ref N ROUNDS E... | sweep BIOME FROM "
                     "TO "
                     "STEP\n");
     return 2;

@@ -4,7 +4,8 @@
  * luminance across a grid elevation; the deep twilight light its nodes share and the smoothing of
  * their tables across the sun elevation; its file (saved, loaded, and refused when it is another
  * atmosphere's, truncated or corrupt); the deep twilight band built on first use, the same bits as a
- * whole build. */
+ * whole build; the band refined by rounds of paths (its noise, a cancelled round, its file). */
+#define _POSIX_C_SOURCE 200809L /* nanosleep */
 #include "check.h"
 #include "render/live.h"
 #include "render/live_smooth.h"
@@ -17,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 /* A live sky with the tables of the grid elevations from `from` to `to` degrees only (none when
@@ -858,6 +860,149 @@ static void deep_twilight_band_on_first_use(void **state)
     fm_sky_live_destroy(whole);
 }
 
+/* The deep band's raw node estimates of a and b (two builds with other seeds): their relative
+ * difference, RMS over the nodes lit in both. */
+static double raw_difference(const fm_sky_live *a, const fm_sky_live *b)
+{
+    double rel = 0.0;
+    long used = 0;
+    for (int k = 0; k < a->raw_count; k++) {
+        const ms_table *x = &a->raw[k], *y = &b->raw[k];
+        for (int i = 0; i < sky_grid_nodes(&x->grid); i++) {
+            if (!(x->y[i] > 0.0 && y->y[i] > 0.0))
+                continue;
+            const double d = x->y[i] - y->y[i], m = 0.5 * (x->y[i] + y->y[i]);
+            rel += (d / m) * (d / m);
+            used++;
+        }
+    }
+    assert_true(used > 500);
+    return sqrt(rel / (double)used);
+}
+
+/* The luminance RMS of the relative difference of a's and b's maps at sun e. */
+static double map_difference(fm_sky_live *a, fm_sky_live *b, double e)
+{
+    fm_image *x = live_map(a, e, 180.0, 64), *y = live_map(b, e, 180.0, 64);
+    fm_comparison c;
+    fm_error err;
+    assert_int_equal(fm_image_compare(x, y, 0.0, &c, &err), FM_OK);
+    fm_image_destroy(x);
+    fm_image_destroy(y);
+    return c.rms;
+}
+
+static int same_raw(const fm_sky_live *a, const fm_sky_live *b)
+{
+    for (int k = 0; k < a->raw_count; k++) {
+        const ms_table *x = &a->raw[k], *y = &b->raw[k];
+        const size_t n = (size_t)sky_grid_nodes(&x->grid), K = (size_t)a->sky->atm.grid.count;
+        if (x->paths != y->paths || memcmp(x->sum, y->sum, sizeof(double) * n * K) ||
+            memcmp(x->moments, y->moments, sizeof(node_moments) * n))
+            return 0;
+    }
+    return 1;
+}
+
+static void same_tables(const fm_sky_live *a, const fm_sky_live *b, const char *what)
+{
+    if (fm_sky_live_rounds(a) != fm_sky_live_rounds(b) || !same_raw(a, b))
+        fail_msg("%s: other rounds or raw tables", what);
+    for (int k = 0; k < a->count; k++)
+        if (!same_node(a, b, k))
+            fail_msg("%s: node %g differs", what, a->nodes[k].sun_elevation_deg);
+}
+
+typedef struct cancel_later {
+    atomic_int flag;
+    double after_s;
+} cancel_later;
+
+static void *cancel_thread(void *arg)
+{
+    cancel_later *c = arg;
+    struct timespec ts = {(time_t)c->after_s, (long)((c->after_s - floor(c->after_s)) * 1e9)};
+    nanosleep(&ts, NULL);
+    atomic_store(&c->flag, 1);
+    return NULL;
+}
+
+/* Each round of fm_sky_live_refine draws the deep band's paths anew: two builds with other seeds
+ * refined REFINED rounds each differ in their raw node estimates by 1 / sqrt(REFINED + 1) of what
+ * they differed as built (the paths' noise, independent from round to round), and their maps, fitted
+ * and smoothed from them, come closer.  A round cancelled midway changes nothing (tables, raw
+ * sums, rounds), and the next round makes the same bits as a live sky that was never cancelled: one
+ * saved before and loaded from its file, which resumes from the rounds it holds. */
+#define REFINED 3
+static void deep_twilight_band_refined_by_rounds(void **state)
+{
+    (void)state;
+    fm_sky_params p = test_params(10.0, 550.0);
+    fm_sky_live *a = live_for(&p, -90.0, -3.0), *b = NULL;
+    fm_error err;
+    /* b's deep band with other seeds, its twilight nodes above (-4.5, -3: in the band's smoothing,
+     * never refined) a's */
+    if (live_alloc(&p, &b, &err) || live_build_nodes(b, -4.5, -3.0, NULL, &err) ||
+        (b->seed = 1, live_build_nodes(b, -90.0, -6.0, NULL, &err)))
+        fail_msg("live sky: %s", err.message);
+    assert_true(fm_sky_live_refinable(a) && fm_sky_live_rounds(a) == 0);
+    double built = raw_difference(a, b), map_built = map_difference(a, b, -12.0);
+    const int paths = a->raw[0].paths;
+    assert_true(paths > 0 && a->nodes[0].paths_per_node == paths);
+    double round_s = 0.0; /* wall time of a's last round */
+    for (int r = 1; r <= REFINED; r++) {
+        struct timespec t0, t1;
+        clock_gettime(CLOCK_MONOTONIC, &t0);
+        if (fm_sky_live_refine(a, NULL, &err))
+            fail_msg("fm_sky_live_refine: %s", err.message);
+        clock_gettime(CLOCK_MONOTONIC, &t1);
+        round_s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+        if (fm_sky_live_refine(b, NULL, &err))
+            fail_msg("fm_sky_live_refine: %s", err.message);
+        assert_int_equal(fm_sky_live_rounds(a), r);
+        assert_int_equal(a->raw[0].paths, (r + 1) * paths);
+        assert_int_equal(a->nodes[0].paths_per_node, (r + 1) * paths);
+    }
+    double refined = raw_difference(a, b), map_refined = map_difference(a, b, -12.0);
+    const double want = 1.0 / sqrt(REFINED + 1.0);
+    print_message("raw difference %.4f -> %.4f (ratio %.3f, want %.3f); map at -12 %.4f -> %.4f\n", built, refined,
+                  refined / built, want, map_built, map_refined);
+    assert_true(fabs(refined / built - want) < 0.2 * want);
+    /* the maps' difference falls less: each fit keeps more terms as the noise falls (sky_grid_fit) */
+    assert_true(map_refined < map_built);
+
+    char *path = temp_path("refined.live");
+    assert_int_equal(fm_sky_live_save(a, path, &err), FM_OK);
+    fm_sky_live *back = NULL;
+    if (fm_sky_live_load(&p, path, &back, &err))
+        fail_msg("load: %s", err.message);
+    same_tables(a, back, "loaded");
+    /* cancelled about midway (some nodes' paths done), or sooner when the round ended first (then
+     * both take that round) */
+    fm_status cancelled = FM_OK;
+    for (int tries = 0; tries < 4 && cancelled != FM_ERR_CANCELLED; tries++) {
+        cancel_later c = {.after_s = 0.45 * round_s / (1 << tries)};
+        atomic_init(&c.flag, 0);
+        pthread_t t;
+        assert_int_equal(pthread_create(&t, NULL, cancel_thread, &c), 0);
+        cancelled = fm_sky_live_refine(a, &c.flag, &err);
+        pthread_join(t, NULL);
+        if (cancelled == FM_OK && fm_sky_live_refine(back, NULL, &err))
+            fail_msg("fm_sky_live_refine: %s", err.message);
+    }
+    assert_int_equal(cancelled, FM_ERR_CANCELLED);
+    same_tables(a, back, "after a cancelled round");
+    if (fm_sky_live_refine(a, NULL, &err) || fm_sky_live_refine(back, NULL, &err))
+        fail_msg("fm_sky_live_refine: %s", err.message);
+    assert_true(fm_sky_live_rounds(back) >= REFINED + 1);
+    same_tables(a, back, "the next round");
+    unlink(path);
+    free(path);
+    fm_sky_live_destroy(back);
+    fm_sky_live_destroy(a);
+    fm_sky_live_destroy(b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -878,6 +1023,7 @@ int main(void)
         cmocka_unit_test(deep_twilight_noise_averaged_over_the_sky),
         cmocka_unit_test(file_round_trip_and_refusals),
         cmocka_unit_test(deep_twilight_band_on_first_use),
+        cmocka_unit_test(deep_twilight_band_refined_by_rounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -68,6 +68,8 @@ fm_status live_sky_params(const fm_sky_params *params, fm_sky_params *out, fm_er
     return FM_OK;
 }
 
+static int deep_nodes(const fm_sky_live *live);
+
 fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *err)
 {
     *out = NULL;
@@ -106,6 +108,14 @@ fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *e
             aureole_init(&n->aureole, live->channels))
             s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
     }
+    /* the deep band's raw tables as its nodes' jobs make them (live->q's size: twilight takes paths) */
+    const int deep = s ? 0 : deep_nodes(live);
+    if (!s && deep && !(live->raw = calloc((size_t)deep, sizeof *live->raw)))
+        s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
+    for (int k = 0; k < deep && !s; k++, live->raw_count++)
+        if (ms_table_init(&live->raw[k], &live->q, horizon, live->channels, sky->atm.grid.count, 0,
+                          live->channels == 3))
+            s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
     if (s) {
         fm_sky_live_destroy(live);
         return s;
@@ -155,7 +165,7 @@ typedef struct node_build {
  * its guided flights' light from the columns shared by every node (shadow_flight_build.h).  b stays
  * where it is until node_build_free (the job points into it). */
 static fm_status node_begin(const fm_sky_live *live, live_node *node, const shadow_flight_columns *flights,
-                            const atomic_int *cancel, node_build *b, fm_error *err)
+                            int refine_round, const atomic_int *cancel, node_build *b, fm_error *err)
 {
     memset(b, 0, sizeof *b);
     b->node = node;
@@ -182,7 +192,7 @@ static fm_status node_begin(const fm_sky_live *live, live_node *node, const shad
         job->q.ground_paths = (int)fmax(1.0, round(job->q.ground_paths * TWILIGHT_PATH_SCALE));
     }
     const int own_seed = node->sun_elevation_deg >= OWN_SEED_FROM_DEG || twilight_deep(node->sun_elevation_deg);
-    const uint64_t moved = LIVE_SEED_STRIDE * live->seed;
+    const uint64_t moved = LIVE_SEED_STRIDE * live->seed + ((uint64_t)refine_round << LIVE_ROUND_SEED_SHIFT);
     job->seed = own_seed ? mix64((uint64_t)(node - live->nodes) + 1 + moved) : mix64(moved);
     if (!(s = render_twilight(job, &b->twilight, err))) {
         job->twilight = b->twilight;
@@ -233,14 +243,39 @@ static void node_build_free(node_build *b)
     b->sky = NULL;
 }
 
+/* Whether the job's multiple-scattering table is of paths the size of the raw tables' (not the fog's
+ * column): what a round of refinement can add to. */
+static int raw_fits(const ms_table *raw, const node_build *b)
+{
+    return !fog_table_applies(&b->job) && !b->ms.orders && sky_grid_nodes(&b->ms.grid) == sky_grid_nodes(&raw->grid);
+}
+
+/* A deep node's raw table becomes its job's (the job then frees the one it replaces); 0 paths when
+ * the job's is not of paths. */
+static void keep_raw(fm_sky_live *live, node_build *b)
+{
+    const int k = (int)(b->node - live->nodes);
+    if (k >= live->raw_count)
+        return;
+    if (!raw_fits(&live->raw[k], b)) {
+        live->raw[k].paths = 0;
+        return;
+    }
+    ms_table t = live->raw[k];
+    live->raw[k] = b->ms;
+    b->ms = t;
+}
+
 /* The tables of one node: the fast path's, for a sun at the node's elevation. */
 static fm_status build_node(fm_sky_live *live, live_node *node, const shadow_flight_columns *flights,
                             const atomic_int *cancel, fm_error *err)
 {
     node_build b;
-    fm_status s = node_begin(live, node, flights, cancel, &b, err);
+    fm_status s = node_begin(live, node, flights, 0, cancel, &b, err);
     if (!s && !(s = render_fast_tables_fill(&b.job, node->sun_elevation_deg * FM_DEG, err)))
         s = node_end(live, &b, err);
+    if (!s)
+        keep_raw(live, &b);
     node_build_free(&b);
     return s;
 }
@@ -301,7 +336,7 @@ static fm_status build_shared_nodes(fm_sky_live *live, double from_deg, double t
             if (e < SHARED_FROM_DEG || e < from_deg || e > to_deg)
                 continue;
             assert(count < PATH_SUNS_MAX);
-            s = node_begin(live, &live->nodes[i], NULL, cancel, &group[count++], err);
+            s = node_begin(live, &live->nodes[i], NULL, 0, cancel, &group[count++], err);
         }
         if (!s && count)
             s = fill_group(live, group, count, err);
@@ -383,8 +418,11 @@ fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, co
     const int smooth_day = !fog_table_sky(live->sky);
     if (!s && ((smooth_day && live_smooth_day(live, fresh, SMOOTH_FROM_DEG)) || smooth_deep_twilight(live, fresh)))
         s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
-    for (int i = 0; i < live->count && !s; i++)
+    for (int i = 0; i < live->count && !s; i++) {
         live->nodes[i].built |= fresh[i];
+        if (fresh[i] && i < live->raw_count)
+            live->rounds = 0; /* a band built anew holds no rounds */
+    }
     free(fresh);
     return s == FM_ERR_CANCELLED ? fm_fail(err, s, "live sky cancelled") : s;
 }
@@ -539,20 +577,25 @@ static fm_status render_below_grid(const fm_sky *sky, const fm_render_params *rp
     return fm_render(sky, rp, out, err);
 }
 
-/* Whether a map for a sun at elevation_deg reads a deep twilight node not built: one of the four
- * nodes of its place on the grid (interpolate_tables); none below the grid (render_below_grid).
- * The caller holds the lock. */
-static int reads_unbuilt_band(const fm_sky_live *live, double elevation_deg)
+/* Whether a map for a sun at elevation_deg reads a deep twilight node (only one not built when
+ * `unbuilt`): one of the four nodes of its place on the grid (interpolate_tables); none below the
+ * grid (render_below_grid).  With `unbuilt` the caller holds the lock. */
+static int reads_band(const fm_sky_live *live, double elevation_deg, int unbuilt)
 {
     if (!(elevation_deg >= live->nodes[0].sun_elevation_deg))
         return 0;
     const grid_place g = place_on_grid(live, elevation_deg);
     for (int k = g.i - 1; k <= g.i + 2; k++) {
         const live_node *n = &live->nodes[k < 0 ? 0 : (k >= live->count ? live->count - 1 : k)];
-        if (twilight_deep(n->sun_elevation_deg) && !n->built)
+        if (twilight_deep(n->sun_elevation_deg) && (!unbuilt || !n->built))
             return 1;
     }
     return 0;
+}
+
+int fm_sky_live_reads_deep_band(const fm_sky_live *live, double sun_elevation_deg)
+{
+    return reads_band(live, sun_elevation_deg, 0);
 }
 
 /* The deep twilight band when whole or a map at elevation_deg reads it and it is pending, once: a
@@ -567,7 +610,7 @@ static fm_status build_band(fm_sky_live *live, int whole, double elevation_deg, 
     pthread_mutex_lock(&live->lock);
     fm_status s = FM_OK;
     const int deep = deep_nodes(live);
-    if (atomic_load(&live->deep_pending) && deep > 0 && (whole || reads_unbuilt_band(live, elevation_deg)) &&
+    if (atomic_load(&live->deep_pending) && deep > 0 && (whole || reads_band(live, elevation_deg, 1)) &&
         !(s = live_build_nodes(live, -90.0, live->nodes[deep - 1].sun_elevation_deg, cancel, err))) {
         atomic_store(&live->deep_pending, 0);
         if (built)
@@ -586,6 +629,88 @@ fm_status fm_sky_live_prepare(fm_sky_live *live, double sun_elevation_deg, const
 fm_status fm_sky_live_complete(fm_sky_live *live, const atomic_int *cancel, fm_error *err)
 {
     return build_band(live, 1, 0.0, cancel, NULL, err);
+}
+
+int fm_sky_live_rounds(const fm_sky_live *live)
+{
+    return live->rounds;
+}
+
+int fm_sky_live_refinable(const fm_sky_live *live)
+{
+    if (atomic_load(&live->deep_pending) || live->rounds >= LIVE_REFINE_ROUNDS || live->raw_count == 0)
+        return 0;
+    for (int k = 0; k < live->raw_count; k++)
+        if (!live->nodes[k].built || live->raw[k].paths <= 0)
+            return 0;
+    return 1;
+}
+
+/* One deep node's next round: its paths with the round's seeds, added to its raw table (the build's
+ * and earlier rounds'), the whole fitted, and its single-scattering table remade (on the ground its
+ * diffuse light comes from the whole table). The node's tables stay as they were. */
+static fm_status refine_node(const fm_sky_live *live, int k, const shadow_flight_columns *flights, int pass,
+                             const atomic_int *cancel, node_build *b, fm_error *err)
+{
+    live_node *node = &live->nodes[k];
+    const double sun = node->sun_elevation_deg * FM_DEG;
+    fm_status s = node_begin(live, node, flights, pass, cancel, b, err);
+    if (!s && !(s = render_fast_tables_fill(&b->job, sun, err))) {
+        if (!raw_fits(&live->raw[k], b))
+            return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the live sky's deep twilight tables are not of paths");
+        ms_table_add(&b->job, &live->raw[k]);
+        s = render_fast_tables_end(&b->job, sun, err);
+    }
+    return s;
+}
+
+/* The round's tables into the band's nodes (its raw tables the rounds' sums), then the band smoothed
+ * again; under the lock, so that a file saved meanwhile holds whole rounds. */
+static fm_status refine_commit(fm_sky_live *live, node_build *b, int pass, fm_error *err)
+{
+    const int deep = live->raw_count;
+    unsigned char *fresh = calloc((size_t)live->count, 1);
+    if (!fresh)
+        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
+    pthread_mutex_lock(&live->lock);
+    for (int k = 0; k < deep; k++) {
+        live_node *node = &live->nodes[k];
+        memcpy(node->ss.values, b[k].job.ss.values,
+               sizeof(float) * (size_t)sky_grid_nodes(&node->ss) * (size_t)live->channels);
+        table_into_node(&b[k].ms.grid, &node->ms);
+        node->paths_per_node = b[k].ms.paths;
+        ms_table t = live->raw[k];
+        live->raw[k] = b[k].ms;
+        b[k].ms = t; /* freed with the round's jobs */
+        fresh[k] = 1;
+    }
+    live->rounds = pass;
+    const int failed = smooth_deep_twilight(live, fresh);
+    pthread_mutex_unlock(&live->lock);
+    free(fresh);
+    return failed ? fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables") : FM_OK;
+}
+
+fm_status fm_sky_live_refine(fm_sky_live *live, const atomic_int *cancel, fm_error *err)
+{
+    if (!fm_sky_live_refinable(live))
+        return FM_OK;
+    const int deep = live->raw_count, pass = live->rounds + 1;
+    node_build *b = deep > 0 ? calloc((size_t)deep, sizeof *b) : NULL;
+    if (!b)
+        return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
+    shadow_flight_columns flights;
+    fm_status s = shared_flights(live, -90.0, live->nodes[deep - 1].sun_elevation_deg, cancel, &flights, err);
+    int begun = 0;
+    for (; begun < deep && !s; begun++)
+        s = refine_node(live, begun, &flights, pass, cancel, &b[begun], err);
+    shadow_flight_columns_free(&flights);
+    if (!s)
+        s = refine_commit(live, b, pass, err);
+    for (int k = 0; k < begun; k++)
+        node_build_free(&b[k]);
+    free(b);
+    return s == FM_ERR_CANCELLED ? fm_fail(err, s, "live sky refinement cancelled") : s;
 }
 
 int fm_sky_live_is_complete(const fm_sky_live *live)
@@ -712,6 +837,9 @@ void fm_sky_live_destroy(fm_sky_live *live)
         aureole_free(&live->nodes[i].aureole);
     }
     free(live->nodes);
+    for (int k = 0; k < live->raw_count; k++)
+        ms_table_free(&live->raw[k]);
+    free(live->raw);
     fm_sky_destroy(live->sky);
     pthread_mutex_destroy(&live->lock);
     free(live);

@@ -2,8 +2,10 @@
  * atmosphere's key, the tables' size and checksum) of the tables: their layout (nodes, channels,
  * quality, the grids' sizes), then per node its sun elevation, paths, whether it is built and the
  * three tables' values (single scattering, multiple scattering, the aureole; native floats; zeros for
- * a node not built yet: the deep twilight band before its first use, live.c).  Checked before
- * anything in it is used. */
+ * a node not built yet: the deep twilight band before its first use, live.c); then the rounds of
+ * refinement and the deep twilight nodes' raw tables (per node its paths, their sums at every grid
+ * wavelength, their moments and shapes: what the next round adds to; zeros before the band is
+ * built).  Checked before anything in it is used. */
 #include "base/sealed_file.h"
 #include "base/status.h"
 #include "render/live.h"
@@ -13,7 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FILE_VERSION 3u
+#define FILE_VERSION 4u
 #define CHECKSUM_SEED 0x6c697665ull /* "live" */
 
 /* ---- the tables ------------------------------------------------------------------------------ */
@@ -43,9 +45,18 @@ static size_t table_floats(const fm_sky_live *live, const sky_grid *g)
     return (size_t)sky_grid_nodes(g) * (size_t)live->channels;
 }
 
+/* One raw table's doubles: per node its sums (K), shape and moments. */
+static size_t raw_doubles(const fm_sky_live *live, const ms_table *t)
+{
+    const size_t per_node = (size_t)live->sky->atm.grid.count + 1 + sizeof(node_moments) / sizeof(double);
+    return (size_t)sky_grid_nodes(&t->grid) * per_node;
+}
+
 static size_t payload_size(const fm_sky_live *live)
 {
-    size_t n = sizeof(layout);
+    size_t n = sizeof(layout) + sizeof(int32_t);
+    for (int k = 0; k < live->raw_count; k++)
+        n += sizeof(int32_t) + sizeof(double) * raw_doubles(live, &live->raw[k]);
     for (int i = 0; i < live->count; i++)
         n += sizeof(double) + 2 * sizeof(int32_t) +
              sizeof(float) * (table_floats(live, &live->nodes[i].ss) + table_floats(live, &live->nodes[i].ms) +
@@ -77,12 +88,60 @@ static void payload_write(const fm_sky_live *live, unsigned char *out)
         out = put(out, built ? n->ms.values : NULL, sizeof(float) * table_floats(live, &n->ms));
         out = put(out, built ? n->aureole.values : NULL, sizeof(float) * aureole_floats(&n->aureole));
     }
+    int32_t rounds = live->rounds;
+    out = put(out, &rounds, sizeof rounds);
+    for (int k = 0; k < live->raw_count; k++) {
+        const ms_table *t = &live->raw[k];
+        const int have = live->nodes[k].built && t->paths > 0;
+        const int32_t paths = have ? t->paths : 0;
+        const size_t nodes = (size_t)sky_grid_nodes(&t->grid), K = (size_t)live->sky->atm.grid.count;
+        out = put(out, &paths, sizeof paths);
+        out = put(out, have ? t->sum : NULL, sizeof(double) * nodes * K);
+        out = put(out, have ? t->shape : NULL, sizeof(double) * nodes);
+        out = put(out, have ? t->moments : NULL, sizeof(node_moments) * nodes);
+    }
 }
 
 static const unsigned char *get(const unsigned char *in, void *v, size_t n)
 {
     memcpy(v, in, n);
     return in + n;
+}
+
+static int all_finite_doubles(const double *v, size_t n)
+{
+    for (size_t k = 0; k < n; k++)
+        if (!isfinite(v[k]))
+            return 0;
+    return 1;
+}
+
+/* The rounds and the raw tables (after the nodes), or why they do not fit. */
+static const char *raw_read(fm_sky_live *live, const unsigned char *in)
+{
+    int32_t rounds;
+    in = get(in, &rounds, sizeof rounds);
+    if (rounds < 0 || rounds > LIVE_REFINE_ROUNDS)
+        return "another number of rounds";
+    live->rounds = rounds;
+    for (int k = 0; k < live->raw_count; k++) {
+        ms_table *t = &live->raw[k];
+        const size_t nodes = (size_t)sky_grid_nodes(&t->grid), K = (size_t)live->sky->atm.grid.count;
+        int32_t paths;
+        in = get(in, &paths, sizeof paths);
+        /* a built band's raw tables hold its paths (those of every round), else none */
+        if (paths < 0 || (paths > 0) != (live->nodes[k].built && live->nodes[k].paths_per_node == paths) ||
+            (paths == 0 && rounds > 0))
+            return "raw tables that are not the nodes'";
+        t->paths = paths;
+        in = get(in, t->sum, sizeof(double) * nodes * K);
+        in = get(in, t->shape, sizeof(double) * nodes);
+        in = get(in, t->moments, sizeof(node_moments) * nodes);
+        if (!all_finite_doubles(t->sum, nodes * K) || !all_finite_doubles(t->shape, nodes) ||
+            !all_finite_doubles((const double *)t->moments, nodes * sizeof(node_moments) / sizeof(double)))
+            return "a value that is not a number";
+    }
+    return NULL;
 }
 
 static int all_finite(const float *v, size_t n)
@@ -121,6 +180,9 @@ static const char *payload_read(fm_sky_live *live, const unsigned char *in, size
             !all_finite(n->aureole.values, aureole_floats(&n->aureole)))
             return "a value that is not a number";
     }
+    const char *why = raw_read(live, in);
+    if (why)
+        return why;
     live_settle_pending(live);
     return NULL;
 }

@@ -6,6 +6,7 @@
 
 #include "firmament/firmament.h"
 #include "render/aureole.h"
+#include "render/ms_table.h"
 #include "render/quality.h"
 #include "transport/sky_grid.h"
 
@@ -19,6 +20,13 @@
 /* How far apart the seeds of builds with other `seed`s lie: more than the nodes, so that no node's
  * seed is another build's. */
 #define LIVE_SEED_STRIDE 1000u
+
+/* The deep twilight band's rounds of refinement (fm_sky_live_refine) at most: each adds the build's
+ * paths again with new seeds (docs/decisions/2026-12-07-live-refine.md). */
+#define LIVE_REFINE_ROUNDS 8
+
+/* How far apart the seeds of rounds lie: beyond every build's (LIVE_SEED_STRIDE times its `seed`). */
+#define LIVE_ROUND_SEED_SHIFT 32
 
 /* The tables of one sun elevation. */
 typedef struct live_node {
@@ -41,6 +49,12 @@ struct fm_sky_live {
     uint64_t seed;        /* 0: the product's paths; n moves every node's seed by n * LIVE_SEED_STRIDE,
                            * for measuring the spread of a build's noise (live-bench accuracy's seeds) */
     live_node *nodes;
+    /* The deep twilight nodes' multiple-scattering paths before their fit (0 to the band's count - 1,
+     * as nodes): sums over every round, the raw estimates that a round of refinement adds to and
+     * refits; `paths` 0 until the band is built (and in fog, whose tables are not refined). */
+    ms_table *raw;
+    int raw_count;
+    int rounds; /* rounds of refinement in the band's tables (0: as built) */
     /* The deep twilight band is built on first use (live.c): while deep_pending, a map whose sun reads
      * one of its nodes builds the band under `lock` first; the other nodes are never written then. */
     atomic_int deep_pending;

@@ -287,6 +287,25 @@ fm_status ms_table_fill(render_job *job, double sun_elevation_deg)
     return FM_OK;
 }
 
+void ms_table_add(render_job *job, const ms_table *more)
+{
+    ms_table *t = job->ms;
+    const int K = job->sky->atm.grid.count, nodes = sky_grid_nodes(&t->grid);
+    assert(!t->orders && !more->orders && nodes == sky_grid_nodes(&more->grid) && !t->ratio[0] == !more->ratio[0]);
+    for (int i = 0; i < nodes; i++) {
+        for (int k = 0; k < K; k++)
+            t->sum[i * K + k] += more->sum[i * K + k];
+        node_moments *m = &t->moments[i];
+        m->yy += more->moments[i].yy;
+        for (int b = 0; b < NODE_BATCHES; b++)
+            for (int c = 0; c < 3; c++)
+                m->batch_xyz[b][c] += more->moments[i].batch_xyz[b][c];
+        t->shape[i] = more->shape[i];
+    }
+    finish_nodes(job, t->paths + more->paths);
+    job->paths_per_node = t->paths;
+}
+
 int ms_table_walk_shareable(const render_job *job)
 {
     return !job->twilight && !job->under_deck && !rising_segments(job->sky, NULL);
