@@ -28,10 +28,14 @@ enum { EXIT_RUNTIME = 1, EXIT_USAGE = 2, LINE_MAX_BYTES = 1 << 20 };
 
 /* The signal that stops the server (as `render`'s): the render in progress polls it and stops. */
 static atomic_int cancel_signal;
+/* Stops a round of refinement (fm_sky_live_refine) at once: a request arrived, the input ended, or
+ * a signal. */
+static atomic_int refine_cancel;
 
 static void on_signal(int sig)
 {
     atomic_store(&cancel_signal, sig);
+    atomic_store(&refine_cancel, 1);
 }
 
 typedef struct server {
@@ -135,6 +139,7 @@ static void offer(server *sv, request *r)
     pthread_mutex_lock(&sv->lock);
     request *replaced = sv->waiting;
     sv->waiting = r;
+    atomic_store(&refine_cancel, 1);
     if (replaced)
         write_reply_locked(new_reply(replaced->id, "superseded"));
     pthread_cond_signal(&sv->wake);
@@ -166,6 +171,7 @@ static void *read_requests(void *arg)
     }
     pthread_mutex_lock(&sv->lock);
     sv->input_ended = 1;
+    atomic_store(&refine_cancel, 1);
     pthread_cond_signal(&sv->wake);
     pthread_mutex_unlock(&sv->lock);
     return NULL;
@@ -173,12 +179,13 @@ static void *read_requests(void *arg)
 
 /* ---- the main thread ---------------------------------------------------------------------------- */
 
-/* The waiting request, after waiting for one; NULL when the input ended with none waiting, or on
- * a signal (the waiting request then stays). */
-static request *next_request(server *sv)
+/* The waiting request, after waiting for one when `wait`; NULL when the input ended with none
+ * waiting, or on a signal (the waiting request then stays): *over set; or without `wait`, when none
+ * waits. */
+static request *next_request(server *sv, int wait, int *over)
 {
     pthread_mutex_lock(&sv->lock);
-    while (!sv->waiting && !sv->input_ended && !atomic_load(&cancel_signal)) {
+    while (wait && !sv->waiting && !sv->input_ended && !atomic_load(&cancel_signal)) {
         /* a signal handler cannot signal the condition: look at the flag every 50 ms */
         struct timespec until;
         clock_gettime(CLOCK_REALTIME, &until);
@@ -192,6 +199,7 @@ static request *next_request(server *sv)
     request *r = atomic_load(&cancel_signal) ? NULL : sv->waiting;
     if (r)
         sv->waiting = NULL;
+    *over = !r && (sv->input_ended || atomic_load(&cancel_signal));
     pthread_mutex_unlock(&sv->lock);
     return r;
 }
@@ -226,7 +234,7 @@ static void add_seconds(cJSON *obj, const char *name, double s)
 
 /* "done" with the files, the time taken (and per stage), where the atmosphere came from and the
  * sidecar's fields. */
-static cJSON *done_reply(const request *r, const double t[T_COUNT], live_source from, live_band band)
+static cJSON *done_reply(const request *r, const double t[T_COUNT], live_source from, live_band band, int refined)
 {
     cJSON *reply = new_reply(r->id, "done");
     cJSON_AddStringToObject(reply, "output", r->opt.output);
@@ -238,6 +246,8 @@ static cJSON *done_reply(const request *r, const double t[T_COUNT], live_source 
     add_seconds(stages, "write", t[T_WRITE] - t[T_RENDER]);
     cJSON_AddStringToObject(reply, "cache", live_source_name(from));
     cJSON_AddStringToObject(reply, "deep_twilight", live_band_name(band));
+    if (refined >= 0)
+        cJSON_AddNumberToObject(reply, "refined", refined);
     fm_error err = {0};
     fm_status s;
     json_reader rd = {r->sidecar, "sidecar", &err};
@@ -249,8 +259,12 @@ static cJSON *done_reply(const request *r, const double t[T_COUNT], live_source 
     return reply;
 }
 
-static cJSON *serve_request(request *r, live_cache *cache, const fm_colour_config *colour, int threads)
+/* The request's map and its reply; *used the atmosphere it was rendered from (owned by the cache,
+ * valid until its next call), NULL when it failed. */
+static cJSON *serve_request(request *r, live_cache *cache, const fm_colour_config *colour, int threads,
+                            fm_sky_live **used)
 {
+    *used = NULL;
     double t[T_COUNT] = {platform_monotonic_seconds()};
     options *opt = &r->opt;
     opt->sky.threads = threads;
@@ -292,13 +306,58 @@ static cJSON *serve_request(request *r, live_cache *cache, const fm_colour_confi
         return error_reply(r->id, "cancelled", NULL, "interrupted; nothing was written");
     if (s)
         return library_error_reply(r->id, &err);
-    return done_reply(r, t, from, band);
+    *used = live;
+    return done_reply(r, t, from, band,
+                      fm_sky_live_reads_deep_band(live, sky.sun_elevation_deg) ? fm_sky_live_rounds(live) : -1);
+}
+
+/* The server's state between requests: the last request done and the atmosphere it was rendered
+ * from, whose deep twilight band the server refines while no request waits. */
+typedef struct idle_work {
+    request *last;
+    fm_sky_live *live;
+} idle_work;
+
+/* One request served and answered; it becomes the last when done. */
+static void serve_one(server *sv, idle_work *w, request *r, live_cache *cache, const fm_colour_config *colour,
+                      int threads)
+{
+    fm_sky_live *used;
+    put_reply(sv, serve_request(r, cache, colour, threads, &used));
+    request_free(w->last);
+    w->last = used ? r : NULL;
+    w->live = used;
+    if (!used)
+        request_free(r);
+}
+
+/* One round of refinement of the last atmosphere's deep twilight band (saved to the cache); when it
+ * completes and the last request's map reads the band, that map again, answered again with its id
+ * and the rounds ("refined").  A request arriving cancels the round at once: nothing changes. */
+static void refine_round(server *sv, idle_work *w, live_cache *cache, const fm_colour_config *colour, int threads)
+{
+    fm_error err = {0};
+    fm_status s = live_cache_refine(cache, w->live, &refine_cancel, &err);
+    if (s == FM_ERR_CANCELLED)
+        return;
+    if (s) {
+        report_error("serve: refining the deep twilight tables: %s", err.message);
+        w->live = NULL; /* not again */
+        return;
+    }
+    fm_sky_params sun;
+    if (w->last && fm_sky_params_resolve_sun(&w->last->opt.sky, &sun, &err) == FM_OK &&
+        fm_sky_live_reads_deep_band(w->live, sun.sun_elevation_deg)) {
+        request *r = w->last;
+        w->last = NULL;
+        serve_one(sv, w, r, cache, colour, threads);
+    }
 }
 
 /* ---- the command -------------------------------------------------------------------------------- */
 
 static const char USAGE[] =
-    "usage: firmament serve [--cache DIR | --no-cache] [--memory N] [--threads N]\n"
+    "usage: firmament serve [--cache DIR | --no-cache] [--memory N] [--threads N] [--refine N]\n"
     "\n"
     "Renders a map per request: one JSON object per line on standard input (render options as a\n"
     "sky preset writes them, \"output\", optional \"sidecar\" and \"id\"), one JSON reply per line on\n"
@@ -308,12 +367,14 @@ static const char USAGE[] =
     "                $XDG_CACHE_HOME/firmament, else ~/.cache/firmament)\n"
     "  --no-cache    keep them in memory only\n"
     "  --memory N    atmospheres kept in memory, 1-64 (default 2)\n"
-    "  --threads N   threads per build and render, 0-256 (default 0: one per core)\n";
+    "  --threads N   threads per build and render, 0-256 (default 0: one per core)\n"
+    "  --refine N    rounds of paths added to the deep twilight tables while idle, 0-64 (default 64:\n"
+    "                as many as the library makes; 0: none)\n";
 
 typedef struct serve_options {
     const char *cache_dir; /* NULL: none */
     char default_dir[4096];
-    long long keep, threads;
+    long long keep, threads, refine;
 } serve_options;
 
 /* -1 to go on, else the exit code. */
@@ -321,6 +382,7 @@ static int parse_serve_options(int argc, char **argv, serve_options *so)
 {
     so->keep = 2;
     so->threads = 0;
+    so->refine = 64;
     so->cache_dir = fm_default_cache_dir(so->default_dir, sizeof so->default_dir) == 0 ? so->default_dir : NULL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -329,7 +391,8 @@ static int parse_serve_options(int argc, char **argv, serve_options *so)
             return 0;
         } else if (!strcmp(a, "--no-cache")) {
             so->cache_dir = NULL;
-        } else if (!strcmp(a, "--cache") || !strcmp(a, "--memory") || !strcmp(a, "--threads")) {
+        } else if (!strcmp(a, "--cache") || !strcmp(a, "--memory") || !strcmp(a, "--threads") ||
+                   !strcmp(a, "--refine")) {
             if (!v) {
                 report_error("serve: %s needs a value", a);
                 return EXIT_USAGE;
@@ -345,6 +408,9 @@ static int parse_serve_options(int argc, char **argv, serve_options *so)
                 return EXIT_USAGE;
             } else if (!strcmp(a, "--threads") && !parse_whole(v, 0, 256, &so->threads)) {
                 report_error("serve: --threads: '%s' is not a whole number in [0, 256]", v);
+                return EXIT_USAGE;
+            } else if (!strcmp(a, "--refine") && !parse_whole(v, 0, 64, &so->refine)) {
+                report_error("serve: --refine: '%s' is not a whole number in [0, 64]", v);
                 return EXIT_USAGE;
             }
         } else {
@@ -407,12 +473,18 @@ int run_serve(int argc, char **argv)
         fm_colour_config_close(colour);
         return EXIT_RUNTIME;
     }
-    request *r;
-    while ((r = next_request(&sv))) {
-        cJSON *reply = serve_request(r, cache, colour, (int)so.threads);
-        put_reply(&sv, reply);
-        request_free(r);
+    idle_work w = {NULL, NULL};
+    for (int over = 0; !over;) {
+        const int refine = w.live && fm_sky_live_refinable(w.live) && fm_sky_live_rounds(w.live) < so.refine;
+        if (refine)
+            atomic_store(&refine_cancel, 0); /* before looking: a request after it cancels the round */
+        request *r = next_request(&sv, !refine, &over);
+        if (r)
+            serve_one(&sv, &w, r, cache, colour, (int)so.threads);
+        else if (!over && refine)
+            refine_round(&sv, &w, cache, colour, (int)so.threads);
     }
+    request_free(w.last);
     if (atomic_load(&cancel_signal))
         stop(&sv, cache, colour);
     pthread_join(reader, NULL);

@@ -164,3 +164,16 @@ fm_status live_cache_get(live_cache *c, const fm_sky_params *params, double sun_
     *out = live;
     return s;
 }
+
+fm_status live_cache_refine(live_cache *c, fm_sky_live *live, const atomic_int *cancel, fm_error *err)
+{
+    for (int i = 0; i < c->keep; i++)
+        if (live && c->slots[i].live == live) {
+            fm_status s = fm_sky_live_refine(live, cancel, err);
+            char *path = s ? NULL : cache_file(c, c->slots[i].key);
+            save(live, path);
+            free(path);
+            return s;
+        }
+    return FM_OK;
+}

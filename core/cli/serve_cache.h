@@ -31,6 +31,11 @@ fm_status live_cache_get(live_cache *c, const fm_sky_params *params, double sun_
                          const atomic_int *cancel, fm_sky_live **out, live_source *source, live_band *band,
                          fm_error *err);
 
+/* One round of refinement (fm_sky_live_refine) of live, an atmosphere of the cache, then its file
+ * saved again (it holds the rounds, from which a new server resumes); FM_ERR_CANCELLED leaves both as
+ * they were.  Nothing when live is not the cache's. */
+fm_status live_cache_refine(live_cache *c, fm_sky_live *live, const atomic_int *cancel, fm_error *err);
+
 /* "memory", "disk", "built" */
 const char *live_source_name(live_source s);
 /* "built", "ready", "pending" */

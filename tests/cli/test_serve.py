@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """`firmament serve` driven as a client drives it (docs/cli.md, "firmament serve").
 
-Usage: test_serve.py path/to/firmament [session|signal|cache ...]   (default: all three)
+Usage: test_serve.py path/to/firmament [session|signal|cache|refine ...]   (default: all four)
 
 session  ten requests of one atmosphere (one malformed, one superseded: two sent while the first
          builds the atmosphere, the first of them answered "superseded" and the newest done), then the
@@ -23,7 +23,10 @@ cache    a new server on the session's cache folder takes the atmosphere from th
          before the deep twilight band (a new folder, a sun of 20) is completed by the next server's
          request at -18: the same pixels, and then the same file bit for bit, as the session's whole
          atmosphere.
-Three builds of an atmosphere in all (the session's, the truncated file's, the new folder's); small
+refine   a server refining while idle answers its last request at -12 again after a round
+         ("refined": 1, a new map); a request by day meanwhile carries no "refined"; the cache file
+         holds the round, from which a new server answers with the same map.
+Four builds of an atmosphere in all (the session's, the truncated file's, the new folder's, refine's); small
 maps at preview quality."""
 import json
 import math
@@ -38,7 +41,7 @@ import time
 
 FM = os.path.abspath(sys.argv[1])
 SOURCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
-PARTS = sys.argv[2:] or ["session", "signal", "cache"]
+PARTS = sys.argv[2:] or ["session", "signal", "cache", "refine"]
 SMALL = {"quality": "preview", "width": 32}
 GOLDEN = {"preset": "golden-hour", **SMALL}  # one atmosphere (its date and place) for the session and the cache
 failures = []
@@ -189,7 +192,8 @@ def session(tmp, xdg):
     once by request 1 into the default cache folder under xdg."""
     with open(os.path.join(SOURCE, "presets", "skies", "golden-hour.json")) as f:
         golden = json.load(f)
-    srv = Server(tmp, "--threads", "2", env={**os.environ, "XDG_CACHE_HOME": xdg})
+    # no refinement: its replies would come between the session's whenever a round ends (refine below)
+    srv = Server(tmp, "--threads", "2", "--refine", "0", env={**os.environ, "XDG_CACHE_HOME": xdg})
     # 1: the atmosphere is built (seconds), then the map rendered; 2 and 3 arrive while it builds
     srv.send({"id": 1, "output": "r1.exr", **GOLDEN, "sun_elevation": 10, "sun_azimuth": 180})
     time.sleep(0.3)  # the server has taken request 1
@@ -400,6 +404,42 @@ def cache(tmp, folder, built_seconds):
     check(sorted(os.listdir(folder)) == files, f"no temporary left in the cache: {os.listdir(folder)}")
 
 
+# ---- refinement while idle ----------------------------------------------------------------------
+
+def refine(tmp):
+    """A server allowed one round of refinement: a map by day (no "refined" in its reply: it does not
+    read the deep twilight band), then -12 (the band built, refined 0), then, with no request waiting,
+    the round and the same request answered again (refined 1) with a map that changed.  The cache
+    file holds the round: a new server answers -12 from the disk with refined 1 and the same pixels."""
+    folder = os.path.join(tmp, "cache")
+    srv = Server(tmp, "--cache", folder, "--threads", "2", "--refine", "1")
+    srv.send({"id": "day", "output": "day.exr", **GOLDEN, "sun_elevation": 10, "sun_azimuth": 180})
+    day = srv.reply(timeout=300)
+    check_done(day, tmp, 10, 180)
+    check("refined" not in day, f"a map by day does not read the deep twilight band: {day}")
+    srv.send({"id": "deep", "output": "deep.exr", **GOLDEN, "sun_elevation": -12, "sun_azimuth": 180})
+    first = srv.reply(timeout=300)
+    check_done(first, tmp, -12, 180)
+    check(first.get("deep_twilight") == "built" and first.get("refined") == 0,
+          f"-12: the band built, not refined yet ({first.get('deep_twilight')}, {first.get('refined')})")
+    before = open(os.path.join(tmp, "deep.exr"), "rb").read()
+    refined = srv.reply(timeout=300)
+    check(refined.get("id") == "deep" and refined.get("status") == "done" and refined.get("refined") == 1,
+          f"-12 answered again after a round of refinement: {refined}")
+    check_done(refined, tmp, -12, 180)
+    check(open(os.path.join(tmp, "deep.exr"), "rb").read() != before, "the refined map differs from the first")
+    code, rest = srv.finish()
+    check(code == 0 and rest == [], f"one round only, then the end: exit {code}, replies {rest}")
+    resumed, _, _ = one_map(tmp, folder, "resumed", -12)
+    check(resumed.get("cache") == "disk" and resumed.get("refined") == 1,
+          f"a new server takes the refined band from the file ({resumed.get('cache')}, {resumed.get('refined')})")
+    out = subprocess.run([FM, "compare", os.path.join(tmp, "resumed.exr"), os.path.join(tmp, "deep.exr"), "--json"],
+                         capture_output=True, text=True)
+    same = json.loads(out.stdout) if out.returncode == 0 else {}
+    check(same.get("pixels", 0) > 0 and same.get("rms") == 0 and same.get("max") == 0,
+          f"the map from the refined file is the refined map: {same or out.stderr}")
+
+
 with tempfile.TemporaryDirectory() as root:
     xdg = os.path.join(root, "xdg")
     folder = os.path.join(xdg, "firmament")  # the default cache folder, made with its parent
@@ -413,6 +453,8 @@ with tempfile.TemporaryDirectory() as root:
             signals(os.path.join(root, part))
         elif part == "cache":
             cache(os.path.join(root, part), folder, built)
+        elif part == "refine":
+            refine(os.path.join(root, part))
         print(f"{part}: {time.monotonic() - start:.1f} s")
 print(f"{len(failures)} failures" if failures else "all serve checks passed")
 sys.exit(1 if failures else 0)
