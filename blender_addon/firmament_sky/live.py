@@ -7,7 +7,9 @@ awaited, else the changes are coalesced by a DEBOUNCE_S timer (the newest wins; 
 drops a waiting request for a newer one),
 and the reply is awaited right there for at most WAIT_S (so that the frame Blender draws next already
 shows the new map), else a timer polls for it.  The world's image is swapped
-in place when a reply says done, and the lamp takes the reply's strength and colour.
+in place when a reply says done, and the lamp takes the reply's strength and colour.  While idle the
+server refines its deep twilight tables and answers the last request again ("refined"): the watch
+timer swaps that map in too.
 
 Final renders never use the preview: a render_pre handler renders the final map of the frame's
 settings (blocking, as Generate does in background mode) and sets it up before Blender renders,
@@ -43,7 +45,8 @@ FINAL_KEY = "firmament_final_sky"  # the world's custom property: the request of
 
 # the session's one server and what it was last asked
 _state = {"server": None, "restarted": False, "scene": None, "pending": False, "last": None,
-          "sent": None, "next_id": 1, "rendering": False, "refused": None, "server_s": 0.0, "shown": None}
+          "sent": None, "next_id": 1, "rendering": False, "refused": None, "server_s": 0.0, "shown": None,
+          "applied": None}
 _seen = {}  # scene name -> its LIVE_KEYS' values at the watch's last pass
 
 
@@ -178,6 +181,7 @@ def _ensure_server():
             raise OSError("the firmament server stopped twice: %s" % why)
         _state["restarted"] = True
     exe = preferences.executable_and_options()[0]
+    _state["applied"] = None  # a new server answers nothing of the old one's again
     _state["server"] = server.Server(exe, server_cache_dir()).start()
     return _state["server"]
 
@@ -234,6 +238,7 @@ def poll(wait_s=0.0):
         if scene is None:
             return None
         if reply.get("status") == "done":
+            _state["applied"] = {"id": sent["id"], "settings": sent["settings"], "refined": reply.get("refined", 0)}
             try:
                 apply_reply(scene, reply, sent["settings"])
             except world.SetupError as e:
@@ -250,6 +255,27 @@ def poll(wait_s=0.0):
             return None
         _state["server"].send(sent["request"])
     return POLL_S
+
+
+def take_refined():
+    """A map the server made again for the request shown, from deep twilight tables it refined while
+    idle (a reply with the same id and a higher "refined"), replaces it, unless a newer request is
+    awaited or due (its map is on its way).  Called by the watch timer: no request, no wait."""
+    srv, applied = _state["server"], _state["applied"]
+    if srv is None or applied is None or _state["sent"] is not None or _state["pending"]:
+        return
+    for reply in srv.replies(0.0):
+        if (reply.get("id") != applied["id"] or reply.get("status") != "done"
+                or reply.get("refined", 0) <= applied["refined"]):
+            continue
+        scene = bpy.data.scenes.get(_state["scene"])
+        if scene is None:
+            return
+        applied["refined"] = reply["refined"]
+        try:
+            apply_reply(scene, reply, applied["settings"])
+        except world.SetupError as e:
+            report(scene, e)
 
 
 def _replies(srv, end):
@@ -327,6 +353,7 @@ def watch():
             if _seen.get(scene.name) != values:
                 _seen[scene.name] = values
                 request_update(scene)
+    take_refined()
     return WATCH_S
 
 
@@ -359,7 +386,7 @@ def _stop_server():
     """Also at Python's exit (atexit), when bpy may be gone: nothing of bpy here."""
     srv = _state["server"]
     _state.update(server=None, restarted=False, pending=False, last=None, sent=None, refused=None, server_s=0.0,
-                  shown=None)
+                  shown=None, applied=None)
     if srv is not None:
         srv.stop()
 

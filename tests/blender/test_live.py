@@ -28,6 +28,8 @@ update callbacks), and live.settle (a watch pass, live.send_pending, then live.p
   settings are the current ones; an undone Live off restarts the server, a redone one ends it.
 - The elevation keyframed over 5 frames, frame_set on each: lamp and map follow every frame.
 - The elevation driven by a frame expression and by an empty's height: lamp and map follow.
+- The server refines the deep twilight tables while idle: at -12 the map shown is replaced by the
+  same request's refined one (a reply with "refined" 1 or more), with no change of the settings.
 - A killed server is restarted once; killed again, the error is reported and Live turns off.
 - Toggle off: the server process is gone (reaped: no zombie).
 - The sun from a clock time: the lamp at once toward `firmament sun`'s sun, the map's sun the same,
@@ -408,6 +410,22 @@ for what, change, e in (("a frame", lambda: scene.frame_set(7), 27.0),
 scene.animation_data_clear()
 bpy.data.objects.remove(empty)
 scene.frame_set(1)
+
+# the server refines the deep twilight tables while idle and answers the map shown again ("refined"):
+# the watch timer reloads the image, with no change of the settings
+p.sun_elevation = -12.0
+settled("elevation -12")
+applied = dict(live._state["applied"])
+h.check(applied["refined"] == 0, "-12: the first map from the tables as built (refined %s)" % applied["refined"])
+before = list(h.image_pixels(live_image()))
+end = time.monotonic() + 300
+while live._state["applied"]["refined"] < 1 and time.monotonic() < end:
+    live.watch()
+    time.sleep(0.05)
+h.check(live._state["applied"]["refined"] >= 1 and live._state["applied"]["id"] == applied["id"],
+        "a refined map of the same request applied (%s)" % live._state["applied"])
+h.check(list(h.image_pixels(live_image())) != before, "the refined map reloaded into the image")
+h.close(h.sidecar_of(live_image())["sun"]["elevation_deg"], -12.0, 1e-6, "the refined map's sun")
 
 # a server that dies is restarted once, then reported
 os.kill(pid, signal.SIGKILL)
