@@ -68,7 +68,10 @@
 #                                   percentile, mean and largest u'v' distance; below the horizon
 #                                   (-18, -12, -6) again against the mean of two final seeds, with that
 #                                   reference's own noise and the RMS less it, over three builds (the
-#                                   product's and two with moved seeds: each build's RMS printed); and
+#                                   product's and two with moved seeds: each build's RMS printed); the
+#                                   product's build refined round by round (rural and urban: each
+#                                   round's CPU seconds, and after it -18, -12 and -6 against the same
+#                                   reference, as a server refines while idle); and
 #                                   the zenith luminance swept in 0.1 degree
 #                                   steps across the grid (the largest step across a grid elevation
 #                                   against the largest elsewhere); and `firmament serve` as a client
@@ -76,7 +79,8 @@
 #                                   sky): a request that builds the atmosphere (sun 30: all but the deep
 #                                   twilight band), the next at -18 (the band built), a new server's first
 #                                   with it on the disk, 40 suns with it in memory (median, 90th
-#                                   percentile, largest; the server's atmosphere, render, write parts)
+#                                   percentile, largest; the server's atmosphere, render, write parts),
+#                                   and the same 40 suns each sent into a round of refinement under way
 #   bench/bench.sh --make-reference rewrites the converged references (after a change of the physics;
 #                                   below 0.1% noise: about 15 minutes for the default sky and 3-4 hours
 #                                   for the sunset on 2 cores)
@@ -233,6 +237,9 @@ if [ "${1:-}" = "--live" ]; then
     done
     for b in none rural urban; do
         "$LB" accuracy "$b" 128 ref 2 seeds 3 -18 -12 -6 | { [ "$b" = none ] && cat || tail -n +2; }
+    done
+    for b in rural urban; do  # every round of refinement the library makes (64: more than it makes)
+        "$LB" refine "$b" 128 ref 2 64 -18 -12 -6 | { [ "$b" = rural ] && cat || tail -n +2; }
     done
     for b in none urban; do "$LB" sweep "$b" -20 90 0.1 | tail -n 1; done
     python3 "$ROOT/bench/serve_latency.py" "$FM" --requests 40
