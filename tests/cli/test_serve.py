@@ -321,6 +321,14 @@ def same_bytes(a, b):
         return f.read() == g.read()
 
 
+def check_same_pixels(a, b, what):
+    """Check that two maps have the same pixels (the whole map, sun included)."""
+    out = subprocess.run([FM, "compare", a, b, "--json"], capture_output=True, text=True)
+    same = json.loads(out.stdout) if out.returncode == 0 else {}
+    check(same.get("pixels", 0) > 0 and same.get("rms") == 0 and same.get("max") == 0,
+          f"{what}: {same or out.stderr}")
+
+
 def deep_band_completes_file(tmp, folder):
     """folder holds the session's whole atmosphere (or none: then the first server here builds it
     whole, the deep twilight band too).  A new folder: its file saved by a request at 20 without the
@@ -339,11 +347,8 @@ def deep_band_completes_file(tmp, folder):
     deep, _, _ = one_map(tmp, lazy, "lazy18", -18)
     check(deep.get("cache") == "disk" and deep.get("deep_twilight") == "built",
           f"-18 from the file without the band: built it ({deep.get('cache')}, {deep.get('deep_twilight')})")
-    out = subprocess.run([FM, "compare", os.path.join(tmp, "lazy18.exr"), os.path.join(tmp, "whole18.exr"), "--json"],
-                         capture_output=True, text=True)
-    same = json.loads(out.stdout) if out.returncode == 0 else {}
-    check(same.get("pixels", 0) > 0 and same.get("rms") == 0 and same.get("max") == 0,
-          f"the map at -18 from the completed file has the whole atmosphere's pixels: {same or out.stderr}")
+    check_same_pixels(os.path.join(tmp, "lazy18.exr"), os.path.join(tmp, "whole18.exr"),
+                      "the map at -18 from the completed file has the whole atmosphere's pixels")
     check(open(saved, "rb").read() != before and os.listdir(lazy) == files,
           f"the cache file replaced by one with the band: {os.listdir(lazy)}")
     whole_file = [f for f in os.listdir(folder) if f == files[0]]
@@ -433,11 +438,8 @@ def refine(tmp):
     resumed, _, _ = one_map(tmp, folder, "resumed", -12)
     check(resumed.get("cache") == "disk" and resumed.get("refined") == 1,
           f"a new server takes the refined band from the file ({resumed.get('cache')}, {resumed.get('refined')})")
-    out = subprocess.run([FM, "compare", os.path.join(tmp, "resumed.exr"), os.path.join(tmp, "deep.exr"), "--json"],
-                         capture_output=True, text=True)
-    same = json.loads(out.stdout) if out.returncode == 0 else {}
-    check(same.get("pixels", 0) > 0 and same.get("rms") == 0 and same.get("max") == 0,
-          f"the map from the refined file is the refined map: {same or out.stderr}")
+    check_same_pixels(os.path.join(tmp, "resumed.exr"), os.path.join(tmp, "deep.exr"),
+                      "the map from the refined file is the refined map")
 
 
 with tempfile.TemporaryDirectory() as root:
