@@ -31,17 +31,19 @@ static const double SUN_DEG[] = {-20, -17.5, -15, -12.5, -10, -8, -6, -4.5, -3, 
 #define NODES ((int)(sizeof SUN_DEG / sizeof SUN_DEG[0]))
 #define QUALITY FM_QUALITY_PREVIEW
 #define SAMPLE_SCALE 1.0
-/* Below the horizon the paths cost several times a day's (twilight sampling): a quarter of them,
- * whose noise the fit still averages (the same decision record). */
-#define TWILIGHT_PATH_SCALE 0.25
-/* By day each node draws its own paths (its index seeds them) and the nodes from SMOOTH_FROM_DEG
- * up have their multiple-scattering tables smoothed across the sun elevation (live_smooth.h): a
- * map between two nodes then averages two noises, not one noise twice.  Below, the sky changes too
- * fast with the sun for the smoothing, and in twilight above deep twilight the nodes share one seed so
- * that their noise is alike from one elevation to the next (docs/decisions/2026-12-06-live-day-nodes.md).
- * Deep twilight's nodes draw their own paths too, and their tables are smoothed across the sun
+/* Below the horizon the paths cost several times a day's (twilight sampling): deep twilight's nodes
+ * take a quarter of them, whose noise the smoothing across the sun elevation averages (live_smooth.h;
+ * the same decision record).  The nodes above it (-4.5 to -1) are not smoothed, and their table's
+ * level over the sky (and the ground's light, from the same paths) keeps all its noise: they take the
+ * preview's paths (docs/decisions/2026-12-07-live-twilight-bias.md). */
+#define DEEP_TWILIGHT_PATH_SCALE 0.25
+/* Each node draws its own paths (its index seeds them), so that a map between two nodes averages two
+ * noises, not one noise twice; in twilight above deep twilight one seed for all gave every node one
+ * realisation of its table's level (docs/decisions/2026-12-07-live-twilight-bias.md).  By day the
+ * nodes from SMOOTH_FROM_DEG up have their multiple-scattering tables smoothed across the sun
+ * elevation (live_smooth.h); below, the sky changes too fast with the sun for the smoothing
+ * (docs/decisions/2026-12-06-live-day-nodes.md).  Deep twilight's tables are smoothed across the sun
  * elevation among themselves (live_smooth_deep_twilight; docs/decisions/2026-12-06-live-twilight.md). */
-#define OWN_SEED_FROM_DEG 0.0
 #define SMOOTH_FROM_DEG 3.5
 /* From HIGH_SUN_DEG up the sky's multiple scattering is a smaller part of it and changes slowest
  * with the sun: half the paths, whose noise the smoothing takes back (the same decision record). */
@@ -187,13 +189,12 @@ static fm_status node_begin(const fm_sky_live *live, live_node *node, const shad
     job->q = live->q;
     if (node->sun_elevation_deg >= HIGH_SUN_DEG)
         job->q.ms_paths = (int)fmax(1.0, round(job->q.ms_paths * HIGH_SUN_PATH_SCALE));
-    if (node->sun_elevation_deg < 0.0) {
-        job->q.ms_paths = (int)fmax(1.0, round(job->q.ms_paths * TWILIGHT_PATH_SCALE));
-        job->q.ground_paths = (int)fmax(1.0, round(job->q.ground_paths * TWILIGHT_PATH_SCALE));
+    if (twilight_deep(node->sun_elevation_deg)) {
+        job->q.ms_paths = (int)fmax(1.0, round(job->q.ms_paths * DEEP_TWILIGHT_PATH_SCALE));
+        job->q.ground_paths = (int)fmax(1.0, round(job->q.ground_paths * DEEP_TWILIGHT_PATH_SCALE));
     }
-    const int own_seed = node->sun_elevation_deg >= OWN_SEED_FROM_DEG || twilight_deep(node->sun_elevation_deg);
     const uint64_t moved = LIVE_SEED_STRIDE * live->seed + ((uint64_t)refine_round << LIVE_ROUND_SEED_SHIFT);
-    job->seed = own_seed ? mix64((uint64_t)(node - live->nodes) + 1 + moved) : mix64(moved);
+    job->seed = mix64((uint64_t)(node - live->nodes) + 1 + moved);
     if (!(s = render_twilight(job, &b->twilight, err))) {
         job->twilight = b->twilight;
         s = render_fast_tables_begin(job, err);
