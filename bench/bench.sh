@@ -58,7 +58,7 @@
 #   bench/bench.sh --live           the live sky (docs/rendering.md, "Live sky"; bench/live_bench.c):
 #                                   per biome (none, rural, urban) the build time (wall and CPU: the
 #                                   whole, then its two parts: the build a first map by day waits for,
-#                                   and the deep twilight band a first sun below -3 degrees adds), the
+#                                   and the twilight band a first sun below 1 degree adds), the
 #                                   tables' memory, the time from a new sun to a written 512 x 256 map
 #                                   (median of 40 suns; in half floats without the sun disk, as the
 #                                   add-on's live maps, and in floats with it; wall and CPU, render and

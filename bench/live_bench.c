@@ -4,8 +4,8 @@
  *
  *   live-bench speed BIOME [SUNS]       builds the live sky of BIOME on every core, prints its build
  *                                       time (the whole; then its parts: fm_sky_live_create, what a
- *                                       first map by day waits for, and the deep twilight band that a
- *                                       first sun below -3 degrees adds) and table memory, then
+ *                                       first map by day waits for, and the twilight band that a
+ *                                       first sun below 1 degree adds) and table memory, then
  *                                       renders SUNS (default 40) suns
  *                                       spread over -20..90 degrees and every azimuth to 512 x 256
  *                                       maps written as EXR + sidecar (/tmp), twice: in half floats without the sun
@@ -182,7 +182,7 @@ static int speed(const char *biome_arg, int suns)
            "%5.1f)\n",
            biome_arg, first_s + deep_s, first_cpu_s + deep_cpu_s, live->count, table_bytes(live) / 1048576.0,
            platform_peak_memory_mib(), m0);
-    printf("%-8s build to the first map %6.2f s wall, %6.2f s CPU; deep twilight band (a first sun below -3) "
+    printf("%-8s build to the first map %6.2f s wall, %6.2f s CPU; twilight band (a first sun below 1) "
            "%6.2f s wall, %6.2f s CPU\n",
            biome_arg, first_s, first_cpu_s, deep_s, deep_cpu_s);
     int s = maps(live, biome_arg, suns, 1) || maps(live, biome_arg, suns, 0);

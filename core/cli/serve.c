@@ -312,7 +312,7 @@ static cJSON *serve_request(request *r, live_cache *cache, const fm_colour_confi
 }
 
 /* The server's state between requests: the last request done and the atmosphere it was rendered
- * from, whose deep twilight band the server refines while no request waits. */
+ * from, whose deep twilight tables the server refines while no request waits. */
 typedef struct idle_work {
     request *last;
     fm_sky_live *live;
@@ -331,7 +331,7 @@ static void serve_one(server *sv, idle_work *w, request *r, live_cache *cache, c
         request_free(r);
 }
 
-/* One round of refinement of the last atmosphere's deep twilight band (saved to the cache); when it
+/* One round of refinement of the last atmosphere's deep twilight tables (saved to the cache); when it
  * completes and the last request's map reads the band, that map again, answered again with its id
  * and the rounds ("refined").  A request arriving cancels the round at once: nothing changes. */
 static void refine_round(server *sv, idle_work *w, live_cache *cache, const fm_colour_config *colour, int threads)

@@ -11,7 +11,7 @@ session  ten requests of one atmosphere (one malformed, one superseded: two sent
          sidecar, and in the pixels (close to `firmament render` at that sun, far from it at another
          sun); bad requests are answered with the field and `render`'s own message; the atmosphere is
          built once (into the default cache folder, $XDG_CACHE_HOME/firmament) and then taken from
-         memory, without its deep twilight band until the first sun below -3 degrees builds it (the
+         memory, without its twilight band until the first sun below 1 degree builds it (the
          replies say so); the input ends while a request renders and another waits: both are answered.
 signal   SIGTERM mid-request (its temporary files made, its atmosphere building): exit status
          128 + 15, both requests answered "cancelled", no map, no temporary file, an existing map kept
@@ -121,10 +121,10 @@ def leftovers(folder, expected):
 
 def band_sequence(replies, elevations):
     """The deep twilight band through a server's done replies in order (their suns' elevations):
-    pending until the first sun below -3 degrees, built by it, then ready."""
+    pending until the first sun below 1 degree, built by it, then ready."""
     want, seen = [], "pending"
     for e in elevations:
-        if seen == "pending" and e < -3:
+        if seen == "pending" and e < 1:
             want.append("built")
             seen = "ready"
         else:

@@ -843,8 +843,8 @@ static void same_maps_at_once(fm_sky_live *live, fm_sky_live *whole, const doubl
     }
 }
 
-/* fm_sky_live_create leaves the deep twilight band (suns below -6) for the first map that reads it:
- * suns below -3 degrees, whose interpolation reads the -6 node.  Maps by day build nothing; the
+/* fm_sky_live_create leaves the twilight band (the nodes below the horizon) for the first map that
+ * reads it: suns below 1 degree, whose interpolation reads the -1 node.  Maps by day build nothing; the
  * first that reads the band builds it, once, while another thread's map waits for it and a third's
  * by day goes on; every map, before and after, and every node's tables
  * are a whole build's bit for bit (its seeds, its shared flight columns, its smoothing, which takes
@@ -860,10 +860,10 @@ static void deep_twilight_band_on_first_use(void **state)
         fail_msg("fm_sky_live_create: %s", err.message);
     assert_true(fm_sky_live_is_complete(whole) && !fm_sky_live_is_complete(lazy));
     int deep = 0;
-    while (lazy->nodes[deep].sun_elevation_deg < -4.5)
+    while (lazy->nodes[deep].sun_elevation_deg < 0.0)
         deep++;
-    assert_int_equal(deep, 7); /* -20 to -6 */
-    const double day[] = {-3.0, -2.0, 0.0, 10.0, 90.0}, band[] = {-3.01, -18.0, -7.0, -6.0, -5.9, -4.5};
+    assert_int_equal(deep, 11); /* -20 to -1 */
+    const double day[] = {1.0, 2.0, 10.0, 90.0}, band[] = {0.99, -18.0, -7.0, -6.0, -5.9, -4.5, -3.0, -0.5, 0.0};
     for (size_t i = 0; i < sizeof day / sizeof day[0]; i++)
         same_map(lazy, whole, day[i], 0);
     int built = -1; /* below the grid (night) a map reads no tables */
@@ -882,9 +882,9 @@ static void deep_twilight_band_on_first_use(void **state)
         memcpy(n->ms.values, lazy->nodes[k].ms.values, sizeof(float) * C * (size_t)sky_grid_nodes(&n->ms));
         memcpy(n->aureole.values, lazy->nodes[k].aureole.values, sizeof(float) * aureole_floats(&n->aureole));
     }
-    /* the maps build the band (-3.01: the highest sun that reads it), one of them while the other
+    /* the maps build the band (0.99: the highest sun that reads it), one of them while the other
      * waits, and a day map beside them reads none of it */
-    const double at_once[] = {band[0], band[1], 10.0, 0.0};
+    const double at_once[] = {band[0], band[1], 10.0, 1.0};
     same_maps_at_once(lazy, whole, at_once, 4);
     assert_true(fm_sky_live_is_complete(lazy));
     for (size_t i = 0; i < sizeof band / sizeof band[0]; i++)
@@ -911,7 +911,7 @@ static void deep_twilight_band_on_first_use(void **state)
     fm_sky_live_destroy(whole);
 }
 
-/* The deep band's raw node estimates of a and b (two builds with other seeds): their relative
+/* The twilight band's raw node estimates of a and b (two builds with other seeds): their relative
  * difference, RMS over the nodes lit in both. */
 static double raw_difference(const fm_sky_live *a, const fm_sky_live *b)
 {
@@ -978,7 +978,7 @@ static void *cancel_thread(void *arg)
     return NULL;
 }
 
-/* Each round of fm_sky_live_refine draws the deep band's paths anew: two builds with other seeds
+/* Each round of fm_sky_live_refine draws the twilight band's paths anew: two builds with other seeds
  * refined REFINED rounds each differ in their raw node estimates by 1 / sqrt(REFINED + 1) of what
  * they differed as built (the paths' noise, independent from round to round), and their maps, fitted
  * and smoothed from them, come closer.  A round cancelled midway changes nothing (tables, raw
@@ -989,12 +989,10 @@ static void deep_twilight_band_refined_by_rounds(void **state)
 {
     (void)state;
     fm_sky_params p = test_params(10.0, 550.0);
-    fm_sky_live *a = live_for(&p, -90.0, -3.0), *b = NULL;
+    fm_sky_live *a = live_for(&p, -90.0, -1.0), *b = NULL;
     fm_error err;
-    /* b's deep band with other seeds, its twilight nodes above (-4.5, -3: in the band's smoothing,
-     * never refined) a's */
-    if (live_alloc(&p, &b, &err) || live_build_nodes(b, -4.5, -3.0, NULL, &err) ||
-        (b->seed = 1, live_build_nodes(b, -90.0, -6.0, NULL, &err)))
+    /* b's twilight band with other seeds */
+    if (live_alloc(&p, &b, &err) || (b->seed = 1, live_build_nodes(b, -90.0, -1.0, NULL, &err)))
         fail_msg("live sky: %s", err.message);
     assert_true(fm_sky_live_refinable(a) && fm_sky_live_rounds(a) == 0);
     double built = raw_difference(a, b), map_built = map_difference(a, b, -12.0);

@@ -472,8 +472,8 @@ void fm_image_destroy(fm_image *image); /* accepts NULL */
 typedef struct fm_sky_live fm_sky_live;
 
 /* Builds the live sky for the atmosphere of params (its sun position and time of day ignored):
- * every sun elevation's tables but deep twilight's (suns below -3 degrees read them), which the
- * first map that reads them builds (about a third of the whole build; fm_sky_live_complete builds
+ * every sun elevation's tables but those below the horizon (suns below 1 degree read them), which the
+ * first map that reads them builds (about half the whole build; fm_sky_live_complete builds
  * them now).  Maps are the same bits whenever that band is built.  cancel (may be NULL) stops the
  * build early with FM_ERR_CANCELLED. */
 fm_status fm_sky_live_create(const fm_sky_params *params, const atomic_int *cancel, fm_sky_live **out,
@@ -486,7 +486,7 @@ fm_status fm_sky_live_create(const fm_sky_params *params, const atomic_int *canc
 fm_status fm_sky_live_render(fm_sky_live *live, double sun_elevation_deg, double sun_azimuth_deg,
                              const fm_render_params *render, fm_image **out, fm_error *err);
 /* Builds the tables that a map for a sun at sun_elevation_deg reads and that are not built yet (the
- * deep twilight band, left by fm_sky_live_create), as fm_sky_live_render does first; *built (may be
+ * twilight band, left by fm_sky_live_create), as fm_sky_live_render does first; *built (may be
  * NULL) says whether it built them: so a caller times that build apart from the map, or saves the
  * tables after it.  On failure the band stays to be built. */
 fm_status fm_sky_live_prepare(fm_sky_live *live, double sun_elevation_deg, const atomic_int *cancel, int *built,
@@ -495,7 +495,7 @@ fm_status fm_sky_live_prepare(fm_sky_live *live, double sun_elevation_deg, const
 fm_status fm_sky_live_complete(fm_sky_live *live, const atomic_int *cancel, fm_error *err);
 /* Whether every table is built. */
 int fm_sky_live_is_complete(const fm_sky_live *live);
-/* The deep twilight band's tables refined by one more round of paths: each round draws the band's
+/* The deep twilight tables refined by one more round of paths: each round draws the band's
  * paths again with new seeds, adds them to every deep node's estimates before their fit (weighted by
  * paths), refits them and smooths the band again, so that a server idle between requests lowers
  * its noise as a viewport's samples do (docs/rendering.md "Live sky").  A round takes about the band's
@@ -508,7 +508,7 @@ fm_status fm_sky_live_refine(fm_sky_live *live, const atomic_int *cancel, fm_err
 int fm_sky_live_refinable(const fm_sky_live *live);
 /* The rounds of refinement in the band's tables (0: as built; kept in the live sky's file). */
 int fm_sky_live_rounds(const fm_sky_live *live);
-/* Whether a map at the sun elevation reads the deep twilight band (suns from -20 to below -3
+/* Whether a map at the sun elevation reads the deep twilight tables (suns from -20 to below -3
  * degrees): what refinement changes. */
 int fm_sky_live_reads_deep_band(const fm_sky_live *live, double sun_elevation_deg);
 /* The atmosphere's key: 32 hex digits (and a NUL) hashing every field that changes the live sky's

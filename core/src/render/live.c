@@ -110,8 +110,11 @@ fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *e
             aureole_init(&n->aureole, live->channels))
             s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
     }
-    /* the deep band's raw tables as its nodes' jobs make them (live->q's size: twilight takes paths) */
-    const int deep = s ? 0 : deep_nodes(live);
+    /* deep twilight's raw tables as its nodes' jobs make them (live->q's size: twilight takes paths);
+     * the twilight nodes above keep their orders apart (ms_table.h), which rounds do not add to */
+    int deep = 0;
+    while (!s && deep < live->count && twilight_deep(live->nodes[deep].sun_elevation_deg))
+        deep++;
     if (!s && deep && !(live->raw = calloc((size_t)deep, sizeof *live->raw)))
         s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
     for (int k = 0; k < deep && !s; k++, live->raw_count++)
@@ -428,16 +431,19 @@ fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, co
     return s == FM_ERR_CANCELLED ? fm_fail(err, s, "live sky cancelled") : s;
 }
 
-/* The deep twilight band: the nodes below twilight_deep's elevation, the lowest of the grid (0 to
- * deep_nodes - 1).  It costs a third of the build, and maps read it only for suns below the
- * second node above it (-3 degrees: interpolate_tables reads a node below the sun's interval), so
- * fm_sky_live_create leaves it for the first map that reads it
- * (docs/decisions/2026-12-07-live-deep-band-on-first-use.md).  Its nodes' seeds, its shared flight
- * columns and its smoothing are a whole build's; it writes none of the other nodes. */
+/* The twilight band: the nodes with the sun below the horizon, the lowest of the grid (0 to
+ * deep_nodes - 1): deep twilight's and the four above it.  It costs half the build, and maps read it
+ * only for suns below the second node above it (1 degree: interpolate_tables reads a node below the
+ * sun's interval), so fm_sky_live_create leaves it for the first map that reads it
+ * (docs/decisions/2026-12-07-live-deep-band-on-first-use.md, 2026-12-07-live-twilight-bias.md); its
+ * deep twilight nodes' paths are what rounds of refinement add to.  Its nodes' seeds, its shared flight columns and its smoothing
+ * are a whole build's; it writes none of the other nodes. */
+static int in_band(double sun_elevation_deg) { return sun_elevation_deg < 0.0; }
+
 static int deep_nodes(const fm_sky_live *live)
 {
     int n = 0;
-    while (n < live->count && twilight_deep(live->nodes[n].sun_elevation_deg))
+    while (n < live->count && in_band(live->nodes[n].sun_elevation_deg))
         n++;
     return n;
 }
@@ -578,17 +584,18 @@ static fm_status render_below_grid(const fm_sky *sky, const fm_render_params *rp
     return fm_render(sky, rp, out, err);
 }
 
-/* Whether a map for a sun at elevation_deg reads a deep twilight node (only one not built when
- * `unbuilt`): one of the four nodes of its place on the grid (interpolate_tables); none below the
- * grid (render_below_grid).  With `unbuilt` the caller holds the lock. */
-static int reads_band(const fm_sky_live *live, double elevation_deg, int unbuilt)
+/* Whether a map for a sun at elevation_deg reads a node of the band (only one not built when
+ * `unbuilt`; only a deep twilight node, the refined ones, when `deep`): one of the four nodes of its
+ * place on the grid (interpolate_tables); none below the grid (render_below_grid).  With `unbuilt`
+ * the caller holds the lock. */
+static int reads_band(const fm_sky_live *live, double elevation_deg, int unbuilt, int deep)
 {
     if (!(elevation_deg >= live->nodes[0].sun_elevation_deg))
         return 0;
     const grid_place g = place_on_grid(live, elevation_deg);
     for (int k = g.i - 1; k <= g.i + 2; k++) {
         const live_node *n = &live->nodes[k < 0 ? 0 : (k >= live->count ? live->count - 1 : k)];
-        if (twilight_deep(n->sun_elevation_deg) && (!unbuilt || !n->built))
+        if ((deep ? twilight_deep(n->sun_elevation_deg) : in_band(n->sun_elevation_deg)) && (!unbuilt || !n->built))
             return 1;
     }
     return 0;
@@ -596,10 +603,10 @@ static int reads_band(const fm_sky_live *live, double elevation_deg, int unbuilt
 
 int fm_sky_live_reads_deep_band(const fm_sky_live *live, double sun_elevation_deg)
 {
-    return reads_band(live, sun_elevation_deg, 0);
+    return reads_band(live, sun_elevation_deg, 0, 1);
 }
 
-/* The deep twilight band when whole or a map at elevation_deg reads it and it is pending, once: a
+/* The twilight band when whole or a map at elevation_deg reads it and it is pending, once: a
  * thread that finds it building waits for it; a failed build leaves it pending. */
 static fm_status build_band(fm_sky_live *live, int whole, double elevation_deg, const atomic_int *cancel, int *built,
                             fm_error *err)
@@ -611,7 +618,7 @@ static fm_status build_band(fm_sky_live *live, int whole, double elevation_deg, 
     pthread_mutex_lock(&live->lock);
     fm_status s = FM_OK;
     const int deep = deep_nodes(live);
-    if (atomic_load(&live->deep_pending) && deep > 0 && (whole || reads_band(live, elevation_deg, 1)) &&
+    if (atomic_load(&live->deep_pending) && deep > 0 && (whole || reads_band(live, elevation_deg, 1, 0)) &&
         !(s = live_build_nodes(live, -90.0, live->nodes[deep - 1].sun_elevation_deg, cancel, err))) {
         atomic_store(&live->deep_pending, 0);
         if (built)
@@ -658,7 +665,7 @@ static fm_status refine_node(const fm_sky_live *live, int k, const shadow_flight
     fm_status s = node_begin(live, node, flights, pass, cancel, b, err);
     if (!s && !(s = render_fast_tables_fill(&b->job, sun, err))) {
         if (!raw_fits(&live->raw[k], b))
-            return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the live sky's deep twilight tables are not of paths");
+            return fm_fail(err, FM_ERR_INVALID_ARGUMENT, "the live sky's twilight tables are not of paths");
         ms_table_add(&b->job, &live->raw[k]);
         s = render_fast_tables_end(&b->job, sun, err);
     }

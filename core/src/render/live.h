@@ -21,12 +21,12 @@ fm_status live_sky_params(const fm_sky_params *params, fm_sky_params *out, fm_er
 fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *err);
 
 /* Fills the tables of the nodes from from_deg to to_deg and marks them built when all are
- * (fm_sky_live_create: all but the deep twilight band, made on first use; a test may build a few).
+ * (fm_sky_live_create: all but the twilight band, made on first use; a test may build a few).
  * The deep twilight nodes' smoothing takes in the twilight nodes above them built before. */
 fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, const atomic_int *cancel,
                            fm_error *err);
 
-/* Sets deep_pending from the nodes' built flags: the deep twilight band is left for first use when
+/* Sets deep_pending from the nodes' built flags: the twilight band is left for first use when
  * every other node is built and it is not (fm_sky_live_create, a file's tables); a test's few nodes
  * never build more themselves. */
 void live_settle_pending(fm_sky_live *live);

@@ -2,8 +2,8 @@
  * atmosphere's key, the tables' size and checksum) of the tables: their layout (nodes, channels,
  * quality, the grids' sizes), then per node its sun elevation, paths, whether it is built and the
  * three tables' values (single scattering, multiple scattering, the aureole; native floats; zeros for
- * a node not built yet: the deep twilight band before its first use, live.c); then the rounds of
- * refinement and the deep twilight nodes' raw tables (per node its paths, their sums at every grid
+ * a node not built yet: the twilight band before its first use, live.c); then the rounds of
+ * refinement and the twilight band's raw tables (per node its paths, their sums at every grid
  * wavelength, their moments and shapes: what the next round adds to; zeros before the band is
  * built).  Checked before anything in it is used. */
 #include "base/sealed_file.h"
@@ -15,7 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FILE_VERSION 4u
+#define FILE_VERSION 5u
 #define CHECKSUM_SEED 0x6c697665ull /* "live" */
 
 /* ---- the tables ------------------------------------------------------------------------------ */
@@ -198,7 +198,7 @@ fm_status fm_sky_live_save(const fm_sky_live *live, const char *path, fm_error *
     unsigned char *body = malloc(n);
     if (!body)
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
-    /* not while a map's thread builds the deep twilight band (its tables half made): the lock is the
+    /* not while a map's thread builds the twilight band (its tables half made): the lock is the
      * tables', not part of what the caller sees as the live sky, so a const one locks it too */
     pthread_mutex_t *lock = (pthread_mutex_t *)&live->lock;
     pthread_mutex_lock(lock);

@@ -21,7 +21,7 @@
  * seed is another build's. */
 #define LIVE_SEED_STRIDE 1000u
 
-/* The deep twilight band's rounds of refinement (fm_sky_live_refine) at most: each adds the build's
+/* The deep twilight tables' rounds of refinement (fm_sky_live_refine) at most: each adds the build's
  * paths again with new seeds (docs/decisions/2026-12-07-live-refine.md). */
 #define LIVE_REFINE_ROUNDS 8
 
@@ -55,7 +55,7 @@ struct fm_sky_live {
     ms_table *raw;
     int raw_count;
     int rounds; /* rounds of refinement in the band's tables (0: as built) */
-    /* The deep twilight band is built on first use (live.c): while deep_pending, a map whose sun reads
+    /* The twilight band is built on first use (live.c): while deep_pending, a map whose sun reads
      * one of its nodes builds the band under `lock` first; the other nodes are never written then. */
     atomic_int deep_pending;
     pthread_mutex_t lock;
