@@ -70,7 +70,7 @@ fm_status live_sky_params(const fm_sky_params *params, fm_sky_params *out, fm_er
     return FM_OK;
 }
 
-static int deep_nodes(const fm_sky_live *live);
+static int lowest_nodes(const fm_sky_live *live, int (*in)(double sun_elevation_deg));
 
 fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *err)
 {
@@ -112,9 +112,7 @@ fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *e
     }
     /* deep twilight's raw tables as its nodes' jobs make them (live->q's size: twilight takes paths);
      * the twilight nodes above keep their orders apart (ms_table.h), which rounds do not add to */
-    int deep = 0;
-    while (!s && deep < live->count && twilight_deep(live->nodes[deep].sun_elevation_deg))
-        deep++;
+    const int deep = s ? 0 : lowest_nodes(live, twilight_deep);
     if (!s && deep && !(live->raw = calloc((size_t)deep, sizeof *live->raw)))
         s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
     for (int k = 0; k < deep && !s; k++, live->raw_count++)
@@ -432,7 +430,7 @@ fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, co
 }
 
 /* The twilight band: the nodes with the sun below the horizon, the lowest of the grid (0 to
- * deep_nodes - 1): deep twilight's and the four above it.  It costs half the build, and maps read it
+ * band_nodes - 1): deep twilight's and the four above it.  It costs half the build, and maps read it
  * only for suns below the second node above it (1 degree: interpolate_tables reads a node below the
  * sun's interval), so fm_sky_live_create leaves it for the first map that reads it
  * (docs/decisions/2026-12-07-live-deep-band-on-first-use.md, 2026-12-07-live-twilight-bias.md); its
@@ -440,17 +438,20 @@ fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, co
  * are a whole build's; it writes none of the other nodes. */
 static int in_band(double sun_elevation_deg) { return sun_elevation_deg < 0.0; }
 
-static int deep_nodes(const fm_sky_live *live)
+/* The number of nodes from the grid's lowest up for which in(elevation) holds. */
+static int lowest_nodes(const fm_sky_live *live, int (*in)(double sun_elevation_deg))
 {
     int n = 0;
-    while (n < live->count && in_band(live->nodes[n].sun_elevation_deg))
+    while (n < live->count && in(live->nodes[n].sun_elevation_deg))
         n++;
     return n;
 }
 
+static int band_nodes(const fm_sky_live *live) { return lowest_nodes(live, in_band); }
+
 void live_settle_pending(fm_sky_live *live)
 {
-    const int deep = deep_nodes(live);
+    const int deep = band_nodes(live);
     int others = 1, band = 1;
     for (int i = 0; i < live->count; i++)
         *(i < deep ? &band : &others) &= live->nodes[i].built;
@@ -464,7 +465,7 @@ fm_status fm_sky_live_create(const fm_sky_params *params, const atomic_int *canc
     fm_status s = live_alloc(params, &live, err);
     if (s)
         return s;
-    const int deep = deep_nodes(live);
+    const int deep = band_nodes(live);
     const double from_deg = deep < live->count ? live->nodes[deep].sun_elevation_deg : 90.0;
     if ((s = live_build_nodes(live, from_deg, 90.0, cancel, err))) {
         fm_sky_live_destroy(live);
@@ -617,7 +618,7 @@ static fm_status build_band(fm_sky_live *live, int whole, double elevation_deg, 
         return FM_OK;
     pthread_mutex_lock(&live->lock);
     fm_status s = FM_OK;
-    const int deep = deep_nodes(live);
+    const int deep = band_nodes(live);
     if (atomic_load(&live->deep_pending) && deep > 0 && (whole || reads_band(live, elevation_deg, 1, 0)) &&
         !(s = live_build_nodes(live, -90.0, live->nodes[deep - 1].sun_elevation_deg, cancel, err))) {
         atomic_store(&live->deep_pending, 0);
