@@ -1,6 +1,6 @@
-"""Sky presets: the JSON schema shared with `firmament render --preset` (README, "Sky presets").
-Reading checks every key, type and range and names the file and JSON path of a problem; writing
-produces a file the executable accepts.  No bpy here."""
+"""Sky presets: the JSON schema shared with `firmament render --preset` (docs/cli.md, "Sky
+presets").  Reading checks every key, type and range and names the file and JSON path of a
+problem; writing produces a file the executable accepts.  No bpy here."""
 
 import datetime
 import json

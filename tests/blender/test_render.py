@@ -95,7 +95,7 @@ h.check(0.75 * expected < mean_lit - mean_shade < 1.3 * expected,
 sky = [i for i in h.world_images()][0]
 mp = h.image_pixels(sky)
 mw, mh = sky.size
-rot = p.north_offset  # the expected rotation (README, "The map"), not the node's: orientation is under test
+rot = p.north_offset  # the expected rotation (docs/output.md, "The map"), not the node's: orientation is under test
 cz, sz = math.cos(rot), math.sin(rot)
 total_render, total_map = [0.0] * 3, [0.0] * 3
 for d, rgb in sky_dirs:

@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
 """`firmament options --json` against what the executable enforces.
 
-Usage: test_cli_options.py FIRMAMENT [README.md [--write-readme]]
+Usage: test_cli_options.py FIRMAMENT [docs/cli.md [--write-table]]
 
 For every option with a numeric range in the JSON, the command line and a sky preset (when the
 option has a preset key) accept the range's ends (or just inside an open end) and refuse just
 outside with exit status 2 and one line naming the option; every choice word is accepted and an
-unknown one refused; every option appears in `--help`; the README's table of options (between its
-"options table" markers) is the one made from the JSON (--write-readme rewrites it).  Values are
+unknown one refused; every option appears in `--help`; the table of options in docs/cli.md (between
+its "options table" markers) is the one made from the JSON (--write-table rewrites it).  Values are
 checked by parsing only: `--list-colorspaces` exits after the options are read, before any render.
 """
 import json
@@ -18,8 +18,8 @@ import sys
 import tempfile
 
 FIRMAMENT = os.path.abspath(sys.argv[1])
-README = sys.argv[2] if len(sys.argv) > 2 else None
-WRITE_README = "--write-readme" in sys.argv[3:]
+TABLE_DOC = sys.argv[2] if len(sys.argv) > 2 else None  # the Markdown file holding the options table
+WRITE_TABLE = "--write-table" in sys.argv[3:]
 BEGIN = "<!-- options table: made by tests/cli/test_cli_options.py from `firmament options --json` -->"
 END = "<!-- end of the options table -->"
 
@@ -90,7 +90,7 @@ def cell(text):
 
 
 def markdown_table(options):
-    """The README's table of options, by group."""
+    """The Markdown table of options, by group."""
     rows = ["| option | meaning | default |", "|---|---|---|"]
     group = None
     for o in options:
@@ -102,20 +102,20 @@ def markdown_table(options):
     return "\n".join(rows) + "\n"
 
 
-def check_readme(options):
-    text = open(README).read()
+def check_table_doc(options):
+    text = open(TABLE_DOC).read()
     if BEGIN not in text or END not in text:
-        check(False, f"the README has no options table markers ({BEGIN})")
+        check(False, f"{TABLE_DOC} has no options table markers ({BEGIN})")
         return
     head, rest = text.split(BEGIN, 1)
     _, tail = rest.split(END, 1)
     table = markdown_table(options)
-    if WRITE_README:
-        open(README, "w").write(head + BEGIN + "\n" + table + END + tail)
+    if WRITE_TABLE:
+        open(TABLE_DOC, "w").write(head + BEGIN + "\n" + table + END + tail)
     else:
         check(rest.split(END, 1)[0].strip() == table.strip(),
-              "the README's options table differs from `firmament options --json` "
-              "(tests/cli/test_cli_options.py FIRMAMENT README.md --write-readme rewrites it)")
+              f"the options table of {TABLE_DOC} differs from `firmament options --json` "
+              f"(tests/cli/test_cli_options.py FIRMAMENT {TABLE_DOC} --write-table rewrites it)")
 
 
 def check_no_biomes(work):
@@ -156,8 +156,8 @@ def main():
     options = table["options"]
     check(len(options) > 40, f"{len(options)} options")
     usage = subprocess.run([FIRMAMENT, "--help"], capture_output=True, text=True, check=True).stdout
-    if README:
-        check_readme(options)
+    if TABLE_DOC:
+        check_table_doc(options)
     with tempfile.TemporaryDirectory() as work:
         for o in options:
             flag = o["flag"]

@@ -2,7 +2,7 @@
 # run.sh TARGET SEEDS REGRESSIONS CORPUS SECONDS: replays every regression input (each once crashed
 # the target), then fuzzes for SECONDS from the seeds and the scratch corpus, with libFuzzer's
 # random seed fixed (FM_FUZZ_SEED, 1) so that a CI run does the same work each time; longer runs
-# with other seeds are for exploring by hand (README.md).  A crash fails the
+# with other seeds are for exploring by hand (tests/fuzz/README.md).  A crash fails the
 # test and leaves its input (crash-*) in CORPUS/..; add it to REGRESSIONS once fixed.
 set -eu
 target=$(realpath "$1") seeds=$(realpath "$2") regressions=$(realpath -m "$3") corpus=$(realpath -m "$4") seconds=$5

@@ -1,7 +1,7 @@
 /* Sky presets: presets/skies/NAME.json or a file, one flat JSON object whose keys are render
- * options (README, "Sky presets").  The loader checks keys, types and numeric ranges against the
- * file so that a bad preset is reported with its file and JSON path; the executable then applies the
- * settings as if they were options given before the user's own. */
+ * options (docs/cli.md, "Sky presets").  The loader checks keys, types and numeric ranges against
+ * the file so that a bad preset is reported with its file and JSON path; the executable then
+ * applies the settings as if they were options given before the user's own. */
 #include "firmament/firmament.h"
 
 #include "base/date.h"
