@@ -2,6 +2,7 @@
 #include "numbers.h"
 #include "option_table.h"
 #include "time_args.h"
+#include "usage.h"
 
 #include <getopt.h>
 #include <limits.h>
@@ -40,7 +41,7 @@ const char *options_flag_for(const char *field)
 
 void options_print_usage(void)
 {
-    option_print_usage(stdout);
+    command_print_help(stdout, command_find("render", NULL));
 }
 
 /* getopt's long options, from the table: the row's index + 256 as the value. */

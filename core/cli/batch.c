@@ -5,6 +5,7 @@
 #include "batch_summary.h"
 #include "numbers.h"
 #include "report.h"
+#include "usage.h"
 
 #include "base/executable.h"
 #include "base/platform.h"
@@ -66,9 +67,6 @@ static int job_done(const manifest *m, const cJSON *job)
     return done;
 }
 
-static const char RUN_USAGE[] =
-    "usage: firmament batch run MANIFEST --index I [--count N] [--skip-existing] [--threads T]";
-
 static int batch_run(int argc, char **argv, batch_render_fn render)
 {
     const char *path = NULL;
@@ -87,14 +85,14 @@ static int batch_run(int argc, char **argv, batch_render_fn render)
         } else if (!strcmp(argv[i], "--skip-existing")) {
             skip = 1;
         } else if (argv[i][0] == '-' || path) {
-            report_error("batch run: unexpected '%s' (%s)", argv[i], RUN_USAGE);
+            report_error("batch run: unexpected '%s' (%s)", argv[i], command_usage_line("batch run"));
             return EXIT_USAGE;
         } else {
             path = argv[i];
         }
     }
     if (!path || index < 0) {
-        report_error("%s", RUN_USAGE);
+        report_error("%s", command_usage_line("batch run"));
         return EXIT_USAGE;
     }
     manifest m;
@@ -186,10 +184,6 @@ static char *absolute_path(const char *path)
     return out;
 }
 
-static const char SLURM_USAGE[] =
-    "usage: firmament batch slurm MANIFEST [-o SCRIPT] [--jobs-per-task K] [--max-concurrent M] "
-    "[--partition P] [--time T] [--cpus-per-task C] [--skip-existing] [--submit]";
-
 typedef struct slurm_args {
     const char *manifest, *script, *partition, *time;
     long long per_task, max_concurrent, cpus;
@@ -224,14 +218,14 @@ static int parse_slurm_args(int argc, char **argv, slurm_args *s)
         } else if (!strcmp(a, "--submit")) {
             s->submit = 1;
         } else if (a[0] == '-' || s->manifest) {
-            report_error("batch slurm: unexpected '%s' (%s)", a, SLURM_USAGE);
+            report_error("batch slurm: unexpected '%s' (%s)", a, command_usage_line("batch slurm"));
             return 0;
         } else {
             s->manifest = a;
         }
     }
     if (!s->manifest)
-        report_error("%s", SLURM_USAGE);
+        report_error("%s", command_usage_line("batch slurm"));
     return s->manifest != NULL;
 }
 
@@ -364,6 +358,6 @@ int run_batch(int argc, char **argv, batch_render_fn render)
         return batch_slurm(argc - 1, argv + 1);
     if (!strcmp(sub, "summary"))
         return batch_summary(argc - 1, argv + 1);
-    report_error("usage: firmament batch plan|run|slurm|summary ... (docs/batch.md)");
+    report_error("%s", command_usage_line("batch"));
     return EXIT_USAGE;
 }

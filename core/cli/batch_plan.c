@@ -4,6 +4,7 @@
 #include "numbers.h"
 #include "report.h"
 #include "time_args.h"
+#include "usage.h"
 
 #include "base/date.h"
 #include "base/platform.h"
@@ -18,11 +19,6 @@
 
 enum { EXIT_RUNTIME = 1, EXIT_USAGE = 2, MOST = 64 };
 
-static const char PLAN_USAGE[] =
-    "usage: firmament batch plan -o MANIFEST [--out-dir DIR] [--preset NAME]... "
-    "[--place NAME,LAT,LON,UTC_OFFSET]... [--date D | --date-start D --date-end D] "
-    "[--times HH:MM,... | --time-start T --time-end T --step MIN] [--sun-above DEG] [--epw FILE] "
-    "[--set KEY=VALUE]... [--seed N]";
 
 typedef struct place {
     char name[64];
@@ -109,7 +105,7 @@ static int parse_plan_args(int argc, char **argv, plan_args *a)
         if (!takes || (i + 1 >= argc)) {
             if (takes)
                 return fail("%s needs a value", f);
-            return fail("unexpected '%s' (%s)", f, PLAN_USAGE);
+            return fail("unexpected '%s' (%s)", f, command_usage_line("batch plan"));
         }
         const char *v = argv[++i];
         double x;
@@ -158,11 +154,11 @@ static int parse_plan_args(int argc, char **argv, plan_args *a)
                 return fail("--seed: '%s' is not a whole number in [0, 2^52]", v);
             a->seed = w;
         } else {
-            return fail("unknown option '%s' (%s)", f, PLAN_USAGE);
+            return fail("unknown option '%s' (%s)", f, command_usage_line("batch plan"));
         }
     }
     if (!a->manifest)
-        return fail("%s", PLAN_USAGE);
+        return fail("%s", command_usage_line("batch plan"));
     if ((a->have_start || a->have_end || a->step_min > 0.0) && !(a->have_start && a->have_end && a->step_min > 0.0))
         return fail("--time-start, --time-end and --step go together");
     if (a->have_start && a->n_times)

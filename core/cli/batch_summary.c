@@ -1,6 +1,7 @@
 #include "batch_summary.h"
 #include "batch_job.h"
 #include "report.h"
+#include "usage.h"
 
 #include "base/date.h"
 #include "base/platform.h"
@@ -135,7 +136,6 @@ static int heat_map_png(const double (*lux)[HOURS], double max_lux, text_buf *ou
     return 0;
 }
 
-static const char SUMMARY_USAGE[] = "usage: firmament batch summary MANIFEST [-o CSV] [--png PNG]";
 
 /* path with its extension replaced by ext (".csv"), into out */
 static void with_extension(const char *path, const char *ext, char *out, size_t size)
@@ -196,14 +196,14 @@ int batch_summary(int argc, char **argv)
             *(argv[i][1] == 'o' ? &csv_path : &png_path) = argv[i + 1];
             i++;
         } else if (argv[i][0] == '-' || path) {
-            report_error("batch summary: unexpected '%s' (%s)", argv[i], SUMMARY_USAGE);
+            report_error("batch summary: unexpected '%s' (%s)", argv[i], command_usage_line("batch summary"));
             return EXIT_USAGE;
         } else {
             path = argv[i];
         }
     }
     if (!path) {
-        report_error("%s", SUMMARY_USAGE);
+        report_error("%s", command_usage_line("batch summary"));
         return EXIT_USAGE;
     }
     char csv_default[4096], png_default[4096];

@@ -10,6 +10,7 @@
 #include "serve.h"
 #include "sun_command.h"
 #include "time_args.h"
+#include "usage.h"
 #include "revision.h" /* FIRMAMENT_REVISION, written at build time (cmake/revision.cmake) */
 
 #include "base/platform.h"
@@ -508,7 +509,7 @@ static void print_attribute(void *user, const char *name, const char *type, cons
 static int run_info(int argc, char **argv)
 {
     if (argc != 2 || argv[1][0] == '-') {
-        report_error("usage: firmament info FILE.exr");
+        report_error("%s", command_usage_line("info"));
         return EXIT_USAGE;
     }
     fm_error err = {0};
@@ -546,7 +547,7 @@ static int run_compare(int argc, char **argv)
         }
     }
     if (n != 2) {
-        report_error("usage: firmament compare IMAGE.exr REFERENCE.exr [--exclude-sun DEG] [--json]");
+        report_error("%s", command_usage_line("compare"));
         return EXIT_USAGE;
     }
     fm_image *a = NULL, *b = NULL;
@@ -599,7 +600,7 @@ int main(int argc, char **argv)
 static int run_options(int argc, char **argv)
 {
     if (argc != 2 || strcmp(argv[1], "--json") != 0) {
-        report_error("usage: firmament options --json");
+        report_error("%s", command_usage_line("options"));
         return EXIT_USAGE;
     }
     option_print_json(stdout);
@@ -614,12 +615,17 @@ static int run_command(int argc, char **argv)
     }
     const char *cmd = argv[1];
     if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
-        options_print_usage();
+        command_print_help(stdout, &commands[0]);
         return 0;
     }
     if (strcmp(cmd, "--version") == 0) {
         printf("firmament %s (%s, %s, %s)\n", FIRMAMENT_VERSION, FIRMAMENT_REVISION, FIRMAMENT_BUILD_TYPE,
                FIRMAMENT_TARGET);
+        return 0;
+    }
+    const command_usage *usage = command_find(cmd, argc > 2 ? argv[2] : NULL);
+    if (usage && command_help_asked(argc - 1, argv + 1)) { /* --help anywhere after the command */
+        command_print_help(stdout, usage);
         return 0;
     }
     if (strcmp(cmd, "render") == 0)

@@ -376,22 +376,11 @@ static void print_wrapped(FILE *f, const char *text, int column, int indent)
     fputc('\n', f);
 }
 
-void option_print_usage(FILE *f)
+void option_print_help(FILE *f)
 {
-    preset_words(1); /* their warnings, if any, before the usage */
+    preset_words(1); /* their warnings, if any, before the options */
     preset_words(0);
-    fputs("usage: firmament render [options] [-o OUT.exr]\n"
-          "       firmament sun --date YYYY-MM-DD --time HH:MM[:SS] --latitude DEG --longitude DEG\n"
-          "                     [--utc-offset +HH[:MM]] [--altitude M] [--refraction on|off] [--pressure MBAR]\n"
-          "                     [--temperature C] [--delta-t S] [--json]\n"
-          "       firmament compare IMAGE.exr REFERENCE.exr [--exclude-sun DEG] [--json]\n"
-          "       firmament info FILE.exr   (the EXR's header: standard and firmament.* attributes)\n"
-          "       firmament options --json  (these options as JSON: flags, preset keys, ranges, defaults)\n"
-          "       firmament serve [--cache DIR | --no-cache] [--memory N] [--threads N] [--refine N]\n"
-          "                       (a map per JSON request line on standard input, for live clients)\n"
-          "       firmament batch plan|run|slurm|summary ...  (many maps from a manifest: docs/batch.md)\n"
-          "       firmament --help | --version\n"
-          "\n"
+    fputs("\n"
           "Renders the sky seen from one place as an equirectangular OpenEXR map (Blender's\n"
           "Environment Texture layout: north at u = 0.25, east at the centre, zenith at the top), or\n"
           "through a fisheye or pinhole camera, and a JSON sidecar with the sun's direction and light.\n"

@@ -70,8 +70,9 @@ const fm_param_range *option_range(const option_spec *o);
 /* "[-90, 90] degrees" */
 void option_format_range(const fm_param_range *r, char *out, size_t size);
 
-/* The usage of `firmament render` and the others, generated from the table. */
-void option_print_usage(FILE *f);
+/* The part of `firmament render --help` after the usage lines (usage.c): what it makes, and every
+ * option from the table. */
+void option_print_help(FILE *f);
 /* `firmament options --json`: every option with its flag, preset key, kind, range, unit, default,
  * words and help. */
 void option_print_json(FILE *f);

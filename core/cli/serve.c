@@ -12,6 +12,7 @@
 #include "report.h"
 #include "serve_cache.h"
 #include "serve_request.h"
+#include "usage.h"
 
 #include "base/json_file.h"
 #include "base/platform.h"
@@ -356,21 +357,6 @@ static void refine_round(server *sv, idle_work *w, live_cache *cache, const fm_c
 
 /* ---- the command -------------------------------------------------------------------------------- */
 
-static const char USAGE[] =
-    "usage: firmament serve [--cache DIR | --no-cache] [--memory N] [--threads N] [--refine N]\n"
-    "\n"
-    "Renders a map per request: one JSON object per line on standard input (render options as a\n"
-    "sky preset writes them, \"output\", optional \"sidecar\" and \"id\"), one JSON reply per line on\n"
-    "standard output.  A request that arrives while another waits replaces it.  docs/cli.md.\n"
-    "\n"
-    "  --cache DIR   where built atmospheres are kept between runs (default\n"
-    "                $XDG_CACHE_HOME/firmament, else ~/.cache/firmament)\n"
-    "  --no-cache    keep them in memory only\n"
-    "  --memory N    atmospheres kept in memory, 1-64 (default 2)\n"
-    "  --threads N   threads per build and render, 0-256 (default 0: one per core)\n"
-    "  --refine N    rounds of paths added to the deep twilight tables while idle, 0-64 (default 64:\n"
-    "                as many as the library makes; 0: none)\n";
-
 typedef struct serve_options {
     const char *cache_dir; /* NULL: none */
     char default_dir[4096];
@@ -387,7 +373,7 @@ static int parse_serve_options(int argc, char **argv, serve_options *so)
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(USAGE, stdout);
+            command_print_help(stdout, command_find("serve", NULL));
             return 0;
         } else if (!strcmp(a, "--no-cache")) {
             so->cache_dir = NULL;

@@ -5,6 +5,7 @@
 #include "numbers.h"
 #include "report.h"
 #include "time_args.h"
+#include "usage.h"
 
 #include "firmament/firmament.h"
 
@@ -59,30 +60,29 @@ static const char *range(const char *field, char *buf, size_t size)
     return buf;
 }
 
-static void print_usage(void)
+void sun_print_help(FILE *f)
 {
     char lat[32], lon[32], alt[32], p[32], t[32], dt[32];
-    printf("usage: firmament sun --date YYYY-MM-DD --time HH:MM[:SS] --latitude DEG --longitude DEG [options]\n"
-          "\n"
-          "The sun's apparent position (NREL's Solar Position Algorithm, +-0.0003 deg), the Earth-Sun\n"
-          "distance, and sunrise, solar noon and sunset of the date (local clock time of --utc-offset;\n"
-          "the sun's centre at -0.8333 deg), or polar day / polar night.\n"
-          "\n"
-          "  --date YYYY-MM-DD      local date, years 0000-6000 (Julian calendar before 1582-10-15)\n"
-          "  --time HH:MM[:SS]      local clock time\n"
-          "  --utc-offset +-HH[:MM] local time minus UTC, -12:00 to +14:00 (default +00:00)\n"
-          "  --latitude DEG         %s, north positive\n"
-          "  --longitude DEG        %s, east positive\n"
-          "  --altitude M           observer above sea level, %s (default 0)\n"
-          "  --refraction on|off    atmospheric refraction (default on)\n"
-          "  --pressure MBAR        for refraction, %s (default 1010)\n"
-          "  --temperature C        for refraction, %s (default 10)\n"
-          "  --delta-t S            TT - UT in seconds, %s (default: Espenak & Meeus estimate for the\n"
-          "                         date)\n"
-          "  --json                 one JSON object on stdout\n",
-          range("latitude_deg", lat, sizeof lat), range("longitude_deg", lon, sizeof lon),
-          range("elevation_m", alt, sizeof alt), range("pressure_mbar", p, sizeof p),
-          range("temperature_c", t, sizeof t), range("delta_t_s", dt, sizeof dt));
+    fprintf(f, "\n"
+            "The sun's apparent position (NREL's Solar Position Algorithm, +-0.0003 deg), the Earth-Sun\n"
+            "distance, and sunrise, solar noon and sunset of the date (local clock time of --utc-offset;\n"
+            "the sun's centre at -0.8333 deg), or polar day / polar night.\n"
+            "\n"
+            "  --date YYYY-MM-DD      local date, years 0000-6000 (Julian calendar before 1582-10-15)\n"
+            "  --time HH:MM[:SS]      local clock time\n"
+            "  --utc-offset +-HH[:MM] local time minus UTC, -12:00 to +14:00 (default +00:00)\n"
+            "  --latitude DEG         %s, north positive\n"
+            "  --longitude DEG        %s, east positive\n"
+            "  --altitude M           observer above sea level, %s (default 0)\n"
+            "  --refraction on|off    atmospheric refraction (default on)\n"
+            "  --pressure MBAR        for refraction, %s (default 1010)\n"
+            "  --temperature C        for refraction, %s (default 10)\n"
+            "  --delta-t S            TT - UT in seconds, %s (default: Espenak & Meeus estimate for the\n"
+            "                         date)\n"
+            "  --json                 one JSON object on stdout\n",
+            range("latitude_deg", lat, sizeof lat), range("longitude_deg", lon, sizeof lon),
+            range("elevation_m", alt, sizeof alt), range("pressure_mbar", p, sizeof p),
+            range("temperature_c", t, sizeof t), range("delta_t_s", dt, sizeof dt));
 }
 
 /* Local clock hours to "HH:MM:SS" (rounded to the second). */
@@ -170,7 +170,7 @@ int run_sun(int argc, char **argv)
         int ok = 1;
         switch (c) {
         case 'h':
-            print_usage();
+            command_print_help(stdout, command_find("sun", NULL));
             return 0;
         case SUN_DATE:
             ok = parse_date_arg(flag, arg, &p.year, &p.month, &p.day, msg, sizeof msg);
