@@ -8,6 +8,7 @@
 
 #include "base/date.h"
 #include "base/platform.h"
+#include "base/sealed_file.h"
 #include "firmament/firmament.h"
 
 #include <errno.h>
@@ -352,6 +353,12 @@ static void job_stem(const char *preset, const place *pl, const moment *mo, char
         snprintf(out, size, "sky");
 }
 
+/* Why a folder could not be made (errno): EEXIST, a file where a folder of its path should be. */
+static const char *folder_error(void)
+{
+    return errno == EEXIST ? "a file of that name is in its path" : strerror(errno);
+}
+
 static int write_manifest(const plan_args *a, const moment *moments, int n_moments, const place *places)
 {
     int n_presets = a->n_presets ? a->n_presets : 1;
@@ -403,10 +410,16 @@ static int write_manifest(const plan_args *a, const moment *moments, int n_momen
         report_error("batch plan: no jobs (the sun is never above %g degrees at those times)", a->sun_above_deg);
         code = EXIT_USAGE;
     }
+    /* the manifest's folder and the maps' are made as `mkdir -p` would, once the jobs are good */
     char out_dir[4096];
     snprintf(out_dir, sizeof out_dir, "%s%s", a->out_dir[0] == '/' ? "" : dir, a->out_dir);
-    if (!code && platform_make_dir(out_dir) != 0) {
-        report_error("batch plan: cannot create the folder '%s': %s", out_dir, strerror(errno));
+    size_t dir_len = strlen(dir) > 1 ? strlen(dir) - 1 : strlen(dir); /* without its last '/' */
+    if (!code && dir[0] && sealed_file_make_dirs(dir) != 0) {
+        report_error("batch plan: -o: cannot create the folder '%.*s': %s", (int)dir_len, dir, folder_error());
+        code = EXIT_USAGE;
+    }
+    if (!code && sealed_file_make_dirs(out_dir) != 0) {
+        report_error("batch plan: --out-dir: cannot create the folder '%s': %s", out_dir, folder_error());
         code = EXIT_USAGE;
     }
     if (!code && write_file_atomic(a->manifest, text, len) != 0) {

@@ -13,10 +13,11 @@ tiny=(--set width=32 --set quality=preview)
 # --- plan: every hour of two June days in Paris with the sun above the horizon ---------------------
 # Paris on 2025-06-21/22: sunrise 05:46-05:47 and sunset 21:58 CEST (timeanddate.com, Paris), i.e.
 # 04:46 and 20:58 at +01:00: the hours 05:00 ... 20:00 have the sun up, 16 a day.
-mkdir year
+# year/ does not exist: plan makes the manifest's folder and the maps' (year/maps), as mkdir -p
 "$FM" batch plan -o year/m.jsonl --preset clear-noon --place paris,48.8566,2.3522,+01:00 \
     --date-start 2025-06-21 --date-end 2025-06-22 --time-start 00:00 --time-end 23:00 --step 60 \
     --sun-above 0 "${tiny[@]}" >/dev/null || fail "plan with --sun-above failed"
+[ -d year/maps ] && ok || fail "plan: year/maps was not made"
 n=$(wc -l <year/m.jsonl)
 [ "$n" -eq 32 ] && ok || fail "plan: $n jobs for two days, expected 16 + 16"
 python3 - year/m.jsonl <<'EOF' && ok || fail "plan: jobs' keys"
@@ -106,6 +107,10 @@ expect_usage_error "no manifest" batch run "$work/none.jsonl" --index 0
 expect_usage_error "a bad place" batch plan -o m.jsonl --place paris,48.8,500,+01:00
 expect_usage_error "--sun-above without a place" batch plan -o m.jsonl --sun-above 0 --date 2025-01-01 --times 12:00
 expect_usage_error "a bad --set value" batch plan -o m.jsonl --set turbidity=-1
+expect_usage_error "a bad --set value, into new folders (none made)" batch plan -o new/m.jsonl --set turbidity=-1
+touch "$work/a-file"
+expect_usage_error "a manifest's folder that is a file" batch plan -o "$work/a-file/m.jsonl"
+grep -qF -- "-o: cannot create the folder '$work/a-file'" "$work/stderr" && ok || fail "folder error: $(cat "$work/stderr")"
 
 echo "test_batch: $checks checks, $failures failures"
 [ "$failures" -eq 0 ]
