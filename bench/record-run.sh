@@ -19,6 +19,10 @@ if [ ! -f "$file" ]; then
         echo
         echo "$marker"
     } >"$file"
+    # the folder's list (docs/performance/README.md) links the file from now on
+    list="$ROOT/docs/performance/README.md"
+    sed "s/^| \`$mode\.md\` (no run recorded yet) |/| [$mode.md]($mode.md) |/" "$list" >"$list.new"
+    mv "$list.new" "$list"
 fi
 revision=$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown)
 git -C "$ROOT" diff --quiet HEAD -- core 2>/dev/null || revision="$revision with uncommitted changes to core/"

@@ -2,7 +2,9 @@
 """Every relative link of the README and of docs/ resolves: the file exists and, for a link to a
 heading (file.md#heading or #heading), the heading is there (GitHub's anchors: lower case, spaces
 to '-', punctuation dropped).  Links in code are not links.  And every decision record in
-docs/decisions/ has its line in that folder's index (README.md).  Usage: check_links.py [ROOT]"""
+docs/decisions/ has its line in that folder's index (README.md), and the table of docs/performance/README.md
+holds every file there (linked) and names no other unless it says "no run recorded yet".
+Usage: check_links.py [ROOT]"""
 import os
 import re
 import sys
@@ -42,9 +44,30 @@ def unindexed_decisions():
     return [n for n in sorted(os.listdir(folder)) if re.match(r"\d{4}-\d\d-\d\d-.*\.md$", n) and n not in linked]
 
 
+def performance_list():
+    """What is wrong with docs/performance/README.md's table of the files there."""
+    folder = os.path.join(ROOT, "docs", "performance")
+    present = {n for n in os.listdir(folder) if n.endswith(".md") and n != "README.md"}
+    listed, bad = set(), []
+    for row in open(os.path.join(folder, "README.md"), encoding="utf-8").read().splitlines():
+        cell = row.split("|")[1].strip() if row.startswith("| ") else ""
+        m = re.fullmatch(r"\[([\w.-]+\.md)\]\(\1\)|`([\w.-]+\.md)` \(no run recorded yet\)", cell)
+        if cell and cell != "file" and not m:
+            bad.append(f"docs/performance/README.md: '{cell}' is neither a link nor 'NAME (no run recorded yet)'")
+        elif m and m.group(1):
+            listed.add(m.group(1))
+        elif m and m.group(2) in present:
+            bad.append(f"docs/performance/README.md: {m.group(2)} exists: link it")
+        elif m:
+            listed.add(m.group(2))
+    bad += [f"docs/performance/{n}: not in docs/performance/README.md" for n in sorted(present - listed)]
+    return bad
+
+
 def main():
     bad, count = [], 0
     bad += [f"docs/decisions/{n}: not in the index (docs/decisions/README.md)" for n in unindexed_decisions()]
+    bad += performance_list()
     for path in files():
         for target in LINK.findall(prose(open(path, encoding="utf-8").read())):
             if re.match(r"[a-z]+:", target):
