@@ -7,11 +7,13 @@ For every option with a numeric range in the JSON, the command line and a sky pr
 option has a preset key) accept the range's ends (or just inside an open end) and refuse just
 outside with exit status 2 and one line naming the option; every choice word is accepted and an
 unknown one refused; every option appears in `--help`; the table of options in docs/cli.md (between
-its "options table" markers) is the one made from the JSON (--write-table rewrites it).  Values are
+its "options table" markers) is the one made from the JSON (--write-table rewrites it), and its
+text holds no illuminance figure copied by hand.  Values are
 checked by parsing only: `--list-colorspaces` exits after the options are read, before any render.
 """
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -110,6 +112,9 @@ def check_table_doc(options):
     head, rest = text.split(BEGIN, 1)
     _, tail = rest.split(END, 1)
     table = markdown_table(options)
+    # what a render measures is not copied into the text by hand (it would go stale): no illuminance
+    hand = re.findall(r"\b\d[\d.,]*\s*k?lx\b", head + tail)
+    check(not hand, f"{TABLE_DOC} holds illuminance figures written by hand: {hand} (a render's sidecar has them)")
     if WRITE_TABLE:
         open(TABLE_DOC, "w").write(head + BEGIN + "\n" + table + END + tail)
     else:
