@@ -319,7 +319,7 @@ class FIRMAMENT_OT_clean_maps(bpy.types.Operator):
 
 class FIRMAMENT_OT_pack_maps(bpy.types.Operator):
     """Pack the world's sky maps into the .blend: the file renders without its //firmament/ folder
-    (larger file; Generate makes new, unpacked maps)"""
+    (larger file; Generate Sky makes new, unpacked maps)"""
     bl_idname = "firmament_sky.pack_maps"
     bl_label = "Pack Maps"
     bl_options = {"REGISTER", "UNDO"}

@@ -163,7 +163,7 @@ class FirmamentSkySettings(bpy.types.PropertyGroup):
                                 description="Rotates the sky and sun: compass azimuth A appears at scene azimuth "
                                             "A + offset (as in the Sun Position add-on; +Y is north at 0)")
     apply_exposure: BoolProperty(name="Set Exposure", default=False,
-                                 description="On Generate, set the scene's film exposure by the metering below "
+                                 description="On Generate Sky, set the scene's film exposure by the metering below "
                                              "(off: your exposure stays; the suggestion is shown with an Apply button)")
     metering: EnumProperty(name="Metering", items=[
         ("HORIZONTAL", "Horizontal Card", "A white horizontal card shows as 1.0: every sky looks equally bright"),

@@ -48,7 +48,7 @@ p.sun_mode = "LAMP"  # the default: map without the disk + a matching Sun lamp
 p.apply_exposure = False  # metered below, for the low sun
 t0 = time.monotonic()
 if bpy.ops.firmament_sky.generate() != {"FINISHED"}:
-    raise SystemExit("courtyard.py: Generate failed: " + p.last_message)
+    raise SystemExit("courtyard.py: Generate Sky failed: " + p.last_message)
 sky_seconds = time.monotonic() - t0
 sidecar_path = os.path.splitext(bpy.path.abspath(
     next(img for img in bpy.data.images if img.get("firmament_sky")).filepath))[0] + ".json"

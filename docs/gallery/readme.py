@@ -161,7 +161,7 @@ def courtyard_section(work, stage):
         "",
         "`scenes/demo_courtyard.py` (the U-shaped building the add-on's tests use; its 60 m paving widened "
         "to 30 km here, so that it meets the sky at the horizon), lit by the world the add-on generates "
-        "(installed from `build/firmament_sky.zip`, Generate run headless) with its shipped preset "
+        "(installed from `build/firmament_sky.zip`, Generate Sky run headless) with its shipped preset "
         "\"Golden hour\": Paris, %s %s UTC%s, sun %s up at azimuth %s (west-north-west, behind the camera "
         "on the right), `%s` aerosols at turbidity %g, ozone from the climatology, albedo %s; global "
         "horizontal illuminance %s. World map %d x %d at quality `%s`, sun mode \"Sun Lamp\" (the map "
@@ -170,7 +170,7 @@ def courtyard_section(work, stage):
         "OpenImageDenoise), view transform %s, **exposure %.2f EV**: metered for a white card facing the sun "
         "(direct normal + diffuse horizontal illuminance, %s) by the sidecar's rule EV = log2(683 pi / E); "
         "the sidecar's own suggestion, %.2f EV, meters a horizontal card, which the sun 5 degrees up barely "
-        "lights, and would clip the sunlit facades. Generate took %.0f s, the render %.0f s."
+        "lights, and would clip the sunlit facades. Generate Sky took %.0f s, the render %.0f s."
         % (s["date"], s["time"][:5], s["utc_offset"], deg(c["sun_elevation_deg"], 2), deg(c["sun_azimuth_deg"]),
            s["biome"], s["turbidity"], round(s["ground_albedo"], 3), lux(c["global_horizontal_illuminance_lux"]),
            c["map_width"], c["map_width"] // 2, c["map_quality"], c["blender"], c["width"], c["height"],
@@ -209,7 +209,7 @@ def main():
         "docs/gallery/render --quick --out /tmp/gallery   # a trial in about a minute, elsewhere",
         "```",
         "",
-        "This run (%s): biomes %.0f s, the day %.0f s, the courtyard %.0f s (Generate and Cycles)."
+        "This run (%s): biomes %.0f s, the day %.0f s, the courtyard %.0f s (Generate Sky and Cycles)."
         % (threads, a.seconds[0], a.seconds[1], a.seconds[2]),
         "",
     ]
