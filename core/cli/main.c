@@ -578,6 +578,22 @@ static int run_compare(int argc, char **argv)
     return code;
 }
 
+/* `firmament help [COMMAND [SUBCOMMAND]]`: the same text as `COMMAND --help`. */
+static int run_help(int argc, char **argv)
+{
+    if (argc < 2) {
+        command_print_help(stdout, &commands[0]);
+        return 0;
+    }
+    const command_usage *usage = command_find(argv[1], argc > 2 ? argv[2] : NULL);
+    if (!usage) {
+        report_error("help: unknown command '%s' (try: firmament --help)", argv[1]);
+        return EXIT_USAGE;
+    }
+    command_print_help(stdout, usage);
+    return 0;
+}
+
 static int run_command(int argc, char **argv);
 
 /* Output that could not reach stdout (a full disk, /dev/full) is an error, not a success. */
@@ -614,10 +630,12 @@ static int run_command(int argc, char **argv)
         return EXIT_USAGE;
     }
     const char *cmd = argv[1];
-    if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
+    if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0) {
         command_print_help(stdout, &commands[0]);
         return 0;
     }
+    if (strcmp(cmd, "help") == 0)
+        return run_help(argc - 1, argv + 1);
     if (strcmp(cmd, "--version") == 0) {
         printf("firmament %s (%s, %s, %s)\n", FIRMAMENT_VERSION, FIRMAMENT_REVISION, FIRMAMENT_BUILD_TYPE,
                FIRMAMENT_TARGET);

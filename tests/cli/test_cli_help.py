@@ -6,8 +6,9 @@ Usage: test_cli_help.py FIRMAMENT
 `firmament --help` lists the commands (its "firmament NAME ..." lines); each command's --help lists
 its subcommands the same way ("firmament batch plan ..." in `firmament batch --help`).  Each of
 them answers --help and -h, first after it and after other arguments, with its usage on stdout,
-nothing on stderr and exit 0, nothing written; its usage is the line that lists it; and a usage
-error that quotes the usage quotes that same line (one source for both).
+nothing on stderr and exit 0, nothing written; `firmament help NAME` prints the same; its usage is
+the line that lists it; and a usage error that quotes the usage quotes that same line (one source
+for both).
 """
 import os
 import re
@@ -86,6 +87,10 @@ with tempfile.TemporaryDirectory() as work:
             else:  # its usage is the line that listed it
                 check(listed in usage_lines(out), f"{name} {flag}: {usage_lines(out)} is not {listed!r}")
             todo += [(sub, line) for sub, line in own.items() if sub not in seen]
+        # `firmament help NAME` prints the same text as `NAME --help`
+        rc, out_help, err = run(["help"] + words, work)
+        check(rc == 0 and err == "" and out_help == run(words + ["--help"], work)[1],
+              f"help {name}: exit {rc}, stderr {err!r}, not the text of {name} --help")
         # --help after other arguments still answers with the usage, and writes nothing
         rc, out, err = run(words + ["-o", "x.jsonl", "A.exr", "--help"], work)
         check(rc == 0 and out.startswith("usage: firmament " + name + " ") and err == "",
@@ -100,9 +105,10 @@ with tempfile.TemporaryDirectory() as work:
             check(not quoted or " ".join(quoted.group(1).split()) == listed,
                   f"{name}: the error's usage {quoted and quoted.group(1)!r} is not its --help's {listed!r}")
     check(KNOWN <= set(seen), f"the usage lists {sorted(seen)}, not all of {sorted(KNOWN)}")
-    # an unknown command is still an error
-    rc, out, err = run(["fly", "--help"], work)
-    check(rc == 2 and out == "" and err.count("\n") == 1, f"fly --help: exit {rc}, stderr {err!r}")
+    # an unknown command is still an error, asked either way
+    for args in (["fly", "--help"], ["help", "fly"]):
+        rc, out, err = run(args, work)
+        check(rc == 2 and out == "" and err.count("\n") == 1, f"{' '.join(args)}: exit {rc}, stderr {err!r}")
 
 print(f"commands: {', '.join(sorted(seen))}")
 print(f"{checks} checks passed, {failures} failed" if failures else f"{checks} checks passed")
