@@ -11,7 +11,8 @@
  * Fault it fails on: the direction guides taking their share of the directions inside the layer, as
  * everywhere below FM_DENSE_SIGMA_PER_M (the nodes of two seeds then differ by 30 % RMS, with single
  * paths carrying a node).
- * Run with arguments SUN PATHS [TAU] for the bias check alone at another sun (a sweep by hand). */
+ * Run with arguments SUN PATHS [TAU] for the bias check alone at another sun (a sweep by hand), or
+ * `orders SUN PATHS [SEED]` for where the table's variance comes from (variance_by_order). */
 #include "check.h"
 
 #include "column_tables.h"
@@ -25,6 +26,8 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <time.h>
 
 #define SUN_DEG -3.0
 #define TOLERANCE 0.02
@@ -138,8 +141,64 @@ static void table_against_the_reference(void **state)
     assert_int_equal(against_the_reference(SUN_DEG, 40000, 0.0), 0);
 }
 
+static int larger_first(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x < y) - (x > y);
+}
+
+/* Where the table's variance comes from (a diagnosis by hand, no check): at the views above, the
+ * table's paths one by one (each its own stream, unstratified), their mean, order 2's share of it,
+ * one path's relative standard deviation (all orders, order 2, orders >= 3), the share of the second
+ * moment that the heaviest 0.1 % of the paths carry, and the CPU time per view. */
+static void variance_by_order(double sun_deg, int paths, uint64_t seed)
+{
+    fm_sky *sky = dusk_sky(sun_deg, 0.0);
+    column_tables t;
+    column_tables_start(sky, seed, 1, &t);
+    path_context table = scattering_path_context(sky, t.tw, 2, 0);
+    table.skip_ground_first = 1;
+    double *y = malloc(sizeof(double) * (size_t)paths);
+    assert_non_null(y);
+    for (size_t i = 0; i < sizeof views / sizeof views[0]; i++) {
+        const vec3 d = render_view_direction(sky, views[i][0] * FM_DEG, views[i][1] * FM_DEG);
+        double s[3] = {0}, s2[3] = {0}; /* all orders, order 2, orders >= 3 */
+        const clock_t start = clock();
+        for (int p = 0; p < paths; p++) {
+            double L[1] = {0.0}, later[1] = {0.0};
+            node_orders o = {.later = later};
+            table_node_paths(sky, &table, d, 1, seed, 5000000 + i * (size_t)paths + (size_t)p, 0, L, NULL, NULL, &o);
+            const double v[3] = {L[0], L[0] - later[0], later[0]};
+            for (int k = 0; k < 3; k++) {
+                s[k] += v[k];
+                s2[k] += v[k] * v[k];
+            }
+            y[p] = L[0];
+        }
+        const double cpu = (double)(clock() - start) / CLOCKS_PER_SEC;
+        double rsd[3];
+        for (int k = 0; k < 3; k++)
+            rsd[k] = s[k] > 0.0 ? sqrt(fmax(0.0, s2[k] / paths - (s[k] / paths) * (s[k] / paths))) / (s[k] / paths) : 0.0;
+        qsort(y, (size_t)paths, sizeof *y, larger_first);
+        double heavy = 0.0;
+        for (int p = 0; p < (paths + 999) / 1000; p++)
+            heavy += y[p] * y[p];
+        printf("sun %g, view %2.0f/%-3.0f: mean %.3e, order 2 %4.1f %%; one path's rsd %5.2f (order 2 %5.2f, "
+               ">= 3 %5.2f); heaviest 0.1 %% of paths: %4.1f %% of the 2nd moment; %.2f s CPU\n",
+               sun_deg, views[i][0], views[i][1], s[0] / paths, 100.0 * s[1] / s[0], rsd[0], rsd[1], rsd[2],
+               100.0 * heavy / s2[0], cpu);
+    }
+    free(y);
+    column_tables_free(&t);
+    fm_sky_destroy(sky);
+}
+
 int main(int argc, char **argv)
 {
+    if ((argc == 4 || argc == 5) && !strcmp(argv[1], "orders")) {
+        variance_by_order(atof(argv[2]), atoi(argv[3]), argc == 5 ? (uint64_t)atoll(argv[4]) : 0);
+        return 0;
+    }
     if (argc == 3 || argc == 4)
         return against_the_reference(atof(argv[1]), atoi(argv[2]), argc == 4 ? atof(argv[3]) : 0.0) != 0;
     const struct CMUnitTest tests[] = {
