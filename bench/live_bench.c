@@ -24,15 +24,17 @@
  *                                       with "noise" after those, also the RMS of a further final seed
  *                                       against the reference; with "seeds N" (after those), N builds
  *                                       whose nodes' seeds are moved (the live sky's `seed`): the means
- *                                       over them (the largest u'v') and each build's RMS; final maps
+ *                                       over them (the largest u'v') and each build's RMS and bias; final maps
  *                                       are kept in $LIVE_BENCH_FINAL_CACHE when set (a directory)
  *   live-bench bands BIOME              builds the live sky of BIOME band by band (deep twilight with its
  *                                       shared flight columns, the twilight above it, the day: nodes at
  *                                       0 degrees and up, whose shared walks stay within the band) and
  *                                       prints each band's nodes, wall and CPU time: where the build's
  *                                       time goes
- *   live-bench refine BIOME WIDTH ref N ROUNDS E...
- *                                       the product's build refined round by round (fm_sky_live_refine)
+ *   live-bench refine BIOME WIDTH ref N ROUNDS [seed S] E...
+ *                                       the product's build (with "seed S", the build whose nodes' seeds
+ *                                       are moved by S, as accuracy's seeds) refined round by round
+ *                                       (fm_sky_live_refine)
  *                                       up to ROUNDS: each round's CPU time, and after each (0: as
  *                                       built) the live map at each E against the mean of N final seeds
  *                                       as accuracy's ref N (RMS, bias, the reference's noise, the RMS
@@ -377,7 +379,7 @@ static int accuracy(const char *biome_arg, int width, int noise, int refs, int s
         double ref_noise;
         fm_image *want = final_reference(biome_arg, e, width, refs, &ref_noise);
         fm_error err;
-        double rms[64], sum[4] = {0}, uv_max = 0.0;
+        double rms[64], bias[64], sum[4] = {0}, uv_max = 0.0;
         for (int s = 0; s < seeds; s++) {
             fm_image *got;
             if (fm_sky_live_render(live[s], e, 180.0, &rp, &got, &err)) {
@@ -389,6 +391,7 @@ static int accuracy(const char *biome_arg, int width, int noise, int refs, int s
             double uv_mean, uv_largest;
             chromaticity(got, want, &uv_mean, &uv_largest);
             rms[s] = c.rms;
+            bias[s] = c.mean;
             sum[0] += c.rms / seeds;
             sum[1] += c.mean / seeds;
             sum[2] += c.p99 / seeds;
@@ -409,6 +412,8 @@ static int accuracy(const char *biome_arg, int width, int noise, int refs, int s
         }
         for (int s = 0; s < seeds && seeds > 1; s++)
             printf(" %6.2f", 100 * rms[s]);
+        for (int s = 0; s < seeds && seeds > 1; s++)
+            printf(" %s%+.2f", s ? "" : " bias ", 100 * bias[s]);
         printf("\n");
         fflush(stdout);
         fm_image_destroy(want);
@@ -419,13 +424,13 @@ static int accuracy(const char *biome_arg, int width, int noise, int refs, int s
     return 0;
 }
 
-/* The product's live sky of BIOME refined round by round (fm_sky_live_refine) up to `rounds`: per
+/* The live sky of BIOME (its nodes' seeds moved by `seed`; 0: the product's) refined round by round
+ * (fm_sky_live_refine) up to `rounds`: per
  * round its CPU time, then at each sun the live map against the mean of `refs` final seeds (as
  * accuracy's ref N): RMS, bias, the reference's noise and the RMS less it. */
-static int refine(const char *biome_arg, int width, int refs, int rounds, int count, char **elevations)
+static int refine(const char *biome_arg, int width, int refs, int rounds, uint64_t seed, int count, char **elevations)
 {
-    double build_s;
-    fm_sky_live *live = build(biome_arg, &build_s);
+    fm_sky_live *live = build_seeded(biome_arg, seed);
     fm_error err;
     if (fm_sky_live_complete(live, NULL, &err)) {
         fprintf(stderr, "live-bench: %s\n", err.message);
@@ -540,13 +545,16 @@ int main(int argc, char **argv)
             return accuracy(argv[2], atoi(argv[3]), noise, refs, seeds, argc - at, argv + at);
     }
     if (argc >= 8 && !strcmp(argv[1], "refine") && !strcmp(argv[4], "ref") && atoi(argv[5]) >= 1 &&
-        atoi(argv[5]) <= 64 && atoi(argv[6]) >= 0)
-        return refine(argv[2], atoi(argv[3]), atoi(argv[5]), atoi(argv[6]), argc - 7, argv + 7);
+        atoi(argv[5]) <= 64 && atoi(argv[6]) >= 0) {
+        const int seeded = argc >= 10 && !strcmp(argv[7], "seed");
+        return refine(argv[2], atoi(argv[3]), atoi(argv[5]), atoi(argv[6]),
+                      seeded ? strtoull(argv[8], NULL, 10) : 0, argc - 7 - 2 * seeded, argv + 7 + 2 * seeded);
+    }
     if (argc == 3 && !strcmp(argv[1], "bands"))
         return bands(argv[2]);
     if (argc == 6 && !strcmp(argv[1], "sweep"))
         return sweep(argv[2], atof(argv[3]), atof(argv[4]), atof(argv[5]));
-    fprintf(stderr, "usage: live-bench speed BIOME [SUNS] | accuracy BIOME WIDTH [ref N] [noise] [seeds N] E... | refine BIOME WIDTH ref N ROUNDS E... | sweep BIOME FROM "
+    fprintf(stderr, "usage: live-bench speed BIOME [SUNS] | accuracy BIOME WIDTH [ref N] [noise] [seeds N] E... | refine BIOME WIDTH ref N ROUNDS [seed S] E... | sweep BIOME FROM "
                     "TO "
                     "STEP\n");
     return 2;
