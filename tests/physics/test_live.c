@@ -849,7 +849,8 @@ static void same_maps_at_once(fm_sky_live *live, fm_sky_live *whole, const doubl
  * by day goes on; every map, before and after, and every node's tables
  * are a whole build's bit for bit (its seeds, its shared flight columns, its smoothing, which takes
  * in the twilight nodes built before), and the other nodes are not touched.  A file saved before
- * the band holds it as pending, and a map at -18 from it builds it as a whole build has it. */
+ * the band holds it as pending, and a map at -18 from it builds it as a whole build has it.  Deep
+ * twilight's nodes and their raw tables hold the paths live.c gives them. */
 static void deep_twilight_band_on_first_use(void **state)
 {
     (void)state;
@@ -863,6 +864,16 @@ static void deep_twilight_band_on_first_use(void **state)
     while (lazy->nodes[deep].sun_elevation_deg < 0.0)
         deep++;
     assert_int_equal(deep, 11); /* -20 to -1 */
+    /* deep twilight's paths per table node: a quarter of the preview's, twice that at -20 and -17.5
+     * and 1.25 times from -15 to -10, where the tables are noisiest (live.c) */
+    const double share[] = {2.0, 2.0, 1.25, 1.25, 1.25, 1.0, 1.0};
+    for (int k = 0; k < 7; k++) {
+        const int want = (int)round(whole->q.ms_paths * 0.25 * share[k]);
+        if (whole->nodes[k].paths_per_node != want || whole->raw[k].paths != want)
+            fail_msg("node %g: %d paths per table node (raw %d), not %d", whole->nodes[k].sun_elevation_deg,
+                     whole->nodes[k].paths_per_node, whole->raw[k].paths, want);
+    }
+    assert_int_equal(whole->raw_count, 7);
     const double day[] = {1.0, 2.0, 10.0, 90.0}, band[] = {0.99, -18.0, -7.0, -6.0, -5.9, -4.5, -3.0, -0.5, 0.0};
     for (size_t i = 0; i < sizeof day / sizeof day[0]; i++)
         same_map(lazy, whole, day[i], 0);

@@ -37,6 +37,14 @@ static const double SUN_DEG[] = {-20, -17.5, -15, -12.5, -10, -8, -6, -4.5, -3, 
  * level over the sky (and the ground's light, from the same paths) keeps all its noise: they take the
  * preview's paths (docs/decisions/2026-12-07-live-twilight-bias.md). */
 #define DEEP_TWILIGHT_PATH_SCALE 0.25
+/* Of those, the lowest nodes take more: their paths cost most and their tables are the noisiest, and
+ * their noise is most of the hazy maps' error from -20 to -10 (as built, before any round of
+ * refinement); the deep split's saving (docs/decisions/2026-12-07-deep-split-in-haze.md) pays for
+ * it (docs/decisions/2026-12-07-live-as-built.md). */
+static double deep_path_share(double sun_elevation_deg)
+{
+    return sun_elevation_deg < -16.0 ? 2.0 : sun_elevation_deg < -9.0 ? 1.25 : 1.0;
+}
 /* Each node draws its own paths (its index seeds them), so that a map between two nodes averages two
  * noises, not one noise twice; in twilight above deep twilight one seed for all gave every node one
  * realisation of its table's level (docs/decisions/2026-12-07-live-twilight-bias.md).  By day the
@@ -191,7 +199,8 @@ static fm_status node_begin(const fm_sky_live *live, live_node *node, const shad
     if (node->sun_elevation_deg >= HIGH_SUN_DEG)
         job->q.ms_paths = (int)fmax(1.0, round(job->q.ms_paths * HIGH_SUN_PATH_SCALE));
     if (twilight_deep(node->sun_elevation_deg)) {
-        job->q.ms_paths = (int)fmax(1.0, round(job->q.ms_paths * DEEP_TWILIGHT_PATH_SCALE));
+        const double share = DEEP_TWILIGHT_PATH_SCALE * deep_path_share(node->sun_elevation_deg);
+        job->q.ms_paths = (int)fmax(1.0, round(job->q.ms_paths * share));
         job->q.ground_paths = (int)fmax(1.0, round(job->q.ground_paths * DEEP_TWILIGHT_PATH_SCALE));
     }
     const uint64_t moved = LIVE_SEED_STRIDE * live->seed + ((uint64_t)refine_round << LIVE_ROUND_SEED_SHIFT);
