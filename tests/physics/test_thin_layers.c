@@ -26,10 +26,13 @@
  * day's) fails with the beam above the deck from the points above one another (+70 %;
  * docs/decisions/2026-12-07-two-layers-low-sun.md).  The Misty morning fog under a cirrostratus at
  * sun 10 (the fog's column lit from above) fails with the day's column alone there (the views +2 to
- * +10 %; docs/decisions/2026-12-07-fog-under-thin-layers.md).
+ * +10 %; docs/decisions/2026-12-07-fog-under-thin-layers.md).  Fog 0-200 m of optical depth 1.5 at
+ * sun 8, the views 2-6 degrees below the sun, fails with the peak's light read along the sun's slant
+ * for every view (+14.4 % pooled, 2 of 3 views outside) and with its whole turn toward the view at
+ * the last scattering (+7.9 %; docs/decisions/2026-12-07-fog-peak-split.md).
  * Run with arguments CLOUDS TAU SUN PATHS [THICKNESS_KM [SEED]] for one case (a sweep by hand; TAU 0
  * keeps the presets'; SEED, default 0, moves the reference's random numbers for an independent run).
- * About 90 s of CPU (the two layers at sun 4: 16 s; the fog under cirrostratus 14 s), nearly all of
+ * About 95 s of CPU (the two layers at sun 4: 16 s; the fog under cirrostratus 14 s), nearly all of
  * it the path tracer. */
 #include "check.h"
 
@@ -54,8 +57,22 @@ static uint64_t seed_offset;
 static const double fixed_views[][2] = {{1, 90}, {3, 180}, {6, 0}, {15, 90}, {60, 180}, {85, 0}, {30, 90}, {45, 45}};
 static const double sun_views[][2] = {{4, 0}, {8, 0}, {12, 0}, {0, 6}, {22, 0}, {24, 0}};
 
-/* Whether every view and the irradiance were within the tolerance (0) or how many were not. */
-static int against_the_path_tracer(const char *clouds, double tau, double sun_deg, int paths, double thickness_km)
+/* The fast path at view (e, phi): order 1 by its quadrature at the view itself (the table's nodes
+ * are a degree or two apart, wider than the halo's edge), the light of the truncated peak and the
+ * column's orders >= 2. */
+static double fast_radiance(const column_tables *t, const path_context *all, const fm_sky *sky, double e, double phi)
+{
+    const vec3 dir = render_view_direction(sky, e, phi);
+    double L = 0.0;
+    float v[1];
+    single_scatter_radiance(all, sky->observer, dir, &L);
+    fog_table_peak(&t->job, dir, v);
+    L += v[0];
+    sky_grid_lookup(&t->ms.grid, e, phi, v);
+    return L + v[0];
+}
+
+static fm_sky *fog_sky(const char *clouds, double tau, double sun_deg, double thickness_km, column_tables *t)
 {
     fm_sky_params p = fm_sky_params_default();
     p.clouds = clouds;
@@ -67,11 +84,18 @@ static int against_the_path_tracer(const char *clouds, double tau, double sun_de
     p.sun_elevation_deg = sun_deg;
     p.sun_azimuth_deg = 180.0;
     fm_sky *sky = test_sky(&p);
+    column_tables_start(sky, 0, 1, t); /* as a render: below its bound a deck's column lit from above */
+    assert_null(t->tw);
+    assert_true(fog_table_applies(&t->job));
+    column_tables_make(t);
+    return sky;
+}
+
+/* Whether every view and the irradiance were within the tolerance (0) or how many were not. */
+static int against_the_path_tracer(const char *clouds, double tau, double sun_deg, int paths, double thickness_km)
+{
     column_tables t;
-    column_tables_start(sky, 0, 1, &t); /* as a render: below its bound a deck's column lit from above */
-    assert_null(t.tw);
-    assert_true(fog_table_applies(&t.job));
-    column_tables_make(&t);
+    fm_sky *sky = fog_sky(clouds, tau, sun_deg, thickness_km, &t);
     int failures = 0;
     char what[128];
     double diffuse, se;
@@ -87,16 +111,8 @@ static int against_the_path_tracer(const char *clouds, double tau, double sun_de
     for (size_t i = 0; i < nf + ns; i++) {
         const double e = (i < nf ? fixed_views[i][0] : sun_deg + sun_views[i - nf][0]) * FM_DEG;
         const double phi = (i < nf ? fixed_views[i][1] : sun_views[i - nf][1]) * FM_DEG;
-        /* order 1 by its quadrature at the view itself (the table's nodes are a degree or two apart,
-         * wider than the halo's edge), the light of the truncated peak and the column's orders >= 2 */
         const vec3 dir = render_view_direction(sky, e, phi);
-        double L = 0.0;
-        float v[1];
-        single_scatter_radiance(&all, sky->observer, dir, &L);
-        fog_table_peak(&t.job, dir, v);
-        L += v[0];
-        sky_grid_lookup(&t.ms.grid, e, phi, v);
-        L += v[0];
+        const double L = fast_radiance(&t, &all, sky, e, phi);
         const double ref = test_path_radiance(&all, sky->observer, dir, paths, 9 + seed_offset, i, &se);
         snprintf(what, sizeof what, "%s, sun %g: radiance at elevation %.0f, azimuth %.0f", clouds, sun_deg, e / FM_DEG,
                  phi / FM_DEG);
@@ -148,6 +164,37 @@ static void fog_under_cirrostratus(void **state)
     assert_int_equal(against_the_path_tracer("fog,cirrostratus", 3.912 / 400.0 * 100.0, 10.0, 60000, 0.1), 0);
 }
 
+/* Fog 0-200 m of optical depth 1.5 at sun 8, where the truncated peak's light is half the view
+ * just below the sun: the views 2, 4 and 6 degrees below it, each and pooled (their mean within 2 %
+ * plus 3 of its standard errors), see the peak's light along their own slant through the fog, longer
+ * than the sun's (docs/decisions/2026-12-07-fog-peak-split.md; 4 s of CPU). */
+static void fog_below_a_low_sun(void **state)
+{
+    (void)state;
+    const double sun_deg = 8.0, below[] = {2.0, 4.0, 6.0};
+    column_tables t;
+    fm_sky *sky = fog_sky("fog", 1.5, sun_deg, 0.2, &t);
+    path_context all = sky_path_context(sky, 1, 0);
+    int failures = 0;
+    double mean = 0.0, var = 0.0;
+    char what[128];
+    for (int i = 0; i < 3; i++) {
+        const double e = (sun_deg - below[i]) * FM_DEG, se_scale = 1.0 / 3.0;
+        double se;
+        const double L = fast_radiance(&t, &all, sky, e, 0.0);
+        const double ref = test_path_radiance(&all, sky->observer, render_view_direction(sky, e, 0.0), 160000, 9, i, &se);
+        snprintf(what, sizeof what, "fog 1.5, sun 8: %g degrees below the sun", below[i]);
+        failures += !within_reference(L, ref, se, TOLERANCE, what);
+        mean += se_scale * (L / ref - 1.0);
+        var += se_scale * se_scale * (se / ref) * (se / ref);
+    }
+    printf("  pooled: %+.1f %% +- %.1f %%\n", 100.0 * mean, 100.0 * sqrt(var));
+    column_tables_free(&t);
+    fm_sky_destroy(sky);
+    assert_int_equal(failures, 0);
+    assert_true(fabs(mean) <= TOLERANCE + 3.0 * sqrt(var));
+}
+
 /* Below FOG_TABLE_MIN_SUN_DEG_CLOUDS the altostratus takes the column lit from above at three suns,
  * the sky above it (the cirrostratus's) from the sphere's paths, blended with the day's column up to
  * FOG_TABLE_BLEND_DEG above its bound (docs/decisions/2026-12-07-two-layers-low-sun.md): at sun 4 a
@@ -173,6 +220,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(shallow_fog_against_the_path_tracer),
         cmocka_unit_test(two_layers_at_a_low_sun),
         cmocka_unit_test(fog_under_cirrostratus),
+        cmocka_unit_test(fog_below_a_low_sun),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -2,6 +2,8 @@
 
 #include "base/quadrature.h"
 #include "render/fog_column.h"
+#include "render/fog_peak_view.h"
+#include "render/fog_regime.h"
 #include "render/ms_table.h"
 #include "render/render_job.h"
 #include "sky.h"
@@ -103,22 +105,49 @@ static void peak_sum(const double *M, int L, double *work, double *out)
 }
 
 /* The irradiance on the ground of a table of radiance by angle from the sun (uniform in
- * sin(theta / 2), as ms_table.peak) over the sky: each ring about the sun by the mean of the
- * cosine of its zenith angle over its part above the horizon. */
-static double sky_flux(const double *table, double mu0)
+ * sin(theta / 2), as ms_table.peak) over the sky, each view's as fog_peak_view weighs it (the
+ * weights at wavelength k of K in peak): each ring about the sun by the mean over its part above the
+ * horizon of the weight times the cosine of its zenith angle. */
+#define FLUX_RING_POINTS 32
+static double sky_flux(const double *table, double mu0, const double *peak, int K, int k)
 {
     const double s0 = sqrt(fmax(0.0, 1.0 - mu0 * mu0));
     double sum = 0.0;
     for (int j = 0; j < FOG_PEAK_ANGLES; j++) {
         const double u = PEAK_U_MAX * j / (FOG_PEAK_ANGLES - 1.0), th = 2.0 * asin(u);
         const double a = mu0 * cos(th), b = s0 * sin(th); /* cos z = a + b cos(psi) on the ring */
-        const double psi = b > fabs(a) ? acos(-a / b) : a > 0.0 ? FM_PI : 0.0;
-        const double ring = 2.0 * (a * psi + b * sin(psi)); /* 2 pi times the ring's mean */
+        double ring = 0.0; /* 2 pi times the ring's mean, by the midpoint rule in psi */
+        for (int q = 0; q < FLUX_RING_POINTS; q++) {
+            const double mu = a + b * cos(FM_PI * (q + 0.5) / FLUX_RING_POINTS);
+            ring += mu > 0.0 ? mu * fog_peak_view_at(peak, K, k, mu) : 0.0;
+        }
+        ring *= 2.0 * FM_PI / FLUX_RING_POINTS;
         /* d(solid angle) = 2 pi sin(theta) d(theta), d(theta) = 2 du / cos(theta / 2) */
         const double w = (j == 0 || j == FOG_PEAK_ANGLES - 1 ? 0.5 : 1.0) * PEAK_U_MAX / (FOG_PEAK_ANGLES - 1.0);
         sum += table[j] * ring * sin(th) * 2.0 / sqrt(1.0 - u * u) * w;
     }
     return sum;
+}
+
+/* The weights of the peak's light by view (fog_peak_view.h) at a wavelength in w, for fog around the
+ * observer (its base at or below it): its optical depth above the observer, the peak's share of it,
+ * and its height there.  None (every weight 1) for other layers: a high layer's slants are the
+ * sphere's, not a plane's. */
+static void fog_peak_weights(const fog_column *fc, const scaled_layer *sl, double *w)
+{
+    const fm_sky *sky = fc->job->sky;
+    const double base = sky->composition.cloud[fog_regime_cloud(sky)].base_m;
+    const double top = fc->top_radius - sky->atm.bottom_radius_m, h = fc->level < fc->layers ? fc->top_m[fc->level] : 0.0;
+    double tau = 0.0, peak = 0.0;
+    for (int l = 0; l < fc->level && base <= h + 0.5 && h <= top + 0.5; l++) {
+        const double bottom = l + 1 < fc->layers ? fc->top_m[l + 1] : 0.0;
+        if (!(sl[l].f > 0.0) || bottom < base - 0.5 || fc->top_m[l] > top + 0.5)
+            continue;
+        tau += sl[l].tau;
+        peak += sl[l].ssa * sl[l].f * sl[l].tau;
+    }
+    const double mu0 = sky->sun_dir.z, top_rad = fmin(asin(fmin(fmax(mu0, 0.0), 1.0)) + PEAK_MAX_DEG * FM_DEG, 0.5 * FM_PI);
+    fog_peak_view_fill(w, tau, tau > 0.0 ? peak / tau : 0.0, 2.0 * (top - h) / (sky->atm.bottom_radius_m + h), mu0, top_rad);
 }
 
 /* More peak scatterings along the beam than this on average: the peak's light is nil (above). */
@@ -150,6 +179,7 @@ fm_status fog_peak_light(fog_column *fc, const scaled_layer *sl, const plane_lay
     fc->ground[k] = nil ? 0.0 : mu0 * beam * (expm1(lambda) - lambda);
     if (nil)
         return FM_OK;
+    fog_peak_weights(fc, sl, fc->job->ms->peak + 2 * (size_t)K * FOG_PEAK_ANGLES + FOG_PEAK_VIEW_SIZE * (size_t)k);
     double *work = malloc(sizeof(double) * (16 * (size_t)PEAK_PANELS + PEAK_MOMENTS));
     if (!work)
         return FM_ERR_OUT_OF_MEMORY;
@@ -170,9 +200,15 @@ fm_status fog_peak_light(fog_column *fc, const scaled_layer *sl, const plane_lay
         out[j] = out[j] * taper - rest[j];
     }
     /* on the ground the table's sky half counts its part of the flux already */
-    fc->ground[k] -= sky_flux(rest, mu0);
+    fc->ground[k] -= sky_flux(rest, mu0, fc->job->ms->peak, K, k);
     free(work);
     return FM_OK;
+}
+
+/* The weight of the peak's light at wavelength k of K along view cosine mu (fog_peak_view.h). */
+double fog_peak_view_at(const double *peak, int K, int k, double mu)
+{
+    return fog_peak_view(peak + 2 * (size_t)K * FOG_PEAK_ANGLES + FOG_PEAK_VIEW_SIZE * (size_t)k, mu);
 }
 
 /* One of the peak's two tables (fog_peak_light) at wavelength k, at cosine x from the sun. */
@@ -193,8 +229,11 @@ void fog_table_peak(const render_job *job, vec3 view, float *add)
     const atmosphere *atm = &job->sky->atm;
     const double x = v3_dot(view, job->sky->sun_dir);
     double L[FM_MAX_WAVELENGTHS];
-    for (int k = 0; k < atm->grid.count; k++)
-        L[k] = job->ms->peak ? fog_peak_at(job->ms->peak, k, x) : 0.0;
+    const int K = atm->grid.count;
+    for (int k = 0; k < K; k++)
+        L[k] = job->ms->peak ? fog_peak_at(job->ms->peak, k, x) *
+                                   fog_peak_view_at(job->ms->peak, K, k, view.z)
+                             : 0.0;
     render_channels(atm, job->channels, L, add);
 }
 

@@ -6,6 +6,7 @@
 
 #include "base/vec.h"
 #include "firmament/firmament.h"
+#include "render/fog_peak_view.h"
 
 struct render_job;
 struct fog_column;
@@ -13,11 +14,17 @@ struct scaled_layer;
 struct plane_layer;
 
 #define FOG_PEAK_ANGLES 512 /* the table ms_table.peak: uniform in sin(theta / 2) */
+/* ms_table.peak's size: two tables of FOG_PEAK_ANGLES per wavelength, then the weights by view
+ * (fog_peak_view.h) per wavelength */
+#define FOG_PEAK_SIZE(K) ((size_t)(K) * (2 * FOG_PEAK_ANGLES + FOG_PEAK_VIEW_SIZE))
 
 /* The peak's light at wavelength k (beam: the unscattered beam's radiance scale at the observer) in
  * ms_table.peak, and its flux on the ground in fc->ground[k]. */
 fm_status fog_peak_light(struct fog_column *fc, const struct scaled_layer *sl, const struct plane_layer *pl, int k,
                          double beam);
+/* The peak's light along view cosine mu over that along the sun's slant at wavelength k of K
+ * (fog_peak_view.h): the tables hold it as along the beam. */
+double fog_peak_view_at(const double *peak, int K, int k, double mu);
 /* One of the peak's two tables at wavelength k, at cosine x from the sun. */
 double fog_peak_at(const double *table, int k, double x);
 

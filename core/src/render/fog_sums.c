@@ -160,7 +160,11 @@ static void wavelength_nodes(void *ctx, int64_t begin, int64_t end, int thread)
                 if (looking_down)
                     L -= atm->ground_albedo[k] / FM_PI * mu0 * ground * exp(-(above[fc->layers] - above[fc->level]) / fc->mu[r]);
                 else /* the peak's light: its smooth negative part */
-                    L += fog_peak_at(rest, (int)k, v3_dot(render_view_direction(sky, e, phi), sky->sun_dir)) / scale;
+                {
+                    const vec3 d = render_view_direction(sky, e, phi);
+                    L += fog_peak_at(rest, (int)k, v3_dot(d, sky->sun_dir)) *
+                         fog_peak_view_at(t->peak, K, (int)k, d.z) / scale;
+                }
                 t->sum[(size_t)(r * cols + c) * K + k] = L * scale;
             }
         /* above the ground, its diffuse irradiance comes from the column (the peak's light in it): all
@@ -215,7 +219,7 @@ fm_status fog_column_sums(render_job *job, int from_above, fog_tables_fn tables,
         fc->response = response;
     }
     free(t->peak);
-    if (!s && !(t->peak = calloc(2 * (size_t)K * FOG_PEAK_ANGLES, sizeof(double))))
+    if (!s && !(t->peak = calloc(FOG_PEAK_SIZE(K), sizeof(double))))
         s = FM_ERR_OUT_OF_MEMORY;
     if (!s) {
         memset(t->sum, 0, sizeof(double) * (size_t)nodes * K);
