@@ -3,8 +3,8 @@
 reply (a map written and renamed into place, its sidecar read back), per atmosphere source.
 Prints, for one atmosphere (the default sky, or the biome given):
   build   the first request (a sun of 30 degrees) of a server with an empty cache: the atmosphere
-          built but for its deep twilight band, then the map
-  deep    that server's second request, a sun of -18 degrees: the deep twilight band built (and the
+          built but for its twilight band (the suns below the horizon), then the map
+  deep    that server's second request, a sun of -18 degrees: the twilight band built (and the
           cache file saved again), then the map
   disk    the first request of a second server on that cache: the atmosphere read from the disk
   memory  median, 90th percentile and largest of N sun changes (a sweep of elevations and azimuths)

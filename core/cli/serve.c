@@ -246,7 +246,7 @@ static cJSON *done_reply(const request *r, const double t[T_COUNT], live_source 
     add_seconds(stages, "render", t[T_RENDER] - t[T_ATMOSPHERE]);
     add_seconds(stages, "write", t[T_WRITE] - t[T_RENDER]);
     cJSON_AddStringToObject(reply, "cache", live_source_name(from));
-    cJSON_AddStringToObject(reply, "deep_twilight", live_band_name(band));
+    cJSON_AddStringToObject(reply, "twilight_band", live_band_name(band));
     if (refined >= 0)
         cJSON_AddNumberToObject(reply, "refined", refined);
     fm_error err = {0};
@@ -309,7 +309,7 @@ static cJSON *serve_request(request *r, live_cache *cache, const fm_colour_confi
         return library_error_reply(r->id, &err);
     *used = live;
     return done_reply(r, t, from, band,
-                      fm_sky_live_reads_deep_band(live, sky.sun_elevation_deg) ? fm_sky_live_rounds(live) : -1);
+                      fm_sky_live_reads_deep_twilight(live, sky.sun_elevation_deg) ? fm_sky_live_rounds(live) : -1);
 }
 
 /* The server's state between requests: the last request done and the atmosphere it was rendered
@@ -348,7 +348,7 @@ static void refine_round(server *sv, idle_work *w, live_cache *cache, const fm_c
     }
     fm_sky_params sun;
     if (w->last && fm_sky_params_resolve_sun(&w->last->opt.sky, &sun, &err) == FM_OK &&
-        fm_sky_live_reads_deep_band(w->live, sun.sun_elevation_deg)) {
+        fm_sky_live_reads_deep_twilight(w->live, sun.sun_elevation_deg)) {
         request *r = w->last;
         w->last = NULL;
         serve_one(sv, w, r, cache, colour, threads);

@@ -20,7 +20,7 @@ cache    a new server on the session's cache folder takes the atmosphere from th
          and the disk's times printed, not asserted); a truncated cache file is refused, rebuilt and
          replaced whole (the next server takes it from the disk); a byte-flipped one is refused (its
          rebuild stopped by SIGTERM, which leaves no temporary in the folder).  A cache file saved
-         before the deep twilight band (a new folder, a sun of 20) is completed by the next server's
+         before the twilight band (a new folder, a sun of 20) is completed by the next server's
          request at -18: the same pixels, and then the same file bit for bit, as the session's whole
          atmosphere.
 refine   a server refining while idle answers its last request at -12 again after a round
@@ -120,8 +120,8 @@ def leftovers(folder, expected):
 
 
 def band_sequence(replies, elevations):
-    """The deep twilight band through a server's done replies in order (their suns' elevations):
-    pending until the first sun below 1 degree, built by it, then ready."""
+    """The twilight band (every sun below the horizon) through a server's done replies in order
+    (their suns' elevations): pending until the first sun below 1 degree, built by it, then ready."""
     want, seen = [], "pending"
     for e in elevations:
         if seen == "pending" and e < 1:
@@ -129,8 +129,8 @@ def band_sequence(replies, elevations):
             seen = "ready"
         else:
             want.append(seen)
-    got = [r.get("deep_twilight") for r in replies]
-    check(got == want, f"deep twilight band by request (suns {elevations}): {got}, expected {want}")
+    got = [r.get("twilight_band") for r in replies]
+    check(got == want, f"twilight band by request (suns {elevations}): {got}, expected {want}")
 
 
 def check_done(reply, folder, elevation, azimuth, width=32, colorspace="Linear Rec.709"):
@@ -329,24 +329,24 @@ def check_same_pixels(a, b, what):
           f"{what}: {same or out.stderr}")
 
 
-def deep_band_completes_file(tmp, folder):
+def twilight_band_completes_file(tmp, folder):
     """folder holds the session's whole atmosphere (or none: then the first server here builds it
-    whole, the deep twilight band too).  A new folder: its file saved by a request at 20 without the
+    whole, the twilight band too).  A new folder: its file saved by a request at 20 without the
     band, then completed by the next server's at -18."""
     whole, _, _ = one_map(tmp, folder, "whole18", -18)
-    check(whole.get("deep_twilight") in ("ready", "built"), f"-18 from the whole atmosphere: {whole}")
+    check(whole.get("twilight_band") in ("ready", "built"), f"-18 from the whole atmosphere: {whole}")
     lazy = os.path.join(tmp, "lazy-cache")
     day, _, _ = one_map(tmp, lazy, "lazy20", 20)
-    check(day.get("cache") == "built" and day.get("deep_twilight") == "pending",
-          f"a sun of 20: built without the deep twilight band ({day.get('cache')}, {day.get('deep_twilight')})")
+    check(day.get("cache") == "built" and day.get("twilight_band") == "pending",
+          f"a sun of 20: built without the twilight band ({day.get('cache')}, {day.get('twilight_band')})")
     files = os.listdir(lazy)
     if not check(len(files) == 1, f"one cache file: {files}"):
         return
     saved = os.path.join(lazy, files[0])
     before = open(saved, "rb").read()
     deep, _, _ = one_map(tmp, lazy, "lazy18", -18)
-    check(deep.get("cache") == "disk" and deep.get("deep_twilight") == "built",
-          f"-18 from the file without the band: built it ({deep.get('cache')}, {deep.get('deep_twilight')})")
+    check(deep.get("cache") == "disk" and deep.get("twilight_band") == "built",
+          f"-18 from the file without the band: built it ({deep.get('cache')}, {deep.get('twilight_band')})")
     check_same_pixels(os.path.join(tmp, "lazy18.exr"), os.path.join(tmp, "whole18.exr"),
                       "the map at -18 from the completed file has the whole atmosphere's pixels")
     check(open(saved, "rb").read() != before and os.listdir(lazy) == files,
@@ -355,14 +355,14 @@ def deep_band_completes_file(tmp, folder):
     check(whole_file and same_bytes(saved, os.path.join(folder, files[0])),
           "the completed cache file is the whole atmosphere's, bit for bit")
     again, _, _ = one_map(tmp, lazy, "lazy10", -10)
-    check(again.get("cache") == "disk" and again.get("deep_twilight") == "ready",
-          f"the next server finds the band in the file ({again.get('cache')}, {again.get('deep_twilight')})")
+    check(again.get("cache") == "disk" and again.get("twilight_band") == "ready",
+          f"the next server finds the band in the file ({again.get('cache')}, {again.get('twilight_band')})")
 
 
 def cache(tmp, folder, built_seconds):
     """folder: the session's default cache folder, holding its atmosphere (or none, when the session
     did not run: then the first server here builds it)."""
-    deep_band_completes_file(tmp, folder)
+    twilight_band_completes_file(tmp, folder)
     first, t_first, _ = one_map(tmp, folder, "c1", 20)
     if first.get("cache") == "built":
         built_seconds = first.get("seconds")
@@ -425,8 +425,8 @@ def refine(tmp):
     srv.send({"id": "deep", "output": "deep.exr", **GOLDEN, "sun_elevation": -12, "sun_azimuth": 180})
     first = srv.reply(timeout=300)
     check_done(first, tmp, -12, 180)
-    check(first.get("deep_twilight") == "built" and first.get("refined") == 0,
-          f"-12: the band built, not refined yet ({first.get('deep_twilight')}, {first.get('refined')})")
+    check(first.get("twilight_band") == "built" and first.get("refined") == 0,
+          f"-12: the band built, not refined yet ({first.get('twilight_band')}, {first.get('refined')})")
     before = open(os.path.join(tmp, "deep.exr"), "rb").read()
     refined = srv.reply(timeout=300)
     check(refined.get("id") == "deep" and refined.get("status") == "done" and refined.get("refined") == 1,

@@ -506,11 +506,11 @@ fm_status fm_sky_live_refine(fm_sky_live *live, const atomic_int *cancel, fm_err
 /* Whether fm_sky_live_refine has a round to add: the band built, of paths, and fewer rounds than
  * the most. */
 int fm_sky_live_refinable(const fm_sky_live *live);
-/* The rounds of refinement in the band's tables (0: as built; kept in the live sky's file). */
+/* The rounds of refinement in the deep twilight tables (0: as built; kept in the live sky's file). */
 int fm_sky_live_rounds(const fm_sky_live *live);
 /* Whether a map at the sun elevation reads the deep twilight tables (suns from -20 to below -3
  * degrees): what refinement changes. */
-int fm_sky_live_reads_deep_band(const fm_sky_live *live, double sun_elevation_deg);
+int fm_sky_live_reads_deep_twilight(const fm_sky_live *live, double sun_elevation_deg);
 /* The atmosphere's key: 32 hex digits (and a NUL) hashing every field that changes the live sky's
  * tables, not the sun, and the library's table version; for cache file names. */
 void fm_sky_live_key(const fm_sky_params *params, char out[33]);

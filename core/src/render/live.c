@@ -88,7 +88,7 @@ fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *e
         free(live);
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
     }
-    atomic_init(&live->deep_pending, 0);
+    atomic_init(&live->band_pending, 0);
     fm_status s = live_sky_params(params, &live->params, err);
     if (!s)
         s = fm_sky_create(&live->params, &live->sky, err);
@@ -464,7 +464,7 @@ void live_settle_pending(fm_sky_live *live)
     int others = 1, band = 1;
     for (int i = 0; i < live->count; i++)
         *(i < deep ? &band : &others) &= live->nodes[i].built;
-    atomic_store(&live->deep_pending, others && !band);
+    atomic_store(&live->band_pending, others && !band);
 }
 
 fm_status fm_sky_live_create(const fm_sky_params *params, const atomic_int *cancel, fm_sky_live **out,
@@ -611,7 +611,7 @@ static int reads_band(const fm_sky_live *live, double elevation_deg, int unbuilt
     return 0;
 }
 
-int fm_sky_live_reads_deep_band(const fm_sky_live *live, double sun_elevation_deg)
+int fm_sky_live_reads_deep_twilight(const fm_sky_live *live, double sun_elevation_deg)
 {
     return reads_band(live, sun_elevation_deg, 0, 1);
 }
@@ -623,14 +623,14 @@ static fm_status build_band(fm_sky_live *live, int whole, double elevation_deg, 
 {
     if (built)
         *built = 0;
-    if (!atomic_load(&live->deep_pending))
+    if (!atomic_load(&live->band_pending))
         return FM_OK;
     pthread_mutex_lock(&live->lock);
     fm_status s = FM_OK;
     const int deep = band_nodes(live);
-    if (atomic_load(&live->deep_pending) && deep > 0 && (whole || reads_band(live, elevation_deg, 1, 0)) &&
+    if (atomic_load(&live->band_pending) && deep > 0 && (whole || reads_band(live, elevation_deg, 1, 0)) &&
         !(s = live_build_nodes(live, -90.0, live->nodes[deep - 1].sun_elevation_deg, cancel, err))) {
-        atomic_store(&live->deep_pending, 0);
+        atomic_store(&live->band_pending, 0);
         if (built)
             *built = 1;
     }
@@ -656,7 +656,7 @@ int fm_sky_live_rounds(const fm_sky_live *live)
 
 int fm_sky_live_refinable(const fm_sky_live *live)
 {
-    if (atomic_load(&live->deep_pending) || live->rounds >= LIVE_REFINE_ROUNDS || live->raw_count == 0)
+    if (atomic_load(&live->band_pending) || live->rounds >= LIVE_REFINE_ROUNDS || live->raw_count == 0)
         return 0;
     for (int k = 0; k < live->raw_count; k++)
         if (!live->nodes[k].built || live->raw[k].paths <= 0)
@@ -733,7 +733,7 @@ fm_status fm_sky_live_refine(fm_sky_live *live, const atomic_int *cancel, fm_err
 
 int fm_sky_live_is_complete(const fm_sky_live *live)
 {
-    return !atomic_load(&live->deep_pending);
+    return !atomic_load(&live->band_pending);
 }
 
 fm_status fm_sky_live_render(fm_sky_live *live, double sun_elevation_deg, double sun_azimuth_deg,

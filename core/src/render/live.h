@@ -26,7 +26,7 @@ fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *e
 fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, const atomic_int *cancel,
                            fm_error *err);
 
-/* Sets deep_pending from the nodes' built flags: the twilight band is left for first use when
+/* Sets band_pending from the nodes' built flags: the twilight band is left for first use when
  * every other node is built and it is not (fm_sky_live_create, a file's tables); a test's few nodes
  * never build more themselves. */
 void live_settle_pending(fm_sky_live *live);

@@ -55,9 +55,9 @@ struct fm_sky_live {
     ms_table *raw;
     int raw_count;
     int rounds; /* rounds of refinement in the band's tables (0: as built) */
-    /* The twilight band is built on first use (live.c): while deep_pending, a map whose sun reads
+    /* The twilight band is built on first use (live.c): while band_pending, a map whose sun reads
      * one of its nodes builds the band under `lock` first; the other nodes are never written then. */
-    atomic_int deep_pending;
+    atomic_int band_pending;
     pthread_mutex_t lock;
 };
 
