@@ -691,6 +691,71 @@ static void deep_twilight_noise_averaged_over_the_sky(void **state)
     fm_sky_live_destroy(live);
 }
 
+/* Urban's deep twilight and twilight nodes' level, the mean of ln Y of their multiple-scattering
+ * tables over the sky before any smoothing, averaged over six builds (seeds 0-5; each node's spread
+ * over the builds 0.8-2.5 %): it falls about 1.0 per degree below -6, 1.08 from -6 to -4.5 and 0.94
+ * from -4.5 to -3, a bend at the band's edge (docs/decisions/2026-12-07-live-minus6.md). */
+static const double URBAN_LEVEL_DEG[] = {-20, -17.5, -15, -12.5, -10, -8, -6, -4.5, -3};
+static const double URBAN_LEVEL[] = {-21.0655, -18.3951, -15.8071, -13.3190, -10.8222, -8.8796, -6.8260, -5.2060, -3.7999};
+
+/* The trapezoid-weighted mean of a table's ln Y over its sky rows and columns (the level term of
+ * live_smooth_deep_twilight's cosine series). */
+static double sky_level(const sky_grid *g, int C)
+{
+    double num = 0.0, den = 0.0;
+    for (int r = 0; r < g->rows_sky; r++)
+        for (int c = 0; c < g->cols; c++) {
+            const double t = (r == 0 || r == g->rows_sky - 1 ? 0.5 : 1.0) * (c == 0 || c == g->cols - 1 ? 0.5 : 1.0);
+            num += t * log(g->values[((size_t)r * g->cols + c) * C + (C == 3)]);
+            den += t;
+        }
+    return num / den;
+}
+
+/* The highest deep twilight node (-6) keeps its own level through the smoothing across the sun
+ * elevation: a sky whose level follows urban's (URBAN_LEVEL, its shape about it sky_log_y's) comes
+ * back at -6 with its level within 0.05 %, where a quadratic across the band's edge put it 1.4 %
+ * high (urban's maps at -6 were 1.25 +- 0.23 % bright over the sky, eight builds). */
+static void deep_twilight_edge_keeps_its_level(void **state)
+{
+    fm_sky_params p = test_params(10.0, 0.0);
+    fm_sky_live *live = live_for(&p, 1.0, 0.0);
+    const int C = live->channels, rows = live->nodes[0].ms.rows_sky, cols = live->nodes[0].ms.cols;
+    const int levels = (int)(sizeof URBAN_LEVEL / sizeof URBAN_LEVEL[0]);
+    unsigned char *fresh = calloc((size_t)live->count, 1);
+    for (int i = 0; i < live->count; i++) {
+        const double e = live->nodes[i].sun_elevation_deg;
+        int k = 0;
+        while (k < levels && URBAN_LEVEL_DEG[k] != e)
+            k++;
+        if (k == levels)
+            continue;
+        fresh[i] = 1;
+        float *px = live->nodes[i].ms.values;
+        memset(px, 0, sizeof(float) * (size_t)sky_grid_nodes(&live->nodes[i].ms) * (size_t)C); /* the ground: 0 */
+        for (int v = 0; v < rows * cols; v++) {
+            const double shape = sky_log_y(e, v / cols, rows, v % cols, cols) - (-3.0 + 0.9 * e + 0.01 * e * e);
+            const double y = exp(URBAN_LEVEL[k] + shape);
+            for (int c = 0; c < C; c++)
+                px[v * C + c] = (float)y;
+        }
+    }
+    double before[64];
+    for (int i = 0; i < live->count && i < 64; i++)
+        before[i] = fresh[i] ? sky_level(&live->nodes[i].ms, C) : 0.0;
+    assert_int_equal(live_smooth_deep_twilight(live, fresh), FM_OK);
+    for (int i = 0; i < live->count && i < 64; i++) {
+        const double e = live->nodes[i].sun_elevation_deg;
+        if (e == -6.0) {
+            const double d = sky_level(&live->nodes[i].ms, C) - before[i];
+            print_message("deep twilight smoothing of urban's level: %+.3f %% at sun -6\n", 100.0 * d);
+            check_abs(d, 0.0, 5e-4, "the highest deep node's level, smoothed");
+        }
+    }
+    free(fresh);
+    fm_sky_live_destroy(live);
+}
+
 /* A file beside the test's temporary folder; the caller frees it. */
 static char *temp_path(const char *name)
 {
@@ -1082,6 +1147,7 @@ int main(void)
         cmocka_unit_test(live_flight_columns_place_flights_as_a_table_of_its_own),
         cmocka_unit_test(deep_twilight_tables_smoothed_across_elevations),
         cmocka_unit_test(deep_twilight_noise_averaged_over_the_sky),
+        cmocka_unit_test(deep_twilight_edge_keeps_its_level),
         cmocka_unit_test(file_round_trip_and_refusals),
         cmocka_unit_test(deep_twilight_band_on_first_use),
         cmocka_unit_test(deep_twilight_band_refined_by_rounds),

@@ -253,8 +253,18 @@ static void set_log_luminance(fm_sky_live *live, const deep_domain *d, int k, in
         px[ch] *= ratio;
 }
 
-/* A lit domain: its terms at every node, each smoothed across the nodes by its class's fit, and the
- * deep nodes' values scaled to the smoothed logarithms.  work: 2 n rows cols doubles. */
+/* Whether deep node k is the highest deep node with a node above deep twilight next in the fit: the
+ * band's edge, where the sky's level bends toward the twilight nodes' faster than a quadratic across
+ * them follows, so that its own level, a mean over the whole domain and the least noisy of its terms,
+ * is nearer the truth than the fit's (docs/decisions/2026-12-07-live-minus6.md). */
+static int keeps_own_level(const fm_sky_live *live, const deep_domain *d, int k)
+{
+    return k + 1 < d->n && !twilight_deep(live->nodes[d->at[k + 1]].sun_elevation_deg);
+}
+
+/* A lit domain: its terms at every node, each smoothed across the nodes by its class's fit (but the
+ * level at the band's edge: keeps_own_level), and the deep nodes' values scaled to the smoothed
+ * logarithms.  work: 2 n rows cols doubles. */
 static void smooth_lit_domain(fm_sky_live *live, deep_domain *d, double *work)
 {
     const size_t per_node = (size_t)d->rows * (size_t)d->cols;
@@ -279,10 +289,12 @@ static void smooth_lit_domain(fm_sky_live *live, deep_domain *d, double *work)
     for (int k = 0; k < d->n; k++) {
         if (!twilight_deep(live->nodes[d->at[k]].sun_elevation_deg))
             continue;
+        const int own_level = keeps_own_level(live, d, k);
         for (int p = 0; p < d->rows; p++)
             for (int m = 0; m < d->cols; m++) {
+                const int own = own_level && term_class(p, m) == 0;
                 double z = 0.0;
-                if (!deep_weights(live, d->at, d->n, k, -1, fits[term_class(p, m)], h))
+                if (own || !deep_weights(live, d->at, d->n, k, -1, fits[term_class(p, m)], h))
                     z = *coef_at(d, d->coef, k, p, m);
                 else
                     for (int j = 0; j < d->n; j++)
