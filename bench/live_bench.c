@@ -314,6 +314,13 @@ static fm_image *final_reference(const char *biome_arg, double e, int width, int
     return ref;
 }
 
+/* A map's RMS against a reference of several seeds less that reference's own noise (noise_rms, as
+ * final_reference gives it), in quadrature: the error of the map itself. */
+static double rms_less_noise(double rms, double noise_rms)
+{
+    return sqrt(fmax(0.0, rms * rms - noise_rms * noise_rms));
+}
+
 /* u'v' (CIE 1976) of an XYZ pixel. */
 static void uv(const float *xyz, double *u, double *v)
 {
@@ -402,7 +409,7 @@ static int accuracy(const char *biome_arg, int width, int noise, int refs, int s
         printf("%-8s %7.2f %8.3f %8.3f %8.3f %9.5f %9.5f", biome_arg, e, 100 * sum[0], 100 * sum[1], 100 * sum[2], sum[3],
                uv_max);
         if (refs > 1)
-            printf("  %11.3f  %12.3f", 100 * ref_noise, 100 * sqrt(fmax(0.0, sum[0] * sum[0] - ref_noise * ref_noise)));
+            printf("  %11.3f  %12.3f", 100 * ref_noise, 100 * rms_less_noise(sum[0], ref_noise));
         if (noise) {
             fm_image *other = final_map(biome_arg, e, width, (uint64_t)refs);
             fm_comparison n;
@@ -466,7 +473,7 @@ static int refine(const char *biome_arg, int width, int refs, int rounds, uint64
             }
             printf("%-8s %7.2f %6d %9.2f %8.3f %8.3f %12.3f %13.3f\n", biome_arg, atof(elevations[i]), r, cpu,
                    100 * c.rms, 100 * c.mean, 100 * ref_noise[i],
-                   100 * sqrt(fmax(0.0, c.rms * c.rms - ref_noise[i] * ref_noise[i])));
+                   100 * rms_less_noise(c.rms, ref_noise[i]));
             fflush(stdout);
             fm_image_destroy(got);
         }
