@@ -137,17 +137,21 @@ static void fog_peak_weights(const fog_column *fc, const scaled_layer *sl, doubl
 {
     const fm_sky *sky = fc->job->sky;
     const double base = sky->composition.cloud[fog_regime_cloud(sky)].base_m;
-    const double top = fc->top_radius - sky->atm.bottom_radius_m, h = fc->level < fc->layers ? fc->top_m[fc->level] : 0.0;
+    const double top = fc->top_radius - sky->atm.bottom_radius_m;
+    const double h = fc->level < fc->layers ? fc->top_m[fc->level] : 0.0; /* the observer's level, m */
+    const int around = base <= h + 0.5 && h <= top + 0.5; /* the fog's base at or below it, its top above */
     double tau = 0.0, peak = 0.0;
-    for (int l = 0; l < fc->level && base <= h + 0.5 && h <= top + 0.5; l++) {
+    for (int l = 0; around && l < fc->level; l++) {
         const double bottom = l + 1 < fc->layers ? fc->top_m[l + 1] : 0.0;
         if (!(sl[l].f > 0.0) || bottom < base - 0.5 || fc->top_m[l] > top + 0.5)
             continue;
         tau += sl[l].tau;
         peak += sl[l].ssa * sl[l].f * sl[l].tau;
     }
-    const double mu0 = sky->sun_dir.z, top_rad = fmin(asin(fmin(fmax(mu0, 0.0), 1.0)) + PEAK_MAX_DEG * FM_DEG, 0.5 * FM_PI);
-    fog_peak_view_fill(w, tau, tau > 0.0 ? peak / tau : 0.0, 2.0 * (top - h) / (sky->atm.bottom_radius_m + h), mu0, top_rad);
+    const double mu0 = sky->sun_dir.z;
+    const double top_rad = fmin(asin(fmin(fmax(mu0, 0.0), 1.0)) + PEAK_MAX_DEG * FM_DEG, 0.5 * FM_PI);
+    const double shell = 2.0 * (top - h) / (sky->atm.bottom_radius_m + h);
+    fog_peak_view_fill(w, tau, tau > 0.0 ? peak / tau : 0.0, shell, mu0, top_rad);
 }
 
 /* More peak scatterings along the beam than this on average: the peak's light is nil (above). */
