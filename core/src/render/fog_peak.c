@@ -234,10 +234,17 @@ void fog_table_peak(const render_job *job, vec3 view, float *add)
     const double x = v3_dot(view, job->sky->sun_dir);
     double L[FM_MAX_WAVELENGTHS];
     const int K = atm->grid.count;
-    for (int k = 0; k < K; k++)
-        L[k] = job->ms->peak ? fog_peak_at(job->ms->peak, k, x) *
-                                   fog_peak_view_at(job->ms->peak, K, k, view.z)
-                             : 0.0;
+    fog_peak_view_place at = {0}; /* the view among the weights' nodes: placed once */
+    for (int k = 0; k < K; k++) {
+        if (!job->ms->peak) {
+            L[k] = 0.0;
+            continue;
+        }
+        const double *w = job->ms->peak + 2 * (size_t)K * FOG_PEAK_ANGLES + FOG_PEAK_VIEW_SIZE * (size_t)k;
+        if (w[0] > 0.0 && (w[0] != at.spacing || w[1] != at.shell))
+            at = fog_peak_view_placed(w, view.z);
+        L[k] = fog_peak_at(job->ms->peak, k, x) * fog_peak_view_read(w, &at);
+    }
     render_channels(atm, job->channels, L, add);
 }
 

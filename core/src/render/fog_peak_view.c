@@ -87,14 +87,28 @@ void fog_peak_view_fill(double *w, double tau, double albedo, double shell, doub
     }
 }
 
-double fog_peak_view(const double *w, double mu)
+fog_peak_view_place fog_peak_view_placed(const double *w, double mu)
+{
+    fog_peak_view_place p = {.spacing = w[0], .shell = w[1], .i = 0, .t = 0.0};
+    if (!(w[0] > 0.0))
+        return p;
+    const double shell = w[1], e = mu > 0.0 ? asin(fmin(mu, 1.0)) : 0.0;
+    p.i = (int)fmin(e / w[0], FOG_PEAK_VIEWS - 2.0);
+    /* linear in the secant's inverse: smooth to the horizon, where the secant stays finite */
+    const double x0 = 1.0 / shell_secant(sin(w[0] * p.i), shell), x1 = 1.0 / shell_secant(sin(w[0] * (p.i + 1)), shell);
+    p.t = fmin(fmax((1.0 / shell_secant(fmax(mu, 0.0), shell) - x0) / (x1 - x0), 0.0), 1.0);
+    return p;
+}
+
+double fog_peak_view_read(const double *w, const fog_peak_view_place *p)
 {
     if (!(w[0] > 0.0))
         return 1.0;
-    const double shell = w[1], e = mu > 0.0 ? asin(fmin(mu, 1.0)) : 0.0;
-    const int i = (int)fmin(e / w[0], FOG_PEAK_VIEWS - 2.0);
-    /* linear in the secant's inverse: smooth to the horizon, where the secant stays finite */
-    const double x0 = 1.0 / shell_secant(sin(w[0] * i), shell), x1 = 1.0 / shell_secant(sin(w[0] * (i + 1)), shell);
-    const double t = fmin(fmax((1.0 / shell_secant(fmax(mu, 0.0), shell) - x0) / (x1 - x0), 0.0), 1.0);
-    return exp(w[2 + i] + t * (w[3 + i] - w[2 + i]));
+    return exp(w[2 + p->i] + p->t * (w[3 + p->i] - w[2 + p->i]));
+}
+
+double fog_peak_view(const double *w, double mu)
+{
+    const fog_peak_view_place p = fog_peak_view_placed(w, mu);
+    return fog_peak_view_read(w, &p);
 }

@@ -19,4 +19,15 @@ void fog_peak_view_fill(double *w, double tau, double albedo, double shell, doub
 /* The weight at view cosine mu (that of the horizon below it): 1 at the sun's elevation. */
 double fog_peak_view(const double *w, double mu);
 
+/* Where view cosine mu falls among the nodes of weights whose spacing and shell (w[0], w[1]) are
+ * these: the same for every wavelength of a column (its geometry), so a view is placed once. */
+typedef struct fog_peak_view_place {
+    double spacing, shell; /* the weights' w[0], w[1] it was placed among */
+    int i;                 /* the node below */
+    double t;              /* the fraction toward the next, linear in the secant's inverse */
+} fog_peak_view_place;
+fog_peak_view_place fog_peak_view_placed(const double *w, double mu);
+/* fog_peak_view(w, mu) for weights w with p's spacing and shell (or none: 1). */
+double fog_peak_view_read(const double *w, const fog_peak_view_place *p);
+
 #endif
