@@ -29,10 +29,12 @@
  * +10 %; docs/decisions/2026-12-07-fog-under-thin-layers.md).  Fog 0-200 m of optical depth 1.5 at
  * sun 8, the views 2-6 degrees below the sun, fails with the peak's light read along the sun's slant
  * for every view (+14.4 % pooled, 2 of 3 views outside) and with its whole turn toward the view at
- * the last scattering (+7.9 %; docs/decisions/2026-12-07-fog-peak-split.md).
+ * the last scattering (+7.9 %; docs/decisions/2026-12-07-fog-peak-split.md).  Fog 2.2 at sun 14, 2,
+ * 4 and 8 degrees below the sun, fails with the same first fault (+11 % 2 degrees below;
+ * docs/decisions/2026-12-07-fog-sun14.md).
  * Run with arguments CLOUDS TAU SUN PATHS [THICKNESS_KM [SEED]] for one case (a sweep by hand; TAU 0
  * keeps the presets'; SEED, default 0, moves the reference's random numbers for an independent run).
- * About 95 s of CPU (the two layers at sun 4: 16 s; the fog under cirrostratus 14 s), nearly all of
+ * About 100 s of CPU (the two layers at sun 4: 16 s; the fog under cirrostratus 14 s), nearly all of
  * it the path tracer. */
 #include "check.h"
 
@@ -164,16 +166,14 @@ static void fog_under_cirrostratus(void **state)
     assert_int_equal(against_the_path_tracer("fog,cirrostratus", 3.912 / 400.0 * 100.0, 10.0, 60000, 0.1), 0);
 }
 
-/* Fog 0-200 m of optical depth 1.5 at sun 8, where the truncated peak's light is half the view
- * just below the sun: the views 2, 4 and 6 degrees below it, each and pooled (their mean within 2 %
- * plus 3 of its standard errors), see the peak's light along their own slant through the fog, longer
- * than the sun's (docs/decisions/2026-12-07-fog-peak-split.md; 4 s of CPU). */
-static void fog_below_a_low_sun(void **state)
+/* Fog 0-200 m of optical depth tau at sun_deg, the views below[0..2] degrees below the sun toward it
+ * (paths each, the reference's items from item0 on), each and pooled (their mean within 2 % plus 3
+ * of its standard errors): they see the truncated peak's light along their own slant through the
+ * fog, longer than the sun's (docs/decisions/2026-12-07-fog-peak-split.md). */
+static void views_below_the_sun(double tau, double sun_deg, const double below[3], int paths, uint64_t item0)
 {
-    (void)state;
-    const double sun_deg = 8.0, below[] = {2.0, 4.0, 6.0};
     column_tables t;
-    fm_sky *sky = fog_sky("fog", 1.5, sun_deg, 0.2, &t);
+    fm_sky *sky = fog_sky("fog", tau, sun_deg, 0.2, &t);
     path_context all = sky_path_context(sky, 1, 0);
     int failures = 0;
     double mean = 0.0, var = 0.0;
@@ -182,8 +182,9 @@ static void fog_below_a_low_sun(void **state)
         const double e = (sun_deg - below[i]) * FM_DEG, se_scale = 1.0 / 3.0;
         double se;
         const double L = fast_radiance(&t, &all, sky, e, 0.0);
-        const double ref = test_path_radiance(&all, sky->observer, render_view_direction(sky, e, 0.0), 160000, 9, i, &se);
-        snprintf(what, sizeof what, "fog 1.5, sun 8: %g degrees below the sun", below[i]);
+        const double ref =
+            test_path_radiance(&all, sky->observer, render_view_direction(sky, e, 0.0), paths, 9, item0 + i, &se);
+        snprintf(what, sizeof what, "fog %g, sun %g: %g degrees below the sun", tau, sun_deg, below[i]);
         failures += !within_reference(L, ref, se, TOLERANCE, what);
         mean += se_scale * (L / ref - 1.0);
         var += se_scale * se_scale * (se / ref) * (se / ref);
@@ -193,6 +194,26 @@ static void fog_below_a_low_sun(void **state)
     fm_sky_destroy(sky);
     assert_int_equal(failures, 0);
     assert_true(fabs(mean) <= TOLERANCE + 3.0 * sqrt(var));
+}
+
+/* Fog 1.5 at sun 8, where the peak's light is half the view just below the sun: 2, 4 and 6 degrees
+ * below it (4 s of CPU). */
+static void fog_below_a_low_sun(void **state)
+{
+    (void)state;
+    const double below[] = {2.0, 4.0, 6.0};
+    views_below_the_sun(1.5, 8.0, below, 160000, 0);
+}
+
+/* Fog 2.2 at sun 14, 2, 4 and 8 degrees below it, where the peak's light is 68 %, 20 % and -6 % of
+ * the view as along the sun's slant and its weights 0.76, 0.56 and 0.26
+ * (docs/decisions/2026-12-07-fog-sun14.md; the reference's items apart from the sun 8's; 10 s of
+ * CPU). */
+static void fog_below_a_sun_of_14(void **state)
+{
+    (void)state;
+    const double below[] = {2.0, 4.0, 8.0};
+    views_below_the_sun(2.2, 14.0, below, 160000, 3);
 }
 
 /* Below FOG_TABLE_MIN_SUN_DEG_CLOUDS the altostratus takes the column lit from above at three suns,
@@ -221,6 +242,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(two_layers_at_a_low_sun),
         cmocka_unit_test(fog_under_cirrostratus),
         cmocka_unit_test(fog_below_a_low_sun),
+        cmocka_unit_test(fog_below_a_sun_of_14),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
