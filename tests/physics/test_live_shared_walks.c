@@ -3,7 +3,9 @@
  * gives, within their noise.  The two suns' tables in hazy air (urban: the sun guide draws about
  * both suns, so its mixture's density must count both) against tables traced alone with another
  * seed, node by node: the mean over the sky's nodes of the difference in standard errors is 0 within
- * what chance allows for that many nodes. */
+ * what chance allows for that many nodes.  A low sun behind the haze (the rising segments'
+ * estimator, ms_table.c) leads the walks it shares: its table is, bit for bit, the one its own walks
+ * give, and a high sun scored on them gets its own table's expectation. */
 #include "check.h"
 #include "render/ms_table.h"
 #include "render/render.h"
@@ -107,10 +109,56 @@ static void shared_walks_are_unbiased(void **state)
     fm_sky_destroy(sky);
 }
 
+/* Whether two tables hold the same sums, node by node and wavelength by wavelength. */
+static int same_sums(const ms_table *a, const ms_table *b, int K)
+{
+    const size_t n = (size_t)sky_grid_nodes(&a->grid) * (size_t)K;
+    return a->paths == b->paths && !memcmp(a->sum, b->sum, n * sizeof *a->sum) &&
+           !memcmp(a->later_sum, b->later_sum, n * sizeof *a->later_sum);
+}
+
+static void rising_sun_leads_its_walks(void **state)
+{
+    (void)state;
+    static const double deg[SUNS] = {2.0, 35.0}; /* the live sky's group of the node at 2 degrees */
+    fm_sky_params p = fm_sky_params_default();
+    p.biome = "urban";
+    fm_sky *sky = test_sky(&p);
+    table_build shared[SUNS], own, high;
+    render_job *jobs[SUNS];
+    fm_error err;
+    for (int s = 0; s < SUNS; s++) {
+        begin(sky, deg[s], 11, &shared[s]);
+        jobs[s] = &shared[s].job;
+    }
+    assert_true(ms_table_walk_rising(jobs[0]) && !ms_table_walk_rising(jobs[1]));
+    begin(sky, deg[0], 11, &own);
+    begin(sky, deg[1], 33, &high);
+    assert_int_equal(render_fast_tables_fill(&own.job, deg[0] * FM_DEG, &err), FM_OK);
+    assert_int_equal(render_fast_tables_fill(&high.job, deg[1] * FM_DEG, &err), FM_OK);
+    assert_int_equal(render_fast_tables_fill_shared(jobs, SUNS, &err), FM_OK);
+    assert_true(own.ms.rising_segments && shared[0].ms.rising_segments);
+    assert_true(same_sums(&shared[0].ms, &own.ms, sky->atm.grid.count));
+    for (int later = 0; later < 2; later++) {
+        int nodes;
+        double z = mean_z(&shared[1].ms, &high.ms, later, &nodes);
+        print_message("sun %.1f on the walks of sun %.1f, orders %s: mean of %d nodes' differences in standard "
+                      "errors %+.3f\n", deg[1], deg[0], later ? "3 up" : "2", nodes, z);
+        assert_true(nodes > 100);
+        check_abs(z, 0.0, 4.0 / sqrt(nodes), "the high sun's table on the rising sun's walks");
+    }
+    for (int s = 0; s < SUNS; s++)
+        finish(&shared[s]);
+    finish(&own);
+    finish(&high);
+    fm_sky_destroy(sky);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(shared_walks_are_unbiased),
+        cmocka_unit_test(rising_sun_leads_its_walks),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -304,20 +304,28 @@ static fm_status build_node(fm_sky_live *live, live_node *node, const shadow_fli
 #define SHARED_WALK_STRIDE 8
 
 /* The nodes of one group (group[0..count-1], their builds begun): the shareable ones filled
- * together when one of them draws more paths than the others, the rest alone; then all finished. */
+ * together when one of them draws more paths than the others, and it is the one with the rising
+ * segments' estimator if any has it (its walks' first: ms_table_fill_shared), the rest alone; then
+ * all finished.  A rising node with its group's high nodes costs about what it costs alone. */
 static fm_status fill_group(const fm_sky_live *live, node_build *group, int count, fm_error *err)
 {
     render_job *jobs[PATH_SUNS_MAX];
-    int shareable = 0, most = 0, fewer = 0;
+    int shareable = 0, most = 0, fewer = 0, rising = 0;
     fm_status s = FM_OK;
     for (int j = 0; j < count; j++)
         if (render_fast_tables_shareable(&group[j].job)) {
             jobs[shareable++] = &group[j].job;
             most = most > group[j].job.q.ms_paths ? most : group[j].job.q.ms_paths;
         }
-    for (int j = 0; j < shareable; j++)
+    for (int j = 0; j < shareable; j++) {
         fewer += jobs[j]->q.ms_paths < most;
-    const int share = fewer > 0 && fewer + 1 == shareable;
+        if (ms_table_walk_rising(jobs[j]) && rising++ == 0) { /* the first of the walks' tables */
+            render_job *t = jobs[0];
+            jobs[0] = jobs[j];
+            jobs[j] = t;
+        }
+    }
+    const int share = fewer > 0 && fewer + 1 == shareable && rising <= 1 && jobs[0]->q.ms_paths == most;
     for (int j = 0; j < count && !s; j++)
         if (!share || !render_fast_tables_shareable(&group[j].job))
             s = render_fast_tables_fill(&group[j].job, group[j].node->sun_elevation_deg * FM_DEG, err);

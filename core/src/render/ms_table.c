@@ -156,7 +156,8 @@ static void shared_node_paths(void *ctx, int64_t begin, int64_t end, int thread)
     (void)thread;
     path_context pc = scattering_path_context(sky, NULL, 2, 0);
     pc.skip_ground_first = 1;
-    pc.segment_sunlight = SEGMENT_SUNLIGHT_NONE; /* its estimator would depend on the sun */
+    /* the umbra's estimator would depend on the sun; the first sun's rising segments may take theirs */
+    pc.segment_sunlight = first->ms->rising_segments ? SEGMENT_SUNLIGHT_RISING : SEGMENT_SUNLIGHT_NONE;
     pc.suns = pass->count;
     pc.sun_dirs = pass->suns;
     for (int64_t i = begin; i < end; i++) {
@@ -308,7 +309,12 @@ void ms_table_add(render_job *job, const ms_table *more)
 
 int ms_table_walk_shareable(const render_job *job)
 {
-    return !job->twilight && !job->under_deck && !rising_segments(job->sky, NULL);
+    return !job->twilight && !job->under_deck;
+}
+
+int ms_table_walk_rising(const render_job *job)
+{
+    return rising_segments(job->sky, job->twilight);
 }
 
 fm_status ms_table_fill_shared(render_job *const *jobs, int count)
@@ -320,7 +326,8 @@ fm_status ms_table_fill_shared(render_job *const *jobs, int count)
         assert(ms_table_walk_shareable(jobs[s]) && jobs[s]->ms->orders && jobs[s]->q.ms_paths == first->q.ms_paths &&
                jobs[s]->seed == first->seed && sky_grid_nodes(&jobs[s]->ms->grid) == sky_grid_nodes(&first->ms->grid));
         pass.suns[s] = jobs[s]->sky->sun_dir;
-        jobs[s]->ms->rising_segments = 0;
+        jobs[s]->ms->rising_segments = s == 0 && ms_table_walk_rising(jobs[s]);
+        assert(s == 0 || !ms_table_walk_rising(jobs[s]));
     }
     fm_status s = parallel_for(first->params->threads, sky_grid_nodes(&first->ms->grid), 1, shared_node_paths, &pass,
                                first->params->cancel, NULL);

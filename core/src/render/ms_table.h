@@ -60,13 +60,17 @@ fm_status ms_table_fill(struct render_job *job, double sun_elevation_deg);
  * tables only (not parted): the live sky refines them by rounds of paths (live.h). */
 void ms_table_add(struct render_job *job, const ms_table *more);
 
-/* Whether a table's paths may be shared with other suns' (ms_table_fill_shared): by day, without
- * the rising segments' estimator (ms_table.c) or a deck, whose estimates depend on the sun. */
+/* Whether a table's paths may be shared with other suns' (ms_table_fill_shared): by day, without a
+ * deck, whose estimates depend on the sun.  A table with the rising segments' estimator (ms_table.c)
+ * may share only as the first of its walks' tables (ms_table_walk_rising). */
+int ms_table_walk_rising(const struct render_job *job);
 int ms_table_walk_shareable(const struct render_job *job);
 
 /* ms_table_fill for the tables of `count` jobs (PATH_SUNS_MAX at most) whose skies differ only in
- * the sun's elevation, all shareable, with one seed and number of paths: each node's walks are
- * traced once and scored for every job's sun (path_context.suns), so the tables share their noise. */
+ * the sun's elevation, all shareable, with one seed and number of paths, none but the first with
+ * the rising segments' estimator: each node's walks are traced once and scored for every job's sun
+ * (path_context.suns), so the tables share their noise; the first's rising segments take their
+ * light along them for its sun alone. */
 fm_status ms_table_fill_shared(struct render_job *const *jobs, int count);
 
 /* Observer on the ground: adds the table's sky half to the diffuse ground irradiance (orders >= 2). */

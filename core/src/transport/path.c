@@ -387,12 +387,12 @@ static flight free_flight(tracer *tr, path_state *p, const ray_segment *seg, col
 static int leave_scatter_vertex(tracer *tr, path_state *p);
 
 /* The sunlight a scattering at x (arrived along p->d) passes on: E0 phase Tbar (sun_irradiance.h),
- * for each of the walk's suns. */
-static void add_sunlight(tracer *tr, const path_state *p, vec3 x)
+ * for each of the walk's suns but the first when `along` (its light counted along the segment). */
+static void add_sunlight(tracer *tr, const path_state *p, vec3 x, int along)
 {
     const path_context *ctx = tr->ctx;
     const double rad = v3_length(x);
-    for (int s = 0; s < path_sun_count(ctx); s++) {
+    for (int s = along ? 1 : 0; s < path_sun_count(ctx); s++) {
         const vec3 sun_dir = path_sun(ctx, s);
         spectral tbar, phase;
         sun_irradiance_lookup(ctx->sun_table, tr->atm, ctx->sun, rad, v3_dot(x, sun_dir) / rad, tbar);
@@ -403,8 +403,9 @@ static void add_sunlight(tracer *tr, const path_state *p, vec3 x)
 }
 
 /* The sunlight the Lambertian ground at the point of outward normal `normal` reflects:
- * albedo / pi E0 Thor, Thor the transmittance of the sun's horizontal irradiance (sun_irradiance.h). */
-static void add_ground_sunlight(tracer *tr, const path_state *p, vec3 normal)
+ * albedo / pi E0 Thor, Thor the transmittance of the sun's horizontal irradiance (sun_irradiance.h);
+ * the first sun left out when `along`, as add_sunlight. */
+static void add_ground_sunlight(tracer *tr, const path_state *p, vec3 normal, int along)
 {
     const path_context *ctx = tr->ctx;
     const int K = tr->K;
@@ -412,7 +413,7 @@ static void add_ground_sunlight(tracer *tr, const path_state *p, vec3 normal)
     spectral_product(c, throughput_scale(tr, p), p->q, p->w, K);
     spectral_mul(c, tr->atm->ground_albedo, K);
     spectral_divide(c, FM_PI, K);
-    for (int s = 0; s < path_sun_count(ctx); s++) {
+    for (int s = along ? 1 : 0; s < path_sun_count(ctx); s++) {
         spectral tbar, thor;
         sun_irradiance_lookup_ground(ctx->sun_table, tr->atm, ctx->sun, v3_dot(normal, path_sun(ctx, s)), tbar, thor);
         spectral_add_product(light_sink(tr, p->order, s), 1.0, c, tr->atm->grid.solar_irradiance, thor, K);
@@ -420,15 +421,15 @@ static void add_ground_sunlight(tracer *tr, const path_state *p, vec3 normal)
 }
 
 /* A scattering at x in p->medium, arrived along p->d.  along: the segment's sunlight was counted
- * along it (no point estimate here); late: the roulette plays here, after the light is counted.
+ * along it for the first sun (no point estimate here for it); late: the roulette plays here, after the light is counted.
  * Returns 1 while the path goes on, 0 when it ended or waits on the stack behind its copies. */
 static int scatter_vertex(tracer *tr, path_state *p, vec3 x, int along, int late)
 {
     const path_context *ctx = tr->ctx;
     assert(atmosphere_shell_contains(tr->atm, v3_length(x)));
     p->order++;
-    if (!along && p->order >= ctx->min_order && !p->counted)
-        add_sunlight(tr, p, x);
+    if (p->order >= ctx->min_order && !p->counted)
+        add_sunlight(tr, p, x, along);
     if (ctx->max_order > 0 && p->order >= ctx->max_order)
         return 0;
     const double lift = light_lift(ctx, x, p->start_light); /* 1 unless light-led */
@@ -487,8 +488,8 @@ static int ground_vertex(tracer *tr, path_state *p, vec3 x, int along, int late)
     p->order++;
     if (p->order == 1 && ctx->skip_ground_first)
         return 0;
-    if (!along && p->order >= ctx->min_order)
-        add_ground_sunlight(tr, p, normal);
+    if (p->order >= ctx->min_order)
+        add_ground_sunlight(tr, p, normal, along);
     if (ctx->max_order > 0 && p->order >= ctx->max_order)
         return 0;
     if (late && !roulette(&p->W, p->q, p->w, tr->K, survival_cap(tr, p), light_lift(ctx, x, p->start_light), tr->min_survive,
@@ -507,7 +508,7 @@ static int ground_vertex(tracer *tr, path_state *p, vec3 x, int along, int late)
 /* ---- Segments ---------------------------------------------------------------------------------- */
 
 /* Across the Earth's shadow (path_context.segment_sunlight): the next interaction's sunlight as the
- * segment's expected value, counted before the flight.  Returns 1 when counted so, 0 when the
+ * segment's expected value, counted before the flight (for the first of a shared walk's suns).  Returns 1 when counted so, 0 when the
  * vertex will take its point estimate, -1 when the path has reached max_order. */
 static int segment_sunlight_along(tracer *tr, const path_state *p, const ray_segment *seg)
 {
@@ -605,10 +606,15 @@ static int trace_from(const path_context *ctx, vec3 origin, vec3 dir, const doub
                        int hero, rng *r, double *const *L, double *const *L_later)
 {
     assert(is_unit(dir));
-    /* a shared walk must not depend on the sun (path_context.suns) */
+    /* a shared walk must not depend on the sun (path_context.suns), but for the rising segments of
+     * its first */
     assert(ctx->suns <= PATH_SUNS_MAX &&
-           (ctx->suns <= 1 || (ctx->segment_sunlight == SEGMENT_SUNLIGHT_NONE && !ctx->deck && !ctx->sky_guide &&
-                               !ctx->shadow_flights)));
+           (ctx->suns <= 1 ||
+            ((ctx->segment_sunlight == SEGMENT_SUNLIGHT_NONE ||
+              (ctx->segment_sunlight == SEGMENT_SUNLIGHT_RISING && ctx->max_order == 0 &&
+               ctx->sun_dirs[0].x == ctx->sun_dir.x && ctx->sun_dirs[0].y == ctx->sun_dir.y &&
+               ctx->sun_dirs[0].z == ctx->sun_dir.z)) &&
+             !ctx->deck && !ctx->sky_guide && !ctx->shadow_flights)));
     const int K = ctx->atm->grid.count;
     tracer tr; /* field by field: its stack is large and needs no zeros */
     tr.ctx = ctx;

@@ -71,7 +71,9 @@ typedef struct path_context {
     /* Shared walks: with suns > 0 one walk serves the suns sun_dirs[0..suns-1] (PATH_SUNS_MAX at
      * most), each vertex's sunlight counted for each into its own sums (path_trace_from_suns) and
      * the sun guide drawing about each with an equal share of sun_guide_fraction; 0: sun_dir alone.
-     * The walk then must not depend on the sun: no segment sunlight, deck, twilight sampling. */
+     * The walk then must not depend on the sun: no deck, twilight sampling, nor segment sunlight but
+     * SEGMENT_SUNLIGHT_RISING for the first sun (sun_dirs[0] == sun_dir; no max_order), whose light
+     * along a rising segment replaces its point estimate at the segment's end, the others' kept. */
     int suns;
     const vec3 *sun_dirs;
 } path_context;

@@ -84,14 +84,17 @@ static double sky_guide_share(const path_context *ctx, double sigma_s)
 
 /* The sun guide's share about each of the walk's suns (path_context.suns) at x, each sun's
  * sun_guide_share divided by their number (0 where usable, if given, says a sun may not guide);
- * returns their sum. */
+ * returns their sum.  A walk whose first sun takes its rising segments' light along them is that
+ * sun's walk, the others scored on it: the guide aims at the first alone, so that its table is the one
+ * it would have alone. */
 static double sun_guide_shares(const path_context *ctx, vec3 x, int h, double sigma_s, const int *usable,
                                double *share)
 {
-    const int S = path_sun_count(ctx);
+    const int S = path_sun_count(ctx), first_only = S > 1 && ctx->segment_sunlight == SEGMENT_SUNLIGHT_RISING;
     double total = 0.0;
     for (int s = 0; s < S; s++) {
-        share[s] = !usable || usable[s] ? sun_guide_share(ctx, path_sun(ctx, s), x, h, sigma_s) / S : 0.0;
+        const int guides = (!usable || usable[s]) && (!first_only || s == 0);
+        share[s] = guides ? sun_guide_share(ctx, path_sun(ctx, s), x, h, sigma_s) / (first_only ? 1 : S) : 0.0;
         total += share[s];
     }
     return total;
