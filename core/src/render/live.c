@@ -306,7 +306,7 @@ static fm_status build_node(fm_sky_live *live, live_node *node, const shadow_fli
 /* The nodes of one group (group[0..count-1], their builds begun): the shareable ones filled
  * together when one of them draws more paths than the others, and it is the one with the rising
  * segments' estimator if any has it (its walks' first: ms_table_fill_shared), the rest alone; then
- * all finished.  A rising node with its group's high nodes costs about what it costs alone. */
+ * all finished (docs/decisions/2026-12-07-live-day-speed.md). */
 static fm_status fill_group(const fm_sky_live *live, node_build *group, int count, fm_error *err)
 {
     render_job *jobs[PATH_SUNS_MAX];

@@ -508,8 +508,9 @@ static int ground_vertex(tracer *tr, path_state *p, vec3 x, int along, int late)
 /* ---- Segments ---------------------------------------------------------------------------------- */
 
 /* Across the Earth's shadow (path_context.segment_sunlight): the next interaction's sunlight as the
- * segment's expected value, counted before the flight (for the first of a shared walk's suns).  Returns 1 when counted so, 0 when the
- * vertex will take its point estimate, -1 when the path has reached max_order. */
+ * segment's expected value, counted before the flight (for a shared walk's first sun).  Returns 1
+ * when counted so, 0 when the vertex will take its point estimate, -1 when the path has reached
+ * max_order. */
 static int segment_sunlight_along(tracer *tr, const path_state *p, const ray_segment *seg)
 {
     const path_context *ctx = tr->ctx;
