@@ -421,8 +421,9 @@ static void add_ground_sunlight(tracer *tr, const path_state *p, vec3 normal, in
 }
 
 /* A scattering at x in p->medium, arrived along p->d.  along: the segment's sunlight was counted
- * along it for the first sun (no point estimate here for it); late: the roulette plays here, after the light is counted.
- * Returns 1 while the path goes on, 0 when it ended or waits on the stack behind its copies. */
+ * along it for the first sun (no point estimate here for it); late: the roulette plays here, after
+ * the light is counted.  Returns 1 while the path goes on, 0 when it ended or waits on the stack
+ * behind its copies. */
 static int scatter_vertex(tracer *tr, path_state *p, vec3 x, int along, int late)
 {
     const path_context *ctx = tr->ctx;
