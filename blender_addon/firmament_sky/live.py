@@ -8,7 +8,7 @@ drops a waiting request for a newer one),
 and the reply is awaited right there for at most WAIT_S (so that the frame Blender draws next already
 shows the new map), else a timer polls for it.  The world's image is swapped
 in place when a reply says done, and the lamp takes the reply's strength and colour.  While idle the
-server refines its deep twilight tables and answers the last request again ("refined"): the watch
+server refines its twilight tables and answers the last request again ("refined"): the watch
 timer swaps that map in too.
 
 Final renders never use the preview: a render_pre handler renders the final map of the frame's
@@ -258,7 +258,7 @@ def poll(wait_s=0.0):
 
 
 def take_refined():
-    """A map the server made again for the request shown, from deep twilight tables it refined while
+    """A map the server made again for the request shown, from twilight tables it refined while
     idle (a reply with the same id and a higher "refined"), replaces it, unless a newer request is
     awaited or due (its map is on its way).  Called by the watch timer: no request, no wait."""
     srv, applied = _state["server"], _state["applied"]

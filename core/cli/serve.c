@@ -309,11 +309,11 @@ static cJSON *serve_request(request *r, live_cache *cache, const fm_colour_confi
         return library_error_reply(r->id, &err);
     *used = live;
     return done_reply(r, t, from, band,
-                      fm_sky_live_reads_deep_twilight(live, sky.sun_elevation_deg) ? fm_sky_live_rounds(live) : -1);
+                      fm_sky_live_reads_refined(live, sky.sun_elevation_deg) ? fm_sky_live_rounds(live) : -1);
 }
 
 /* The server's state between requests: the last request done and the atmosphere it was rendered
- * from, whose deep twilight tables the server refines while no request waits. */
+ * from, whose twilight tables the server refines while no request waits. */
 typedef struct idle_work {
     request *last;
     fm_sky_live *live;
@@ -332,7 +332,7 @@ static void serve_one(server *sv, idle_work *w, request *r, live_cache *cache, c
         request_free(r);
 }
 
-/* One round of refinement of the last atmosphere's deep twilight tables (saved to the cache); when it
+/* One round of refinement of the last atmosphere's twilight tables (saved to the cache); when it
  * completes and the last request's map reads the band, that map again, answered again with its id
  * and the rounds ("refined").  A request arriving cancels the round at once: nothing changes. */
 static void refine_round(server *sv, idle_work *w, live_cache *cache, const fm_colour_config *colour, int threads)
@@ -342,13 +342,13 @@ static void refine_round(server *sv, idle_work *w, live_cache *cache, const fm_c
     if (s == FM_ERR_CANCELLED)
         return;
     if (s) {
-        report_error("serve: refining the deep twilight tables: %s", err.message);
+        report_error("serve: refining the twilight tables: %s", err.message);
         w->live = NULL; /* not again */
         return;
     }
     fm_sky_params sun;
     if (w->last && fm_sky_params_resolve_sun(&w->last->opt.sky, &sun, &err) == FM_OK &&
-        fm_sky_live_reads_deep_twilight(w->live, sun.sun_elevation_deg)) {
+        fm_sky_live_reads_refined(w->live, sun.sun_elevation_deg)) {
         request *r = w->last;
         w->last = NULL;
         serve_one(sv, w, r, cache, colour, threads);

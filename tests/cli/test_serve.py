@@ -413,7 +413,7 @@ def cache(tmp, folder, built_seconds):
 
 def refine(tmp):
     """A server allowed one round of refinement: a map by day (no "refined" in its reply: it does not
-    read the deep twilight band), then -12 (the band built, refined 0), then, with no request waiting,
+    read the twilight band), then -12 (the band built, refined 0), then, with no request waiting,
     the round and the same request answered again (refined 1) with a map that changed.  The cache
     file holds the round: a new server answers -12 from the disk with refined 1 and the same pixels."""
     folder = os.path.join(tmp, "cache")
@@ -421,7 +421,7 @@ def refine(tmp):
     srv.send({"id": "day", "output": "day.exr", **GOLDEN, "sun_elevation": 10, "sun_azimuth": 180})
     day = srv.reply(timeout=300)
     check_done(day, tmp, 10, 180)
-    check("refined" not in day, f"a map by day does not read the deep twilight band: {day}")
+    check("refined" not in day, f"a map by day does not read the twilight band: {day}")
     srv.send({"id": "deep", "output": "deep.exr", **GOLDEN, "sun_elevation": -12, "sun_azimuth": 180})
     first = srv.reply(timeout=300)
     check_done(first, tmp, -12, 180)

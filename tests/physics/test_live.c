@@ -938,7 +938,7 @@ static void deep_twilight_band_on_first_use(void **state)
             fail_msg("node %g: %d paths per table node (raw %d), not %d", whole->nodes[k].sun_elevation_deg,
                      whole->nodes[k].paths_per_node, whole->raw[k].paths, want);
     }
-    assert_int_equal(whole->raw_count, 7);
+    assert_int_equal(whole->raw_count, 11); /* the band's nodes: refined by rounds */
     const double day[] = {1.0, 2.0, 10.0, 90.0}, band[] = {0.99, -18.0, -7.0, -6.0, -5.9, -4.5, -3.0, -0.5, 0.0};
     for (size_t i = 0; i < sizeof day / sizeof day[0]; i++)
         same_map(lazy, whole, day[i], 0);
@@ -987,24 +987,52 @@ static void deep_twilight_band_on_first_use(void **state)
     fm_sky_live_destroy(whole);
 }
 
-/* The twilight band's raw node estimates of a and b (two builds with other seeds): their relative
- * difference, RMS over the nodes lit in both. */
-static double raw_difference(const fm_sky_live *a, const fm_sky_live *b)
+/* A raw table's luminance estimates per node: of order 2 (or every order >= 2 when not parted), or
+ * with `later` of the orders above 2 (parted tables only), and their variances. */
+static const double *raw_y(const ms_table *t, int later) { return later ? t->later_y : t->y; }
+static const double *raw_var(const ms_table *t, int later) { return later ? t->later_var : t->var; }
+
+/* The raw node estimates of a and b (two builds with other seeds) of the band nodes from..to - 1
+ * (one part, as raw_y): their relative difference, RMS over the nodes lit in both. */
+static double raw_difference(const fm_sky_live *a, const fm_sky_live *b, int from, int to, int later)
 {
     double rel = 0.0;
     long used = 0;
-    for (int k = 0; k < a->raw_count; k++) {
-        const ms_table *x = &a->raw[k], *y = &b->raw[k];
-        for (int i = 0; i < sky_grid_nodes(&x->grid); i++) {
-            if (!(x->y[i] > 0.0 && y->y[i] > 0.0))
+    for (int k = from; k < to; k++) {
+        const double *x = raw_y(&a->raw[k], later), *y = raw_y(&b->raw[k], later);
+        for (int i = 0; i < sky_grid_nodes(&a->raw[k].grid); i++) {
+            if (!(x[i] > 0.0 && y[i] > 0.0))
                 continue;
-            const double d = x->y[i] - y->y[i], m = 0.5 * (x->y[i] + y->y[i]);
+            const double d = x[i] - y[i], m = 0.5 * (x[i] + y[i]);
             rel += (d / m) * (d / m);
             used++;
         }
     }
-    assert_true(used > 500);
+    assert_true(used > 200);
     return sqrt(rel / (double)used);
+}
+
+/* One part (raw_y) of a raw table over its sky nodes: the luminance summed, that sum's variance (the
+ * nodes' paths are independent) and a node's relative variance, mean over the lit nodes. */
+typedef struct part_level {
+    double sum, var, rel_var;
+} part_level;
+
+static part_level part_level_of(const ms_table *t, int later)
+{
+    const double *y = raw_y(t, later), *v = raw_var(t, later);
+    part_level l = {0};
+    int used = 0;
+    for (int i = 0; i < t->grid.rows_sky * t->grid.cols; i++)
+        if (y[i] > 0.0) {
+            l.sum += y[i];
+            l.var += v[i];
+            l.rel_var += v[i] / (y[i] * y[i]);
+            used++;
+        }
+    assert_true(used > 50);
+    l.rel_var /= used;
+    return l;
 }
 
 /* The luminance RMS of the relative difference of a's and b's maps at sun e. */
@@ -1025,8 +1053,12 @@ static int same_raw(const fm_sky_live *a, const fm_sky_live *b)
         const ms_table *x = &a->raw[k], *y = &b->raw[k];
         const size_t n = (size_t)sky_grid_nodes(&x->grid), K = (size_t)a->sky->atm.grid.count;
         if (x->paths != y->paths || memcmp(x->sum, y->sum, sizeof(double) * n * K) ||
-            memcmp(x->moments, y->moments, sizeof(node_moments) * n))
+            memcmp(x->moments, y->moments, sizeof(node_moments) * n) || !x->orders != !y->orders)
             return 0;
+        for (size_t i = 0; x->orders && i < n; i++) /* parted: the orders above 2 apart too */
+            if (memcmp(&x->later_sum[i * K], &y->later_sum[i * K], sizeof(double) * K) ||
+                memcmp(x->orders[i].yy, y->orders[i].yy, sizeof x->orders[i].yy))
+                return 0;
     }
     return 1;
 }
@@ -1054,14 +1086,19 @@ static void *cancel_thread(void *arg)
     return NULL;
 }
 
-/* Each round of fm_sky_live_refine draws the twilight band's paths anew: two builds with other seeds
- * refined REFINED rounds each differ in their raw node estimates by 1 / sqrt(REFINED + 1) of what
- * they differed as built (the paths' noise, independent from round to round), and their maps, fitted
- * and smoothed from them, come closer.  A round cancelled midway changes nothing (tables, raw
- * sums, rounds), and the next round makes the same bits as a live sky that was never cancelled: one
- * saved before and loaded from its file, which resumes from the rounds it holds. */
+/* Each round of fm_sky_live_refine draws the twilight band's paths anew: two builds with other
+ * seeds refined REFINED rounds each differ in their raw node estimates by 1 / sqrt(REFINED + 1) of
+ * what they differed as built (the paths' noise, independent from round to round), deep twilight's
+ * nodes and, apart, each order part of the twilight nodes above it (-4.5 to -1, parted:
+ * ms_table.h); and their maps, fitted and smoothed from them, come closer, deep twilight's and
+ * twilight's.  Rounds add without bias: each twilight node's parts summed over the sky hold their
+ * level as built (within four standard errors of the rounds' paths: an order part added twice or
+ * not at all moves it by half or more), and a node's variance falls as 1 / (REFINED + 1) (squares
+ * not added: to 0).  A round cancelled midway changes nothing (tables, raw sums, rounds), and the
+ * next round makes the same bits as a live sky that was never cancelled: one saved before and
+ * loaded from its file, which resumes from the rounds it holds. */
 #define REFINED 3
-static void deep_twilight_band_refined_by_rounds(void **state)
+static void twilight_band_refined_by_rounds(void **state)
 {
     (void)state;
     fm_sky_params p = test_params(10.0, 550.0);
@@ -1071,7 +1108,18 @@ static void deep_twilight_band_refined_by_rounds(void **state)
     if (live_alloc(&p, &b, &err) || (b->seed = 1, live_build_nodes(b, -90.0, -1.0, NULL, &err)))
         fail_msg("live sky: %s", err.message);
     assert_true(fm_sky_live_refinable(a) && fm_sky_live_rounds(a) == 0);
-    double built = raw_difference(a, b), map_built = map_difference(a, b, -12.0);
+    assert_int_equal(a->raw_count, 11); /* the band, -20 to -1 */
+    int deep = 0;
+    while (deep < a->raw_count && a->raw[deep].orders == NULL)
+        deep++;
+    assert_int_equal(deep, 7); /* -20 to -6; then -4.5 to -1, parted */
+    part_level level_built[11][2];
+    for (int k = deep; k < a->raw_count; k++)
+        for (int part = 0; part < 2; part++)
+            level_built[k][part] = part_level_of(&a->raw[k], part);
+    double built = raw_difference(a, b, 0, deep, 0), map_built = map_difference(a, b, -12.0);
+    double tw_built[2] = {raw_difference(a, b, deep, a->raw_count, 0), raw_difference(a, b, deep, a->raw_count, 1)};
+    double tw_map_built = map_difference(a, b, -2.0);
     const int paths = a->raw[0].paths;
     assert_true(paths > 0 && a->nodes[0].paths_per_node == paths);
     double round_s = 0.0; /* wall time of a's last round */
@@ -1088,13 +1136,33 @@ static void deep_twilight_band_refined_by_rounds(void **state)
         assert_int_equal(a->raw[0].paths, (r + 1) * paths);
         assert_int_equal(a->nodes[0].paths_per_node, (r + 1) * paths);
     }
-    double refined = raw_difference(a, b), map_refined = map_difference(a, b, -12.0);
+    double refined = raw_difference(a, b, 0, deep, 0), map_refined = map_difference(a, b, -12.0);
     const double want = 1.0 / sqrt(REFINED + 1.0);
     print_message("raw difference %.4f -> %.4f (ratio %.3f, want %.3f); map at -12 %.4f -> %.4f\n", built, refined,
                   refined / built, want, map_built, map_refined);
     assert_true(fabs(refined / built - want) < 0.2 * want);
     /* the maps' difference falls less: each fit keeps more terms as the noise falls (sky_grid_fit) */
     assert_true(map_refined < map_built);
+    for (int part = 0; part < 2; part++) {
+        const double r = raw_difference(a, b, deep, a->raw_count, part) / tw_built[part];
+        print_message("twilight nodes, %s: raw difference ratio %.3f (want %.3f)\n", part ? "orders > 2" : "order 2",
+                      r, want);
+        assert_true(fabs(r - want) < 0.2 * want);
+    }
+    for (int k = deep; k < a->raw_count; k++)
+        for (int part = 0; part < 2; part++) {
+            const part_level was = level_built[k][part], now = part_level_of(&a->raw[k], part);
+            /* the refined mean less the built one: (REFINED / (REFINED + 1)) of the rounds' mean less it */
+            const double se = sqrt(was.var * REFINED / (REFINED + 1.0)), var_ratio = now.rel_var / was.rel_var;
+            print_message("node %g, %s: level %+.3f %% (4 se %.3f %%), variance ratio %.3f (want %.3f)\n",
+                          a->nodes[k].sun_elevation_deg, part ? "orders > 2" : "order 2",
+                          100.0 * (now.sum / was.sum - 1.0), 400.0 * se / was.sum, var_ratio, want * want);
+            assert_true(fabs(now.sum - was.sum) < 4.0 * se);
+            assert_true(fabs(var_ratio - want * want) < 0.3 * want * want);
+        }
+    const double tw_map_refined = map_difference(a, b, -2.0);
+    print_message("map at -2 (twilight nodes only) %.4f -> %.4f\n", tw_map_built, tw_map_refined);
+    assert_true(tw_map_refined < tw_map_built);
 
     char *path = temp_path("refined.live");
     assert_int_equal(fm_sky_live_save(a, path, &err), FM_OK);
@@ -1150,7 +1218,7 @@ int main(void)
         cmocka_unit_test(deep_twilight_edge_keeps_its_level),
         cmocka_unit_test(file_round_trip_and_refusals),
         cmocka_unit_test(deep_twilight_band_on_first_use),
-        cmocka_unit_test(deep_twilight_band_refined_by_rounds),
+        cmocka_unit_test(twilight_band_refined_by_rounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -495,22 +495,23 @@ fm_status fm_sky_live_prepare(fm_sky_live *live, double sun_elevation_deg, const
 fm_status fm_sky_live_complete(fm_sky_live *live, const atomic_int *cancel, fm_error *err);
 /* Whether every table is built. */
 int fm_sky_live_is_complete(const fm_sky_live *live);
-/* The deep twilight tables refined by one more round of paths: each round draws the band's
- * paths again with new seeds, adds them to every deep node's estimates before their fit (weighted by
- * paths), refits them and smooths the band again, so that a server idle between requests lowers
- * its noise as a viewport's samples do (docs/rendering.md "Live sky").  A round takes about the band's
- * own build time; a cancelled or failed one leaves the tables as they were, so maps depend only on
- * the number of whole rounds.  Nothing to do (FM_OK) while the band is pending or after the last
- * round (fm_sky_live_refinable).  Not while another thread renders from the live sky. */
+/* The twilight band's tables (suns from -20 to -1 degrees) refined by one more round of paths: each
+ * round draws the band's paths again with new seeds, adds them to every band node's estimates
+ * before their fit (weighted by paths), refits them and smooths deep twilight again, so that a
+ * server idle between requests lowers its noise as a viewport's samples do (docs/rendering.md "Live
+ * sky").  A round takes about the band's own build time; a cancelled or failed one leaves the
+ * tables as they were, so maps depend only on the number of whole rounds.  Nothing to do (FM_OK)
+ * while the band is pending or after the last round (fm_sky_live_refinable).  Not while another
+ * thread renders from the live sky. */
 fm_status fm_sky_live_refine(fm_sky_live *live, const atomic_int *cancel, fm_error *err);
 /* Whether fm_sky_live_refine has a round to add: the band built, of paths, and fewer rounds than
  * the most. */
 int fm_sky_live_refinable(const fm_sky_live *live);
-/* The rounds of refinement in the deep twilight tables (0: as built; kept in the live sky's file). */
+/* The rounds of refinement in the twilight band's tables (0: as built; kept in the live sky's file). */
 int fm_sky_live_rounds(const fm_sky_live *live);
-/* Whether a map at the sun elevation reads the deep twilight tables (suns from -20 to below -3
- * degrees): what refinement changes. */
-int fm_sky_live_reads_deep_twilight(const fm_sky_live *live, double sun_elevation_deg);
+/* Whether a map at the sun elevation reads the twilight band's tables (suns from -20 to below 1
+ * degree): what refinement changes. */
+int fm_sky_live_reads_refined(const fm_sky_live *live, double sun_elevation_deg);
 /* The atmosphere's key: 32 hex digits (and a NUL) hashing every field that changes the live sky's
  * tables, not the sun, and the library's table version; for cache file names. */
 void fm_sky_live_key(const fm_sky_params *params, char out[33]);

@@ -78,7 +78,7 @@ fm_status live_sky_params(const fm_sky_params *params, fm_sky_params *out, fm_er
     return FM_OK;
 }
 
-static int lowest_nodes(const fm_sky_live *live, int (*in)(double sun_elevation_deg));
+static int band_nodes(const fm_sky_live *live);
 
 fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *err)
 {
@@ -118,14 +118,14 @@ fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *e
             aureole_init(&n->aureole, live->channels))
             s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
     }
-    /* deep twilight's raw tables as its nodes' jobs make them (live->q's size: twilight takes paths);
-     * the twilight nodes above keep their orders apart (ms_table.h), which rounds do not add to */
-    const int deep = s ? 0 : lowest_nodes(live, twilight_deep);
-    if (!s && deep && !(live->raw = calloc((size_t)deep, sizeof *live->raw)))
+    /* the twilight band's raw tables as its nodes' jobs make them (live->q's size: twilight takes
+     * paths); above deep twilight they keep their orders apart (ms_table.h), as the jobs' do */
+    const int band = s ? 0 : band_nodes(live);
+    if (!s && band && !(live->raw = calloc((size_t)band, sizeof *live->raw)))
         s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
-    for (int k = 0; k < deep && !s; k++, live->raw_count++)
-        if (ms_table_init(&live->raw[k], &live->q, horizon, live->channels, sky->atm.grid.count, 0,
-                          live->channels == 3))
+    for (int k = 0; k < band && !s; k++, live->raw_count++)
+        if (ms_table_init(&live->raw[k], &live->q, horizon, live->channels, sky->atm.grid.count,
+                          !twilight_deep(SUN_DEG[k]), live->channels == 3))
             s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
     if (s) {
         fm_sky_live_destroy(live);
@@ -254,14 +254,15 @@ static void node_build_free(node_build *b)
     b->sky = NULL;
 }
 
-/* Whether the job's multiple-scattering table is of paths the size of the raw tables' (not the fog's
- * column): what a round of refinement can add to. */
+/* Whether the job's multiple-scattering table is of paths the size and kind (parted or not) of the
+ * raw table's (not the fog's column): what a round of refinement can add to. */
 static int raw_fits(const ms_table *raw, const node_build *b)
 {
-    return !fog_table_applies(&b->job) && !b->ms.orders && sky_grid_nodes(&b->ms.grid) == sky_grid_nodes(&raw->grid);
+    return !fog_table_applies(&b->job) && !b->ms.orders == !raw->orders &&
+           sky_grid_nodes(&b->ms.grid) == sky_grid_nodes(&raw->grid);
 }
 
-/* A deep node's raw table becomes its job's (the job then frees the one it replaces); 0 paths when
+/* A band node's raw table becomes its job's (the job then frees the one it replaces); 0 paths when
  * the job's is not of paths. */
 static void keep_raw(fm_sky_live *live, node_build *b)
 {
@@ -451,8 +452,9 @@ fm_status live_build_nodes(fm_sky_live *live, double from_deg, double to_deg, co
  * only for suns below the second node above it (1 degree: interpolate_tables reads a node below the
  * sun's interval), so fm_sky_live_create leaves it for the first map that reads it
  * (docs/decisions/2026-12-07-live-deep-band-on-first-use.md, 2026-12-07-live-twilight-bias.md); its
- * deep twilight nodes' paths are what rounds of refinement add to.  Its nodes' seeds, its shared flight columns and its smoothing
- * are a whole build's; it writes none of the other nodes. */
+ * nodes' paths are what rounds of refinement add to (2026-12-07-live-twilight-refine.md).  Its nodes'
+ * seeds, its shared flight columns and its smoothing are a whole build's; it writes none of the other
+ * nodes. */
 static int in_band(double sun_elevation_deg) { return sun_elevation_deg < 0.0; }
 
 /* The number of nodes from the grid's lowest up for which in(elevation) holds. */
@@ -603,25 +605,24 @@ static fm_status render_below_grid(const fm_sky *sky, const fm_render_params *rp
 }
 
 /* Whether a map for a sun at elevation_deg reads a node of the band (only one not built when
- * `unbuilt`; only a deep twilight node, the refined ones, when `deep`): one of the four nodes of its
- * place on the grid (interpolate_tables); none below the grid (render_below_grid).  With `unbuilt`
- * the caller holds the lock. */
-static int reads_band(const fm_sky_live *live, double elevation_deg, int unbuilt, int deep)
+ * `unbuilt`): one of the four nodes of its place on the grid (interpolate_tables); none below the
+ * grid (render_below_grid).  With `unbuilt` the caller holds the lock. */
+static int reads_band(const fm_sky_live *live, double elevation_deg, int unbuilt)
 {
     if (!(elevation_deg >= live->nodes[0].sun_elevation_deg))
         return 0;
     const grid_place g = place_on_grid(live, elevation_deg);
     for (int k = g.i - 1; k <= g.i + 2; k++) {
         const live_node *n = &live->nodes[k < 0 ? 0 : (k >= live->count ? live->count - 1 : k)];
-        if ((deep ? twilight_deep(n->sun_elevation_deg) : in_band(n->sun_elevation_deg)) && (!unbuilt || !n->built))
+        if (in_band(n->sun_elevation_deg) && (!unbuilt || !n->built))
             return 1;
     }
     return 0;
 }
 
-int fm_sky_live_reads_deep_twilight(const fm_sky_live *live, double sun_elevation_deg)
+int fm_sky_live_reads_refined(const fm_sky_live *live, double sun_elevation_deg)
 {
-    return reads_band(live, sun_elevation_deg, 0, 1);
+    return reads_band(live, sun_elevation_deg, 0);
 }
 
 /* The twilight band when whole or a map at elevation_deg reads it and it is pending, once: a
@@ -636,7 +637,7 @@ static fm_status build_band(fm_sky_live *live, int whole, double elevation_deg, 
     pthread_mutex_lock(&live->lock);
     fm_status s = FM_OK;
     const int deep = band_nodes(live);
-    if (atomic_load(&live->band_pending) && deep > 0 && (whole || reads_band(live, elevation_deg, 1, 0)) &&
+    if (atomic_load(&live->band_pending) && deep > 0 && (whole || reads_band(live, elevation_deg, 1)) &&
         !(s = live_build_nodes(live, -90.0, live->nodes[deep - 1].sun_elevation_deg, cancel, err))) {
         atomic_store(&live->band_pending, 0);
         if (built)
@@ -672,9 +673,10 @@ int fm_sky_live_refinable(const fm_sky_live *live)
     return 1;
 }
 
-/* One deep node's next round: its paths with the round's seeds, added to its raw table (the build's
- * and earlier rounds'), the whole fitted, and its single-scattering table remade (on the ground its
- * diffuse light comes from the whole table). The node's tables stay as they were. */
+/* One band node's next round: its paths with the round's seeds, added to its raw table (the build's
+ * and earlier rounds'; in twilight above deep twilight each order part to its own), the whole
+ * fitted, and its single-scattering table remade (on the ground its diffuse light comes from the
+ * whole table). The node's tables stay as they were. */
 static fm_status refine_node(const fm_sky_live *live, int k, const shadow_flight_columns *flights, int pass,
                              const atomic_int *cancel, node_build *b, fm_error *err)
 {

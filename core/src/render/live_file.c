@@ -4,8 +4,8 @@
  * three tables' values (single scattering, multiple scattering, the aureole; native floats; zeros for
  * a node not built yet: the twilight band before its first use, live.c); then the rounds of
  * refinement and the twilight band's raw tables (per node its paths, their sums at every grid
- * wavelength, their moments and shapes: what the next round adds to; zeros before the band is
- * built).  Checked before anything in it is used. */
+ * wavelength, their moments and shapes, and above deep twilight the sums and squares of orders 3 and
+ * up: what the next round adds to; zeros before the band is built).  Checked before anything in it is used. */
 #include "base/sealed_file.h"
 #include "base/status.h"
 #include "render/live.h"
@@ -15,7 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FILE_VERSION 5u
+#define FILE_VERSION 6u
 #define CHECKSUM_SEED 0x6c697665ull /* "live" */
 
 /* ---- the tables ------------------------------------------------------------------------------ */
@@ -45,12 +45,15 @@ static size_t table_floats(const fm_sky_live *live, const sky_grid *g)
     return (size_t)sky_grid_nodes(g) * (size_t)live->channels;
 }
 
-/* One raw table's doubles: per node its sums (K), shape and moments. */
+/* One raw table's doubles: per node its sums (K), shape and moments; parted, the later orders' sums
+ * (K) and both parts' squares (2). */
 static size_t raw_doubles(const fm_sky_live *live, const ms_table *t)
 {
-    const size_t per_node = (size_t)live->sky->atm.grid.count + 1 + sizeof(node_moments) / sizeof(double);
+    const size_t K = (size_t)live->sky->atm.grid.count;
+    const size_t per_node = K + 1 + sizeof(node_moments) / sizeof(double) + (t->orders ? K + 2 : 0);
     return (size_t)sky_grid_nodes(&t->grid) * per_node;
 }
+
 
 static size_t payload_size(const fm_sky_live *live)
 {
@@ -99,6 +102,11 @@ static void payload_write(const fm_sky_live *live, unsigned char *out)
         out = put(out, have ? t->sum : NULL, sizeof(double) * nodes * K);
         out = put(out, have ? t->shape : NULL, sizeof(double) * nodes);
         out = put(out, have ? t->moments : NULL, sizeof(node_moments) * nodes);
+        if (t->orders) {
+            out = put(out, have ? t->later_sum : NULL, sizeof(double) * nodes * K);
+            for (size_t i = 0; i < nodes; i++)
+                out = put(out, have ? t->orders[i].yy : NULL, sizeof t->orders[i].yy);
+        }
     }
 }
 
@@ -140,6 +148,16 @@ static const char *raw_read(fm_sky_live *live, const unsigned char *in)
         if (!all_finite_doubles(t->sum, nodes * K) || !all_finite_doubles(t->shape, nodes) ||
             !all_finite_doubles((const double *)t->moments, nodes * sizeof(node_moments) / sizeof(double)))
             return "a value that is not a number";
+        if (t->orders) {
+            in = get(in, t->later_sum, sizeof(double) * nodes * K);
+            for (size_t i = 0; i < nodes; i++) {
+                in = get(in, t->orders[i].yy, sizeof t->orders[i].yy);
+                if (!all_finite_doubles(t->orders[i].yy, 2))
+                    return "a value that is not a number";
+            }
+            if (!all_finite_doubles(t->later_sum, nodes * K))
+                return "a value that is not a number";
+        }
     }
     return NULL;
 }

@@ -21,7 +21,7 @@
  * seed is another build's. */
 #define LIVE_SEED_STRIDE 1000u
 
-/* The deep twilight tables' rounds of refinement (fm_sky_live_refine) at most: each adds the build's
+/* The twilight band's rounds of refinement (fm_sky_live_refine) at most: each adds the build's
  * paths again with new seeds (docs/decisions/2026-12-07-live-refine.md). */
 #define LIVE_REFINE_ROUNDS 8
 
@@ -49,9 +49,10 @@ struct fm_sky_live {
     uint64_t seed;        /* 0: the product's paths; n moves every node's seed by n * LIVE_SEED_STRIDE,
                            * for measuring the spread of a build's noise (live-bench accuracy's seeds) */
     live_node *nodes;
-    /* The deep twilight nodes' multiple-scattering paths before their fit (0 to the band's count - 1,
-     * as nodes): sums over every round, the raw estimates that a round of refinement adds to and
-     * refits; `paths` 0 until the band is built (and in fog, whose tables are not refined). */
+    /* The twilight band's multiple-scattering paths before their fit (0 to the band's count - 1, as
+     * nodes; parted above deep twilight, as their jobs' tables): sums over every round, the raw
+     * estimates that a round of refinement adds to and refits; `paths` 0 until the band is built (and
+     * in fog, whose tables are not refined). */
     ms_table *raw;
     int raw_count;
     int rounds; /* rounds of refinement in the band's tables (0: as built) */

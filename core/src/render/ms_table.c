@@ -292,7 +292,7 @@ void ms_table_add(render_job *job, const ms_table *more)
 {
     ms_table *t = job->ms;
     const int K = job->sky->atm.grid.count, nodes = sky_grid_nodes(&t->grid);
-    assert(!t->orders && !more->orders && nodes == sky_grid_nodes(&more->grid) && !t->ratio[0] == !more->ratio[0]);
+    assert(!t->orders == !more->orders && nodes == sky_grid_nodes(&more->grid) && !t->ratio[0] == !more->ratio[0]);
     for (int i = 0; i < nodes; i++) {
         for (int k = 0; k < K; k++)
             t->sum[i * K + k] += more->sum[i * K + k];
@@ -301,7 +301,13 @@ void ms_table_add(render_job *job, const ms_table *more)
         for (int b = 0; b < NODE_BATCHES; b++)
             for (int c = 0; c < 3; c++)
                 m->batch_xyz[b][c] += more->moments[i].batch_xyz[b][c];
-        t->shape[i] = more->shape[i];
+        t->shape[i] = more->shape[i]; /* deep twilight's view rays; a parted table's fit makes its own */
+        if (t->orders) { /* the orders above 2: a part of `sum` kept apart too */
+            for (int k = 0; k < K; k++)
+                t->later_sum[i * K + k] += more->later_sum[i * K + k];
+            t->orders[i].yy[0] += more->orders[i].yy[0];
+            t->orders[i].yy[1] += more->orders[i].yy[1];
+        }
     }
     finish_nodes(job, t->paths + more->paths);
     job->paths_per_node = t->paths;

@@ -56,8 +56,9 @@ fm_status ms_table_fill(struct render_job *job, double sun_elevation_deg);
 
 /* Adds the paths of `more` (a table of the same layout and sky, filled with other seeds) to the job's
  * table: their sums and moments, the estimates, variances and ratios then over both tables' paths
- * (weighted by their paths), the shape kept as more's; ready for ms_table_fit.  Deep twilight's
- * tables only (not parted): the live sky refines them by rounds of paths (live.h). */
+ * (weighted by their paths), the shape kept as more's; ready for ms_table_fit.  A parted table's
+ * orders above 2 alike (both tables parted, or neither): the live sky refines its twilight tables by
+ * rounds of paths (live.h). */
 void ms_table_add(struct render_job *job, const ms_table *more);
 
 /* Whether a table's paths may be shared with other suns' (ms_table_fill_shared): by day, without a
