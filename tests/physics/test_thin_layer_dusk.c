@@ -8,9 +8,12 @@
  * - Bias: at views across the sky, the single-scattering quadrature plus the table's estimator of
  *   orders >= 2 (its paths at a node, many of them) against the reference mode's path tracing of
  *   every order (its twilight sampling), within 2 % plus 3 standard errors of the two.
+ * - Deep twilight (sun -6): the sky guide's share in the layer's upper part, and its level at the
+ *   layer's top, against the table's estimator without the sky guide (top_guide_unbiased).
  * Fault it fails on: the direction guides taking their share of the directions inside the layer, as
  * everywhere below FM_DENSE_SIGMA_PER_M (the nodes of two seeds then differ by 30 % RMS, with single
- * paths carrying a node).
+ * paths carrying a node); the MIS weight at a vertex in the layer's upper part leaving out the
+ * guide's density (the view 1 degree up toward the sun at sun -6 then +270 %).
  * Run with arguments SUN PATHS [TAU] for the bias check alone at another sun (a sweep by hand), or
  * `orders SUN PATHS [SEED]` for where the table's variance comes from (variance_by_order). */
 #include "check.h"
@@ -141,6 +144,56 @@ static void table_against_the_reference(void **state)
     assert_int_equal(against_the_reference(SUN_DEG, 40000, 0.0), 0);
 }
 
+/* One view's table estimate of orders >= 2 (paths in BATCHES batches) and its standard error. */
+static double table_estimate(const fm_sky *sky, const path_context *table, vec3 d, int paths, size_t item,
+                             double *se)
+{
+    enum { BATCHES = 16 };
+    double sum = 0.0, sum2 = 0.0;
+    for (int b = 0; b < BATCHES; b++) {
+        double L[1] = {0.0};
+        table_node_paths(sky, table, d, paths / BATCHES, 5, item * BATCHES + (size_t)b, 0, L, NULL, NULL, NULL);
+        const double x = L[0] / (paths / BATCHES);
+        sum += x;
+        sum2 += x * x;
+    }
+    *se = sqrt(fmax(0.0, sum2 / BATCHES - (sum / BATCHES) * (sum / BATCHES)) / (BATCHES - 1));
+    return sum / BATCHES;
+}
+
+/* Deep twilight (sun TOP_GUIDE_SUN_DEG): the sky guide's level at the layer's top and its share of
+ * the directions in the layer's upper part (path_direction.c,
+ * docs/decisions/2026-12-07-cirrus-dusk-estimator.md) are a change of sampling.  At the views above,
+ * the table's estimator as a render makes it against the same without the sky guide (directions
+ * from the phase function and the sun guide alone, which no guide density can bias), within 2 %
+ * plus 3 standard errors of the two. */
+#define TOP_GUIDE_SUN_DEG -6.0
+#define TOP_GUIDE_PATHS 16384
+static void top_guide_unbiased(void **state)
+{
+    (void)state;
+    fm_sky *sky = dusk_sky(TOP_GUIDE_SUN_DEG, 0.0);
+    column_tables t;
+    column_tables_start(sky, 0, 1, &t);
+    assert_non_null(t.tw);
+    path_context with = scattering_path_context(sky, t.tw, 2, 0), without = with;
+    with.skip_ground_first = without.skip_ground_first = 1;
+    assert_true(with.cloud_top_guide_fraction > 0.0);
+    without.sky_guide_fraction = without.cloud_top_guide_fraction = 0.0;
+    for (size_t i = 0; i < sizeof views / sizeof views[0]; i++) {
+        const vec3 d = render_view_direction(sky, views[i][0] * FM_DEG, views[i][1] * FM_DEG);
+        double se_a, se_b;
+        const double a = table_estimate(sky, &with, d, TOP_GUIDE_PATHS, 3000 + i, &se_a);
+        const double b = table_estimate(sky, &without, d, TOP_GUIDE_PATHS, 4000 + i, &se_b);
+        char what[128];
+        snprintf(what, sizeof what, "cirrostratus, sun %g, the top's guide: orders >= 2 at elevation %.0f, azimuth %.0f",
+                 TOP_GUIDE_SUN_DEG, views[i][0], views[i][1]);
+        check_within_reference(a, b, sqrt(se_a * se_a + se_b * se_b), TOLERANCE, what);
+    }
+    column_tables_free(&t);
+    fm_sky_destroy(sky);
+}
+
 static int larger_first(const void *a, const void *b)
 {
     const double x = *(const double *)a, y = *(const double *)b;
@@ -204,6 +257,7 @@ int main(int argc, char **argv)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(nodes_of_two_seeds),
         cmocka_unit_test(table_against_the_reference),
+        cmocka_unit_test(top_guide_unbiased),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

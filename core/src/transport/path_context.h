@@ -48,6 +48,11 @@ typedef struct path_context {
      * (path.c): FM_DENSE_SIGMA_PER_M, lower in a sky with a thinner cloud layer (sky_path.c); 0 reads
      * as FM_DENSE_SIGMA_PER_M (path_cloud_sigma). */
     double cloud_sigma_per_m;
+    /* Deep twilight under a thin cloud layer (twilight.c): the layer's top (m from the Earth's
+     * centre; 0 for none) where the sky guide has a level, and the guide's share of the directions
+     * at a vertex in the layer's upper part (path_direction.c). */
+    double cloud_top_radius_m;
+    double cloud_top_guide_fraction;
     /* Deep twilight: segments place their next interaction by shadow_flight (shadow_flight.h)
      * instead of delta tracking; NULL otherwise. */
     const struct shadow_flight_table *shadow_flights;

@@ -71,15 +71,29 @@ static double sun_guide_share(const path_context *ctx, vec3 sun_dir, vec3 x, int
     return ctx->sun_guide_fraction * exp(GUIDE_FULL_DEPTH - depth);
 }
 
+/* Deep twilight under a thin cloud layer: from its top this deep down (m) a vertex still sees the
+ * sunlit band 2-5 degrees above the horizon toward the sun over the layer (a ray 3 degrees up
+ * crosses an optical depth of 2.5 of cirrostratus from 300 m below its top), the light that the
+ * phase function finds only by chance: there the sky guide, whose level at the layer's top sees
+ * that band, takes path_context.cloud_top_guide_fraction of the directions
+ * (docs/decisions/2026-12-07-cirrus-dusk-estimator.md). */
+#define CLOUD_TOP_BAND_M 300.0
+
 /* Twilight's guides (the sky guide, the sun guide in the Earth's shadow) take no share of the
  * directions at a vertex in cloud or fog (path_cloud_sigma: a thin layer too): the light they aim at
  * is beyond the layer, and the next vertex a free path away.  With them, a direction drawn from the phase function
  * weighs p / ((1 - a - b) p + ...), up to 1 / (1 - a - b) = 4, at each vertex: the second moment of
  * a path's weight grows by that factor per vertex of the forward peak, and over the tens of vertices
  * of a path in fog a rare path carried a map's light (docs/decisions/2026-12-07-fog-reference.md). */
-static double sky_guide_share(const path_context *ctx, double sigma_s)
+static double sky_guide_share(const path_context *ctx, vec3 x, double sigma_s)
 {
-    return ctx->sky_guide && sigma_s < path_cloud_sigma(ctx) ? ctx->sky_guide_fraction : 0.0;
+    if (!ctx->sky_guide)
+        return 0.0;
+    if (sigma_s < path_cloud_sigma(ctx))
+        return ctx->sky_guide_fraction;
+    return ctx->cloud_top_guide_fraction > 0.0 && v3_length(x) > ctx->cloud_top_radius_m - CLOUD_TOP_BAND_M
+               ? ctx->cloud_top_guide_fraction
+               : 0.0;
 }
 
 /* The sun guide's share about each of the walk's suns (path_context.suns) at x, each sun's
@@ -150,7 +164,7 @@ vec3 scatter_direction(const path_context *ctx, vec3 x, const double *n, const d
     const int K = atm->grid.count;
     double share[PATH_SUNS_MAX];
     const double a = sun_guide_shares(ctx, x, h, sig_s[h], NULL, share);
-    const double b = sky_guide_share(ctx, sig_s[h]);
+    const double b = sky_guide_share(ctx, x, sig_s[h]);
     assert(is_probability(a) && is_probability(b) && is_probability(a + b) && is_unit(d));
     double cos_theta, phase[FM_MAX_WAVELENGTHS];
     vec3 nd;

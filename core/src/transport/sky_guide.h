@@ -32,7 +32,8 @@
 
 #define SKY_GUIDE_ALTITUDES 7
 #define SKY_GUIDE_MAX_OFFSETS 6
-#define SKY_GUIDE_LEVELS (SKY_GUIDE_ALTITUDES * SKY_GUIDE_MAX_OFFSETS)
+/* and one more per offset at a thin cloud layer's top in deep twilight (sky_guide_build.h) */
+#define SKY_GUIDE_LEVELS ((SKY_GUIDE_ALTITUDES + 1) * SKY_GUIDE_MAX_OFFSETS)
 #define SKY_GUIDE_ROWS_UP 40   /* elevation bins from the level's horizon to the zenith */
 #define SKY_GUIDE_ROWS_DOWN 20 /* and from the nadir to the horizon */
 #define SKY_GUIDE_ROWS (SKY_GUIDE_ROWS_UP + SKY_GUIDE_ROWS_DOWN)

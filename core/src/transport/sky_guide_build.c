@@ -91,8 +91,19 @@ static int normalise_level(sky_guide_level *g)
     return 1;
 }
 
+static void add_level(sky_guide *g, const atmosphere *atm, double radius, int offset)
+{
+    sky_guide_level *l = &g->level[g->levels++];
+    l->radius = radius;
+    l->offset = offset;
+    l->horizon = -acos(fmin(1.0, atm->bottom_radius_m / l->radius));
+    for (int j = 0; j <= SKY_GUIDE_ROWS; j++)
+        l->edge_sin[j] = sin(row_elevation(j, l->horizon));
+}
+
 fm_status sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int offsets, int threads,
-                          const shadow_flight_table *flights, const atomic_int *cancel, int *usable)
+                          const shadow_flight_table *flights, double top_radius, const atomic_int *cancel,
+                          int *usable)
 {
     const atmosphere *atm = single->atm;
     double r0 = v3_length(observer);
@@ -101,15 +112,12 @@ fm_status sky_guide_build(sky_guide *g, const path_context *single, vec3 observe
     g->sun0 = asin(clamp_cosine(v3_dot(observer, single->sun_dir) / r0));
     g->bottom_radius = atm->bottom_radius_m;
     g->align_horizons = 1;
-    for (int o = 0; o < g->offsets; o++)
-        for (int i = 0; i < SKY_GUIDE_ALTITUDES && r0 + level_km[i] * FM_KM < atm->top_radius_m; i++) {
-            sky_guide_level *l = &g->level[g->levels++];
-            l->radius = r0 + level_km[i] * FM_KM;
-            l->offset = o;
-            l->horizon = -acos(fmin(1.0, atm->bottom_radius_m / l->radius));
-            for (int j = 0; j <= SKY_GUIDE_ROWS; j++)
-                l->edge_sin[j] = sin(row_elevation(j, l->horizon));
-        }
+    for (int o = 0; o < g->offsets; o++) {
+        for (int i = 0; i < SKY_GUIDE_ALTITUDES && r0 + level_km[i] * FM_KM < atm->top_radius_m; i++)
+            add_level(g, atm, r0 + level_km[i] * FM_KM, o);
+        if (top_radius > atm->bottom_radius_m && top_radius < atm->top_radius_m)
+            add_level(g, atm, top_radius, o);
+    }
     build_job job = {g, single, sun_frame_at(observer, single->sun_dir), 0, flights};
     *usable = 0;
     fm_status s = parallel_for(threads, (int64_t)g->levels * SKY_GUIDE_ROWS, 1, build_rows, &job, cancel, NULL);

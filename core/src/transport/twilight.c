@@ -33,6 +33,26 @@
  * decades (docs/decisions/2026-12-06-night-paths.md). */
 #define SPLIT_UNTIL_DEG -21.0
 
+/* Deep twilight under a thin cloud layer: the sky guide's share of the directions at a vertex in the
+ * layer's upper part (path_direction.c), toward the sunlit band seen over its top; its level there
+ * lies this far above the top (m), above the layer's edge node (cloud_layer.c) where the air is clear
+ * (docs/decisions/2026-12-07-cirrus-dusk-estimator.md). */
+#define CLOUD_TOP_GUIDE_FRACTION 0.25
+#define CLOUD_TOP_LEVEL_M 100.0
+
+/* The top (m from the Earth's centre) of the highest thin cloud layer, one whose mean extinction at
+ * 550 nm is below FM_DENSE_SIGMA_PER_M (sky_path.c's cloud_sigma), or 0 for none. */
+static double thin_cloud_top(const fm_sky *sky)
+{
+    double top = 0.0;
+    for (int i = 0; i < sky->composition.cloud_count; i++) {
+        const double h = sky->composition.cloud[i].thickness_m;
+        if (h > 0.0 && sky->composition.cloud[i].tau550 / h < FM_DENSE_SIGMA_PER_M)
+            top = fmax(top, sky->atm.bottom_radius_m + sky->composition.cloud[i].base_m + h);
+    }
+    return top;
+}
+
 int twilight_deep(double sun_elevation_deg) { return sun_elevation_deg < DEEP_TWILIGHT_DEG; }
 
 fm_status twilight_sampling_create(const fm_sky *sky, int guide_offsets, const shadow_flight_columns *shared,
@@ -49,12 +69,15 @@ fm_status twilight_sampling_create(const fm_sky *sky, int guide_offsets, const s
     tw->deep = twilight_deep(sun_elevation / FM_DEG);
     tw->split = tw->deep && sun_elevation > SPLIT_UNTIL_DEG * FM_DEG;
     tw->vertex_split_weight = 0.0;
+    tw->cloud_top_radius = tw->deep ? thin_cloud_top(sky) : 0.0;
     /* the flights' table first: in deep twilight the sky guide adds the light of order 2 from it */
     int usable = 0;
     fm_status s = tw->deep ? shadow_flight_build(&tw->flights, &single, sky->observer, shared, threads, cancel) : FM_OK;
     if (!s)
         s = sky_guide_build(&tw->guide, &single, sky->observer, tw->deep ? guide_offsets : 1, threads,
-                            tw->deep ? &tw->flights : NULL, cancel, &usable);
+                            tw->deep ? &tw->flights : NULL,
+                            tw->cloud_top_radius > 0.0 ? tw->cloud_top_radius + CLOUD_TOP_LEVEL_M : 0.0, cancel,
+                            &usable);
     if (s || !usable) {
         free(tw); /* a black sky (deep night): nothing to guide toward */
         return s;
@@ -74,6 +97,8 @@ path_context twilight_path_context(const fm_sky *sky, const twilight_sampling *t
         pc.vertex_split_weight = tw->vertex_split_weight;
         pc.first_vertex_light_share = tw->deep ? FIRST_VERTEX_LIGHT_SHARE : 0.0;
         pc.sky_guide_fraction = SKY_GUIDE_FRACTION;
+        pc.cloud_top_radius_m = tw->cloud_top_radius;
+        pc.cloud_top_guide_fraction = tw->cloud_top_radius > 0.0 ? CLOUD_TOP_GUIDE_FRACTION : 0.0;
         /* every segment along its length: with guided directions of small weight, a point estimate
          * after Russian roulette would bring the noise back */
         pc.segment_sunlight = SEGMENT_SUNLIGHT_ALL;

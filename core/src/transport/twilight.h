@@ -22,6 +22,7 @@ typedef struct twilight_sampling {
     int deep;  /* the flights below are in use */
     int split; /* heavy paths split (deep twilight above night, twilight.c) */
     double vertex_split_weight; /* path_context.vertex_split_weight: 0 unless the quality sets it */
+    double cloud_top_radius; /* path_context.cloud_top_radius_m: deep twilight under a thin layer, else 0 */
     shadow_flight_table flights;
 } twilight_sampling;
 
