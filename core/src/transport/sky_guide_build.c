@@ -91,6 +91,7 @@ static int normalise_level(sky_guide_level *g)
     return 1;
 }
 
+/* Appends an empty level at this radius and offset, its rows' edges laid from its horizon. */
 static void add_level(sky_guide *g, const atmosphere *atm, double radius, int offset)
 {
     sky_guide_level *l = &g->level[g->levels++];

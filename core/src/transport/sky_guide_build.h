@@ -18,8 +18,8 @@
  * see light (a black level is left out).  *usable: 0 when every level is black (the guide is then
  * unusable), else 1.  top_radius (m from the Earth's centre, 0 for none): one more level per offset
  * there, just above a thin cloud layer's top, whose sky is the sunlit band that the layer's upper
- * vertices see over it (path_direction.c).  FM_ERR_OUT_OF_MEMORY, FM_ERR_CANCELLED (*cancel set) or FM_ERR_INTERNAL (its
- * threads could not run), else FM_OK. */
+ * vertices see over it (path_direction.c).  FM_ERR_OUT_OF_MEMORY, FM_ERR_CANCELLED (*cancel set)
+ * or FM_ERR_INTERNAL (its threads could not run), else FM_OK. */
 fm_status sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int offsets, int threads,
                           const shadow_flight_table *flights, double top_radius, const atomic_int *cancel,
                           int *usable);
