@@ -116,16 +116,19 @@ static const deep_fit DEEP_FITS[] = LIVE_SMOOTH_DEEP_FITS;
 #define DEEP_FIT_COUNT ((int)(sizeof DEEP_FITS / sizeof DEEP_FITS[0]))
 
 /* The weights h[0..n) that give node k's value from the nodes at[0..n) by fit f, without node `out`
- * (-1: with every node); 0 where they do not make one. */
-static int deep_weights(const fm_sky_live *live, const int *at, int n, int k, int out, deep_fit f, double *h)
+ * (-1: with every node) and, unless `above_too`, without the nodes above deep twilight; 0 where they
+ * do not make one. */
+static int deep_weights(const fm_sky_live *live, const int *at, int n, int k, int out, deep_fit f, int above_too,
+                        double *h)
 {
     double x[64], w[64];
     if (n > 64)
         return 0;
     for (int j = 0; j < n; j++) {
         const double d = (live->nodes[at[j]].sun_elevation_deg - live->nodes[at[k]].sun_elevation_deg) / f.width_deg;
+        const int in = j != out && (above_too || twilight_deep(live->nodes[at[j]].sun_elevation_deg));
         x[j] = d;
-        w[j] = j == out ? 0.0 : exp(-0.5 * d * d);
+        w[j] = in ? exp(-0.5 * d * d) : 0.0;
     }
     return poly_weights(x, w, n, f.degree, h);
 }
@@ -174,6 +177,25 @@ typedef struct deep_domain {
 #define DEEP_CLASSES 3
 static int term_class(int p, int m) { return p + m < DEEP_CLASSES - 1 ? p + m : DEEP_CLASSES - 1; }
 
+/* Whether deep node k is the highest deep node with a node above deep twilight next in the fit: the
+ * band's edge, where the sky's level bends toward the twilight nodes' faster than a quadratic across
+ * them follows, so that its own level, a mean over the whole domain and the least noisy of its terms,
+ * is nearer the truth than the fit's (docs/decisions/2026-12-07-live-minus6.md). */
+static int keeps_own_level(const fm_sky_live *live, const deep_domain *d, int k)
+{
+    return k + 1 < d->n && !twilight_deep(live->nodes[d->at[k + 1]].sun_elevation_deg);
+}
+
+/* Whether the nodes above deep twilight take part in node k's fit of the terms of `class` (-1: a
+ * domain smoothed value by value).  The rest's fit is a wide mean or line, which the twilight nodes'
+ * shape over the sky (another estimator's, off the deep nodes' curve) would pull at every deep node;
+ * at the band's edge it keeps them, else it would end there and keep the edge's noise
+ * (docs/decisions/2026-12-07-live-deep-variance.md). */
+static int above_in_fit(const fm_sky_live *live, const deep_domain *d, int k, int class)
+{
+    return class != DEEP_CLASSES - 1 || keeps_own_level(live, d, k);
+}
+
 static float *ms_value(fm_sky_live *live, const deep_domain *d, int k, int r, int c)
 {
     return &live->nodes[d->at[k]].ms.values[((size_t)(d->row0 + r) * d->cols + c) * d->C];
@@ -189,14 +211,14 @@ typedef void (*loo_errors_fn)(fm_sky_live *live, const deep_domain *d, int k, co
                               double *score);
 
 /* The leave-one-out score of fit f: the errors of each inner deep node (a node with others on both
- * sides) predicted from the other nodes. */
+ * sides) predicted from the other nodes; arg is the class of terms (above_in_fit), or -1. */
 static double loo_score(fm_sky_live *live, const deep_domain *d, deep_fit f, loo_errors_fn errors, int arg)
 {
     double h[64], score = 0.0;
     for (int k = 1; k + 1 < d->n; k++) {
         if (!twilight_deep(live->nodes[d->at[k]].sun_elevation_deg))
             continue;
-        if (!deep_weights(live, d->at, d->n, k, k, f, h))
+        if (!deep_weights(live, d->at, d->n, k, k, f, above_in_fit(live, d, k, arg), h))
             return INFINITY;
         errors(live, d, k, h, arg, &score);
     }
@@ -253,15 +275,6 @@ static void set_log_luminance(fm_sky_live *live, const deep_domain *d, int k, in
         px[ch] *= ratio;
 }
 
-/* Whether deep node k is the highest deep node with a node above deep twilight next in the fit: the
- * band's edge, where the sky's level bends toward the twilight nodes' faster than a quadratic across
- * them follows, so that its own level, a mean over the whole domain and the least noisy of its terms,
- * is nearer the truth than the fit's (docs/decisions/2026-12-07-live-minus6.md). */
-static int keeps_own_level(const fm_sky_live *live, const deep_domain *d, int k)
-{
-    return k + 1 < d->n && !twilight_deep(live->nodes[d->at[k + 1]].sun_elevation_deg);
-}
-
 /* A lit domain: its terms at every node, each smoothed across the nodes by its class's fit (but the
  * level at the band's edge: keeps_own_level), and the deep nodes' values scaled to the smoothed
  * logarithms.  work: 2 n rows cols doubles. */
@@ -294,7 +307,8 @@ static void smooth_lit_domain(fm_sky_live *live, deep_domain *d, double *work)
             for (int m = 0; m < d->cols; m++) {
                 const int own = own_level && term_class(p, m) == 0;
                 double z = 0.0;
-                if (own || !deep_weights(live, d->at, d->n, k, -1, fits[term_class(p, m)], h))
+                const int class = term_class(p, m);
+                if (own || !deep_weights(live, d->at, d->n, k, -1, fits[class], above_in_fit(live, d, k, class), h))
                     z = *coef_at(d, d->coef, k, p, m);
                 else
                     for (int j = 0; j < d->n; j++)
@@ -349,7 +363,7 @@ static void value_errors(fm_sky_live *live, const deep_domain *d, int k, const d
  * leave-one-out score over those values is least; the others stay as they are. */
 static void smooth_unlit_domain(fm_sky_live *live, const deep_domain *d)
 {
-    const deep_fit fit = least_score_fit(live, d, value_errors, 0);
+    const deep_fit fit = least_score_fit(live, d, value_errors, -1);
     double h[64], z[64];
     for (int r = 0; r < d->rows; r++)
         for (int c = 0; c < d->cols; c++) {
@@ -357,7 +371,7 @@ static void smooth_unlit_domain(fm_sky_live *live, const deep_domain *d)
                 continue;
             for (int k = 0; k < d->n; k++) {
                 const int deep = twilight_deep(live->nodes[d->at[k]].sun_elevation_deg);
-                z[k] = deep && deep_weights(live, d->at, d->n, k, -1, fit, h) ? weighted_log(live, d, r, c, h) : NAN;
+                z[k] = deep && deep_weights(live, d->at, d->n, k, -1, fit, 1, h) ? weighted_log(live, d, r, c, h) : NAN;
             }
             for (int k = 0; k < d->n; k++) /* after every node: each from the nodes as they were */
                 if (!isnan(z[k]))

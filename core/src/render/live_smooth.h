@@ -38,11 +38,13 @@ fm_status live_smooth_day(fm_sky_live *live, const unsigned char *fresh, double 
  * quadratic's value keeps nearly all of its own.  The highest deep node keeps its own level (the
  * band's edge: the level bends there toward the nodes above faster than a quadratic follows; its
  * other terms are smoothed).  The nodes above deep twilight take part unchanged:
- * their noise is their own (another seed, another estimator of the same light).  Every channel of a
+ * their noise is their own (another seed, another estimator of the same light); but their shape over
+ * the sky is off the deep nodes' curve, and they take no part in the rest's fit but at the band's edge.  Every channel of a
  * value is scaled alike (the node's colour stays).  A domain with a value that is not positive at one
  * of the nodes is smoothed value by value (each value lit at every node by the fit chosen over them;
  * the others stay), and fewer than LIVE_SMOOTH_DEEP_MIN nodes leave the tables as they were
- * (docs/decisions/2026-12-07-live-deep-denoise.md, 2026-12-07-live-minus6.md).  Returns
+ * (docs/decisions/2026-12-07-live-deep-denoise.md, 2026-12-07-live-minus6.md,
+ * 2026-12-07-live-deep-variance.md).  Returns
  * FM_ERR_OUT_OF_MEMORY or FM_OK. */
 #define LIVE_SMOOTH_DEEP_FITS                                                                                   \
     {{2, 2.0}, {2, 3.0}, {2, 5.0}, {1, 5.0}, {1, 10.0}, {1, 20.0}, {0, 5.0}, {0, 10.0}, {0, 20.0}}
