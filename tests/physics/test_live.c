@@ -762,8 +762,7 @@ static void deep_twilight_edge_keeps_its_level(void **state)
  * nodes' curve, 0.2 in ln Y along (1 - u) cos 2 phi, gives the deep nodes from -20 to -8 less than a
  * twentieth of that offset (its projection on the pattern, their mean); with the twilight nodes in
  * every node's fit of the rest (a mean over 10-20 degrees weighs them about as much as a deep node)
- * they took 0.15 of it (urban's maps at -12: 3.95 -> 3.69 % RMS over six builds,
- * docs/decisions/2026-12-07-live-deep-variance.md). */
+ * they took 0.15 of it (docs/decisions/2026-12-07-live-deep-variance.md). */
 static double twilight_shape_offset(double e, int r, int rows, int c, int cols)
 {
     const double u = (double)r / (rows - 1), phi = FM_PI * c / (cols - 1);
