@@ -10,12 +10,16 @@
  *   every order (its twilight sampling), within 2 % plus 3 standard errors of the two.
  * - Deep twilight (sun -6): the sky guide's share in the layer's upper part, and its level at the
  *   layer's top, against the table's estimator without the sky guide (top_guide_unbiased).
+ * - Deep twilight (sun -6): the table's own noise figure, which decides its second pass, against
+ *   the noise between two seeds' nodes (node_noise_as_measured).
  * Fault it fails on: the direction guides taking their share of the directions inside the layer, as
  * everywhere below FM_DENSE_SIGMA_PER_M (the nodes of two seeds then differ by 30 % RMS, with single
  * paths carrying a node); the MIS weight at a vertex in the layer's upper part leaving out the
- * guide's density (the view 1 degree up toward the sun at sun -6 then +270 %).
+ * guide's density (the view 1 degree up toward the sun at sun -6 then +270 %); a node's paths drawn
+ * twice each (path p on path p - 1's stream when p is odd: the figure 0.68 times the seeds' noise).
  * Run with arguments SUN PATHS [TAU] for the bias check alone at another sun (a sweep by hand), or
- * `orders SUN PATHS [SEED]` for where the table's variance comes from (variance_by_order). */
+ * `orders SUN PATHS [SEED]` for where the table's variance comes from (variance_by_order), or `noise`
+ * for node_noise_as_measured alone. */
 #include "check.h"
 
 #include "column_tables.h"
@@ -194,6 +198,64 @@ static void top_guide_unbiased(void **state)
     fm_sky_destroy(sky);
 }
 
+/* Deep twilight's second pass (ms_table.c) runs while the sky nodes' relative standard error, as
+ * each node's own paths estimate it (ms_table_sky_node_noise), is above its target: under this
+ * layer at sun -6 that is about twice the target after the first pass, so the pass takes its most
+ * paths (docs/decisions/2026-12-07-cirrus-dusk-stop.md).  Heavy-tailed paths could make that
+ * figure wrong either way; here it is checked against the noise the nodes show between two seeds
+ * (root mean square over the sky nodes of their relative difference, over sqrt 2), a computation
+ * that uses no node's own variance: the two within NOISE_RATIO_BOUND of each other. */
+#define NOISE_SUN_DEG -6.0
+#define NOISE_PATHS 512 /* a quarter of the first pass's, as cheap as the check can be */
+#define NOISE_RATIO_BOUND 1.3
+
+/* The sky nodes (orders >= 2, before the fit) of the first pass at NOISE_PATHS into y, and the
+ * table's own noise figure. */
+static double first_pass_nodes(const fm_sky *sky, uint64_t seed, double *y, int *count)
+{
+    column_tables t;
+    column_tables_start(sky, seed, 1, &t);
+    assert_non_null(t.tw);
+    assert_true(t.tw->deep);
+    t.job.one_pass = 1;
+    t.job.q.ms_paths = NOISE_PATHS;
+    fm_error err;
+    assert_int_equal(render_fast_tables_begin(&t.job, &err), FM_OK);
+    assert_int_equal(render_fast_tables_fill(&t.job, asin(sky->sun_dir.z), &err), FM_OK);
+    assert_int_equal(t.job.paths_per_node, NOISE_PATHS);
+    *count = t.ms.grid.rows_sky * t.ms.grid.cols;
+    for (int i = 0; i < *count; i++)
+        y[i] = t.ms.y[i];
+    const double noise = ms_table_sky_node_noise(&t.ms);
+    column_tables_free(&t);
+    return noise;
+}
+
+static void node_noise_as_measured(void **state)
+{
+    (void)state;
+    fm_sky *sky = dusk_sky(NOISE_SUN_DEG, 0.0);
+    double a[4096], b[4096];
+    int n, m;
+    const double own = 0.5 * (first_pass_nodes(sky, 0, a, &n) + first_pass_nodes(sky, 1, b, &m));
+    assert_int_equal(n, m);
+    double sum2 = 0.0;
+    int used = 0;
+    for (int i = 0; i < n; i++)
+        if (a[i] > 0.0 && b[i] > 0.0) {
+            const double d = (a[i] - b[i]) / (0.5 * (a[i] + b[i]));
+            sum2 += d * d;
+            used++;
+        }
+    assert_true(used > n / 2);
+    const double between = sqrt(sum2 / used / 2.0);
+    print_message("cirrostratus, sun %g, %d paths per node: the nodes' own noise figure %.2f %%, between two seeds "
+                  "%.2f %% (ratio %.3f, bound %.2f either way)\n",
+                  NOISE_SUN_DEG, NOISE_PATHS, 100.0 * own, 100.0 * between, own / between, NOISE_RATIO_BOUND);
+    assert_true(own < NOISE_RATIO_BOUND * between && between < NOISE_RATIO_BOUND * own);
+    fm_sky_destroy(sky);
+}
+
 static int larger_first(const void *a, const void *b)
 {
     const double x = *(const double *)a, y = *(const double *)b;
@@ -252,12 +314,17 @@ int main(int argc, char **argv)
         variance_by_order(atof(argv[2]), atoi(argv[3]), argc == 5 ? (uint64_t)atoll(argv[4]) : 0);
         return 0;
     }
+    if (argc == 2 && !strcmp(argv[1], "noise")) {
+        const struct CMUnitTest alone[] = {cmocka_unit_test(node_noise_as_measured)};
+        return cmocka_run_group_tests(alone, NULL, NULL);
+    }
     if (argc == 3 || argc == 4)
         return against_the_reference(atof(argv[1]), atoi(argv[2]), argc == 4 ? atof(argv[3]) : 0.0) != 0;
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(nodes_of_two_seeds),
         cmocka_unit_test(table_against_the_reference),
         cmocka_unit_test(top_guide_unbiased),
+        cmocka_unit_test(node_noise_as_measured),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

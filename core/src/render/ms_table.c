@@ -234,12 +234,8 @@ static int may_add_deep_twilight_paths(const render_job *job)
     return job->twilight && job->twilight->deep && job->params->quality == FM_QUALITY_FINAL && !job->one_pass;
 }
 
-static int deep_twilight_extra_paths(const render_job *job, double sample_scale, double sun_elevation_deg)
+double ms_table_sky_node_noise(const ms_table *t)
 {
-    if (!may_add_deep_twilight_paths(job))
-        return 0;
-    const ms_table *t = job->ms;
-    const double most = DEEP_EXTRA_MAX * paths_before_night(sun_elevation_deg);
     const int nodes = t->grid.rows_sky * t->grid.cols;
     double sum = 0.0;
     int used = 0;
@@ -248,10 +244,18 @@ static int deep_twilight_extra_paths(const render_job *job, double sample_scale,
             sum += t->var[i] / (t->y[i] * t->y[i]);
             used++;
         }
-    if (!used)
+    return used ? sqrt(sum / used) : 0.0;
+}
+
+static int deep_twilight_extra_paths(const render_job *job, double sample_scale, double sun_elevation_deg)
+{
+    if (!may_add_deep_twilight_paths(job))
+        return 0;
+    const double most = DEEP_EXTRA_MAX * paths_before_night(sun_elevation_deg);
+    double noise = ms_table_sky_node_noise(job->ms), target = DEEP_NODE_NOISE / sqrt(sample_scale);
+    if (noise == 0.0)
         return 0;
     assert(most >= 0.0 && most <= DEEP_EXTRA_MAX);
-    double noise = sqrt(sum / used), target = DEEP_NODE_NOISE / sqrt(sample_scale);
     double more = fmin((noise / target) * (noise / target) - 1.0, most);
     /* a pass of less than a quarter more would take the noise down by less than a tenth */
     return more > 0.25 ? (int)ceil(more * job->q.ms_paths) : 0;

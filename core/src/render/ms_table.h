@@ -54,6 +54,10 @@ int ms_table_parted(const twilight_sampling *tw);
  * image's paths per node. */
 fm_status ms_table_fill(struct render_job *job, double sun_elevation_deg);
 
+/* The sky nodes' relative standard error, root mean square over the nodes with light (0 if none):
+ * what deep twilight's final maps aim at (ms_table_fill's second pass). */
+double ms_table_sky_node_noise(const ms_table *t);
+
 /* Adds the paths of `more` (a table of the same layout and sky, filled with other seeds) to the job's
  * table: their sums and moments, the estimates, variances and ratios then over both tables' paths
  * (weighted by their paths), the shape kept as more's; ready for ms_table_fit.  A parted table's
