@@ -1,6 +1,7 @@
-/* fog-peak-map TAU SUN_DEG PATHS [SEED [VIEW]]: fog 0-200 m of optical depth TAU (550 nm) around an
- * observer on the ground, the sun SUN_DEG up, the views 2-12 degrees below the sun toward it (those
- * above 1 degree) and 4 above, or the one VIEW degrees from the sun's elevation: the fast path
+/* fog-peak-map TAU SUN_DEG PATHS [SEED [VIEW [AZIMUTH]]]: fog 0-200 m of optical depth TAU (550 nm)
+ * around an observer on the ground, the sun SUN_DEG up, the views 2-12 degrees below the sun toward it
+ * (those above 1 degree) and 4 above, or the one VIEW degrees from the sun's elevation (any, AZIMUTH
+ * degrees from the sun's, 0 by default; the reference's item then 0): the fast path
  * against the reference's plain paths (PATHS per view; 0: none, the fast path's parts alone), with
  * the droplets' truncated peak's light at the view (fog_peak.h: its table along the sun's slant, S,
  * and its weight by view, w) and the weight that would meet the reference, (ref - fast) / S + w
@@ -24,7 +25,7 @@
 int main(int argc, char **argv)
 {
     if (argc < 4) {
-        fprintf(stderr, "usage: fog-peak-map TAU SUN_DEG PATHS [SEED [VIEW]]\n");
+        fprintf(stderr, "usage: fog-peak-map TAU SUN_DEG PATHS [SEED [VIEW [AZIMUTH]]]\n");
         return 2;
     }
     const double tau = atof(argv[1]), sun_deg = atof(argv[2]);
@@ -46,21 +47,26 @@ int main(int argc, char **argv)
     }
     column_tables_make(&t);
     path_context all = sky_path_context(sky, 1, 0);
-    const double *peak = t.job.ms->peak, offsets[] = {-2, -4, -6, -8, -10, -12, 4};
+    const double *peak = t.job.ms->peak;
+    double offsets[] = {-2, -4, -6, -8, -10, -12, 4};
+    const int views = argc > 5 ? 1 : (int)(sizeof offsets / sizeof offsets[0]);
+    const double phi = argc > 6 ? atof(argv[6]) * FM_DEG : 0.0;
+    if (argc > 5)
+        offsets[0] = atof(argv[5]);
     printf("tau %g sun %g paths %d seed %llu\n", tau, sun_deg, N, (unsigned long long)seed);
     printf("%6s %5s %11s %11s %6s %7s %7s %7s %7s %6s %7s\n", "view", "elev", "fast", "ref", "se%", "err%", "S+%",
            "S-%", "S%", "w", "w_need");
-    for (int i = 0; i < (int)(sizeof offsets / sizeof offsets[0]); i++) {
+    for (int i = 0; i < views; i++) {
         const double e = (sun_deg + offsets[i]) * FM_DEG;
-        if (e < 1.0 * FM_DEG || (argc > 5 && offsets[i] != atof(argv[5])))
+        if (e < 1.0 * FM_DEG && argc <= 5)
             continue;
-        const vec3 dir = render_view_direction(sky, e, 0.0);
+        const vec3 dir = render_view_direction(sky, e, phi);
         double L = 0.0, se;
         float v[1];
         single_scatter_radiance(&all, sky->observer, dir, &L);
         fog_table_peak(&t.job, dir, v);
         L += v[0];
-        sky_grid_lookup(&t.ms.grid, e, 0.0, v);
+        sky_grid_lookup(&t.ms.grid, e, phi, v);
         L += v[0];
         const double x = v3_dot(dir, sky->sun_dir), w = fog_peak_view_at(peak, 1, 0, dir.z);
         const double Sp = fog_peak_at(peak, 0, x), Sm = fog_peak_at(peak + FOG_PEAK_ANGLES, 0, x);

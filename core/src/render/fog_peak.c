@@ -64,12 +64,12 @@ static void peak_moments(const atmosphere *atm, int k, const double *w, double l
             p0[4 * i + q] = 1.0;
         }
     *L = PEAK_MOMENTS;
-    for (int l = 0, small = 0; l < PEAK_MOMENTS; l++) {
+    for (int l = 0, small = 0; l < PEAK_MOMENTS; l++) { /* p0, p1: P_l, P_(l+1) */
         double Lam = lambda;
         if (l >= FOG_MOMENTS) {
             Lam = 0.0;
             for (int q = 0; q < Q; q++)
-                Lam += v[q] * p1[q];
+                Lam += v[q] * p0[q];
         }
         M[l] = expm1(Lam) - Lam;
         small = fabs(Lam) < 1e-6 * lambda ? small + 1 : 0;
@@ -77,7 +77,7 @@ static void peak_moments(const atmosphere *atm, int k, const double *w, double l
             *L = l + 1;
             return;
         }
-        for (int q = 0; q < Q; q++) { /* p0, p1 <- P_l, P_{l+1} */
+        for (int q = 0; q < Q; q++) { /* p0, p1 <- P_(l+1), P_(l+2) */
             const double next = ((2.0 * l + 3.0) * x[q] * p1[q] - (l + 1.0) * p0[q]) / (l + 2.0);
             p0[q] = p1[q];
             p1[q] = next;
