@@ -11,6 +11,8 @@
 #include "firmament/firmament.h"
 #include "sun/sun_disk.h"
 
+#include <math.h>
+
 struct fm_sky {
     fm_sky_params params;
     atmosphere atm;
@@ -41,6 +43,15 @@ struct fm_sky {
  * fraction below 0.45, even the truncated layer's vertical transmittance stays below e^-13.8 = 1e-6,
  * where the add-on turns the sun lamp off, so the light the copy counts as unscattered is nil. */
 #define SKY_TRUNCATE_TAU 25.0
+
+/* Cloud layer i's (composition.cloud) mean extinction at 550 nm, per m: its optical depth over its
+ * thickness; INFINITY for a layer of no thickness (never thin).  What counts as a cloud for the guides
+ * (sky_path.c) and the thin layer deep twilight aims over (twilight.c) both read it. */
+static inline double sky_cloud_sigma550_per_m(const struct fm_sky *sky, int i)
+{
+    const double h = sky->composition.cloud[i].thickness_m;
+    return h > 0.0 ? sky->composition.cloud[i].tau550 / h : INFINITY;
+}
 
 /* The sky whose media the fast path's multiple scattering traces (above). */
 static inline const struct fm_sky *sky_scattering_media(const struct fm_sky *sky)

@@ -38,9 +38,7 @@ static double cloud_sigma(const fm_sky *sky)
 {
     double sigma = FM_DENSE_SIGMA_PER_M;
     for (int i = 0; i < sky->composition.cloud_count; i++)
-        if (sky->composition.cloud[i].thickness_m > 0.0)
-            sigma = fmin(sigma, CLOUD_SIGMA_SHARE * sky->composition.cloud[i].tau550 /
-                                    sky->composition.cloud[i].thickness_m);
+        sigma = fmin(sigma, CLOUD_SIGMA_SHARE * sky_cloud_sigma550_per_m(sky, i));
     return sigma;
 }
 

@@ -41,15 +41,14 @@
 #define CLOUD_TOP_LEVEL_M 100.0
 
 /* The top (m from the Earth's centre) of the highest thin cloud layer, one whose mean extinction at
- * 550 nm is below FM_DENSE_SIGMA_PER_M (sky_path.c's cloud_sigma), or 0 for none. */
+ * 550 nm (sky_cloud_sigma550_per_m) is below FM_DENSE_SIGMA_PER_M, or 0 for none. */
 static double thin_cloud_top(const fm_sky *sky)
 {
     double top = 0.0;
-    for (int i = 0; i < sky->composition.cloud_count; i++) {
-        const double h = sky->composition.cloud[i].thickness_m;
-        if (h > 0.0 && sky->composition.cloud[i].tau550 / h < FM_DENSE_SIGMA_PER_M)
-            top = fmax(top, sky->atm.bottom_radius_m + sky->composition.cloud[i].base_m + h);
-    }
+    for (int i = 0; i < sky->composition.cloud_count; i++)
+        if (sky_cloud_sigma550_per_m(sky, i) < FM_DENSE_SIGMA_PER_M)
+            top = fmax(top, sky->atm.bottom_radius_m + sky->composition.cloud[i].base_m +
+                                sky->composition.cloud[i].thickness_m);
     return top;
 }
 
