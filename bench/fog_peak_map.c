@@ -1,13 +1,14 @@
 /* fog-peak-map TAU SUN_DEG PATHS [SEED [VIEW [AZIMUTH]]]: fog 0-200 m of optical depth TAU (550 nm)
  * around an observer on the ground, the sun SUN_DEG up, the views 2-12 degrees below the sun toward it
  * (those above 1 degree) and 4 above, or the one VIEW degrees from the sun's elevation (any, AZIMUTH
- * degrees from the sun's, 0 by default; the reference's item then 0): the fast path
+ * degrees from the sun's, 0 by default): the fast path
  * against the reference's plain paths (PATHS per view; 0: none, the fast path's parts alone), with
  * the droplets' truncated peak's light at the view (fog_peak.h: its table along the sun's slant, S,
  * and its weight by view, w) and the weight that would meet the reference, (ref - fast) / S + w
  * (issue 48; docs/decisions/2026-12-07-fog-sun14.md).  The reference's random numbers are SEED's and
- * the view's (item = its place in the list): the same view at another TAU or sun draws the same, so
- * give each an own SEED where cells are to be independent.  Not a test: a map at the precision CI
+ * the cell's (cell_item: TAU, sun, view and azimuth), so that no two cells of a map share draws (a
+ * cell's item was its place in the list, and a column of the map one draw: a +4.3 % at optical
+ * depth 3 was that; docs/decisions/2026-12-07-fog-ring.md).  Not a test: a map at the precision CI
  * has no time for. */
 #include "check.h"
 
@@ -21,6 +22,14 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+
+/* The reference's item for a cell: its optical depth, sun, view and azimuth to a thousandth, a
+ * hundredth and tenths of a degree. */
+static uint64_t cell_item(double tau, double sun_deg, double view_deg, double phi_deg)
+{
+    return ((uint64_t)llround(1000.0 * tau) << 40) ^ ((uint64_t)llround(100.0 * (sun_deg + 90.0)) << 24) ^
+           ((uint64_t)llround(10.0 * (view_deg + 90.0)) << 12) ^ (uint64_t)llround(10.0 * phi_deg);
+}
 
 int main(int argc, char **argv)
 {
@@ -72,7 +81,8 @@ int main(int argc, char **argv)
         const double Sp = fog_peak_at(peak, 0, x), Sm = fog_peak_at(peak + FOG_PEAK_ANGLES, 0, x);
         const double S = Sp + Sm;
         se = 0.0;
-        const double ref = N > 0 ? test_path_radiance(&all, sky->observer, dir, N, seed, (uint64_t)i, &se) : L;
+        const uint64_t item = cell_item(tau, sun_deg, offsets[i], phi / FM_DEG);
+        const double ref = N > 0 ? test_path_radiance(&all, sky->observer, dir, N, seed, item, &se) : L;
         printf("%+6.0f %5.1f %11.5g %11.5g %6.2f %+7.2f %7.2f %7.2f %7.2f %6.3f %7.2f\n", offsets[i], e / FM_DEG, L,
                ref, 100.0 * se / ref, 100.0 * (L / ref - 1.0), 100.0 * Sp / ref, 100.0 * Sm / ref, 100.0 * S / ref,
                w, w + (ref - L) / S);
