@@ -756,6 +756,69 @@ static void deep_twilight_edge_keeps_its_level(void **state)
     fm_sky_live_destroy(live);
 }
 
+/* The deep twilight smoothing keeps every deep node's level, unbiased: a made-up band whose level
+ * follows urban's (URBAN_LEVEL, its shape about it sky_log_y's), each value a mean of paths with a
+ * relative noise of 15 % (in the value, not its logarithm), smoothed in 24 draws: each deep node's
+ * sky comes back within 0.6 % of its level on average over the draws and within 0.25 % over the deep
+ * nodes.  A quadratic through the level across the band's bend put -8 3.7 % high and -10 1.7 % low,
+ * and the mean of the logarithms of noisy values lies half their relative variance (1.1 %) below the
+ * logarithm of their mean (docs/decisions/2026-12-07-live-smooth-bias.md). */
+static void deep_twilight_level_unbiased(void **state)
+{
+    fm_sky_params p = test_params(10.0, 0.0);
+    fm_sky_live *live = live_for(&p, 1.0, 0.0);
+    const int C = live->channels, rows = live->nodes[0].ms.rows_sky, cols = live->nodes[0].ms.cols;
+    const int levels = (int)(sizeof URBAN_LEVEL / sizeof URBAN_LEVEL[0]), draws = 24;
+    unsigned char *fresh = calloc((size_t)live->count, 1);
+    double bias[64] = {0};
+    for (int draw = 0; draw < draws; draw++) {
+        for (int i = 0; i < live->count && i < 64; i++) {
+            const double e = live->nodes[i].sun_elevation_deg;
+            int k = 0;
+            while (k < levels && URBAN_LEVEL_DEG[k] != e)
+                k++;
+            if (k == levels)
+                continue;
+            fresh[i] = 1;
+            float *px = live->nodes[i].ms.values;
+            memset(px, 0, sizeof(float) * (size_t)sky_grid_nodes(&live->nodes[i].ms) * (size_t)C); /* the ground: 0 */
+            for (int v = 0; v < rows * cols; v++) {
+                const double shape = sky_log_y(e, v / cols, rows, v % cols, cols) - (-3.0 + 0.9 * e + 0.01 * e * e);
+                const double y = exp(URBAN_LEVEL[k] + shape) *
+                                 fmax(0.05, 1.0 + 0.15 * normal_of(i + 64 * draw, (size_t)v));
+                for (int c = 0; c < C; c++)
+                    px[v * C + c] = (float)y;
+            }
+        }
+        assert_int_equal(live_smooth_deep_twilight(live, fresh), FM_OK);
+        for (int i = 0; i < live->count && i < 64; i++) {
+            const double e = live->nodes[i].sun_elevation_deg;
+            if (!fresh[i] || !twilight_deep(e))
+                continue;
+            const int k = i; /* URBAN_LEVEL_DEG is the grid from its lowest node up */
+            for (int v = 0; v < rows * cols; v++) {
+                const double shape = sky_log_y(e, v / cols, rows, v % cols, cols) - (-3.0 + 0.9 * e + 0.01 * e * e);
+                bias[i] += (live->nodes[i].ms.values[v * C + (C == 3)] / exp(URBAN_LEVEL[k] + shape) - 1.0) /
+                           ((double)rows * cols * draws);
+            }
+        }
+    }
+    double worst = 0.0, mean = 0.0;
+    int deep = 0;
+    for (int i = 0; i < live->count && i < 64; i++)
+        if (fresh[i] && twilight_deep(live->nodes[i].sun_elevation_deg)) {
+            print_message("deep twilight smoothing, level over the sky at sun %g: %+.2f %%\n",
+                          live->nodes[i].sun_elevation_deg, 100.0 * bias[i]);
+            worst = fmax(worst, fabs(bias[i]));
+            mean += bias[i];
+            deep++;
+        }
+    check_abs(worst, 0.0, 0.006, "a deep twilight node's level, smoothed, largest mean error");
+    check_abs(mean / deep, 0.0, 0.0025, "the deep twilight nodes' level, smoothed, mean error");
+    free(fresh);
+    fm_sky_live_destroy(live);
+}
+
 /* The deep twilight nodes' shape over the sky is smoothed without the nodes above deep twilight but at
  * the band's edge: a made-up band with 10 % noise per value (so that the rest of the terms take a
  * wide fit) whose twilight nodes (-4.5, -3: another estimator's tables) hold a shape off the deep
@@ -1269,6 +1332,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(deep_twilight_tables_smoothed_across_elevations),
         cmocka_unit_test(deep_twilight_noise_averaged_over_the_sky),
         cmocka_unit_test(deep_twilight_edge_keeps_its_level),
+        cmocka_unit_test(deep_twilight_level_unbiased),
         cmocka_unit_test(deep_twilight_shape_without_the_twilight_nodes),
         cmocka_unit_test(file_round_trip_and_refusals),
         cmocka_unit_test(deep_twilight_band_on_first_use),

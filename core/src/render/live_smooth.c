@@ -175,13 +175,12 @@ typedef struct deep_domain {
 /* The terms choose their fit by classes: the level (p = m = 0), the two first-order terms, and the
  * rest together, each class with terms enough for its leave-one-out score to choose well. */
 #define DEEP_CLASSES 3
-static int term_class(int p, int m) { return p + m < DEEP_CLASSES - 1 ? p + m : DEEP_CLASSES - 1; }
+#define DEEP_REST (DEEP_CLASSES - 1)
+static int term_class(int p, int m) { return p + m < DEEP_REST ? p + m : DEEP_REST; }
 
 /* Whether deep node k is the highest deep node with a node above deep twilight next in the fit: the
- * band's edge, where the sky's level bends toward the twilight nodes' faster than a quadratic across
- * them follows, so that its own level, a mean over the whole domain and the least noisy of its terms,
- * is nearer the truth than the fit's (docs/decisions/2026-12-07-live-minus6.md). */
-static int keeps_own_level(const fm_sky_live *live, const deep_domain *d, int k)
+ * band's edge. */
+static int at_band_edge(const fm_sky_live *live, const deep_domain *d, int k)
 {
     return k + 1 < d->n && !twilight_deep(live->nodes[d->at[k + 1]].sun_elevation_deg);
 }
@@ -193,7 +192,7 @@ static int keeps_own_level(const fm_sky_live *live, const deep_domain *d, int k)
  * (docs/decisions/2026-12-07-live-deep-variance.md). */
 static int above_in_fit(const fm_sky_live *live, const deep_domain *d, int k, int class)
 {
-    return class != DEEP_CLASSES - 1 || keeps_own_level(live, d, k);
+    return class != DEEP_REST || at_band_edge(live, d, k);
 }
 
 static float *ms_value(fm_sky_live *live, const deep_domain *d, int k, int r, int c)
@@ -275,57 +274,109 @@ static void set_log_luminance(fm_sky_live *live, const deep_domain *d, int k, in
         px[ch] *= ratio;
 }
 
-/* A lit domain: its terms at every node, each smoothed across the nodes by its class's fit (but the
- * level at the band's edge: keeps_own_level), and the deep nodes' values scaled to the smoothed
- * logarithms.  work: 2 n rows cols doubles. */
-static void smooth_lit_domain(fm_sky_live *live, deep_domain *d, double *work)
+/* The cosine series of every node's ln(v[ch] / v[over]) (over -1: ln v[ch]) into d->coef; `scratch`
+ * rows cols doubles. */
+static void domain_terms(fm_sky_live *live, deep_domain *d, int ch, int over, double *scratch)
 {
-    const size_t per_node = (size_t)d->rows * (size_t)d->cols;
-    double *smoothed = work + (size_t)d->n * per_node, h[64];
-    d->coef = work;
     for (int k = 0; k < d->n; k++) {
         double *c = coef_at(d, d->coef, k, 0, 0);
         for (int r = 0; r < d->rows; r++)
-            for (int col = 0; col < d->cols; col++)
-                smoothed[r * d->cols + col] = log(ms_value(live, d, k, r, col)[d->lum]);
+            for (int col = 0; col < d->cols; col++) {
+                const float *px = ms_value(live, d, k, r, col);
+                scratch[r * d->cols + col] = log(px[ch]) - (over >= 0 ? log(px[over]) : 0.0);
+            }
         for (int r = 0; r < d->rows; r++) /* over the columns, then over the rows */
-            cosine_series(&smoothed[r * d->cols], d->cols, 1, &c[r * d->cols]);
+            cosine_series(&scratch[r * d->cols], d->cols, 1, &c[r * d->cols]);
         for (int m = 0; m < d->cols; m++) {
             for (int r = 0; r < d->rows; r++)
-                smoothed[r * d->cols + m] = c[r * d->cols + m];
-            cosine_series(&smoothed[m], d->rows, d->cols, &c[m]);
+                scratch[r * d->cols + m] = c[r * d->cols + m];
+            cosine_series(&scratch[m], d->rows, d->cols, &c[m]);
         }
     }
+}
+
+/* Deep node k's terms of d->coef, those of the classes from `from` up each smoothed by its class's
+ * fit, the others its own; back over the view directions into out (rows cols doubles). */
+static void smoothed_node(fm_sky_live *live, const deep_domain *d, const deep_fit *fits, int from, int k, double *out)
+{
+    double h[64], l[64];
+    for (int p = 0; p < d->rows; p++)
+        for (int m = 0; m < d->cols; m++) {
+            const int class = term_class(p, m);
+            double z = 0.0;
+            if (class < from || !deep_weights(live, d->at, d->n, k, -1, fits[class], above_in_fit(live, d, k, class), h))
+                z = *coef_at(d, d->coef, k, p, m);
+            else
+                for (int j = 0; j < d->n; j++)
+                    z += h[j] * *coef_at(d, d->coef, j, p, m);
+            out[p * d->cols + m] = z;
+        }
+    for (int m = 0; m < d->cols; m++) { /* back over the rows, then over the columns */
+        cosine_sum(&out[m], d->rows, d->cols, l);
+        for (int r = 0; r < d->rows; r++)
+            out[r * d->cols + m] = l[r];
+    }
+    for (int r = 0; r < d->rows; r++) {
+        cosine_sum(&out[r * d->cols], d->cols, 1, l);
+        memcpy(&out[r * d->cols], l, sizeof(double) * (size_t)d->cols);
+    }
+}
+
+/* Whether every channel of every value of the domain is positive at every node. */
+static int domain_coloured(fm_sky_live *live, const deep_domain *d)
+{
+    int lit = d->C == 3;
+    for (int k = 0; k < d->n && lit; k++)
+        for (int v = 0; v < d->rows * d->cols; v++)
+            for (int ch = 0; ch < d->C; ch++)
+                lit &= ms_value(live, d, k, v / d->cols, v % d->cols)[ch] > 0.0f;
+    return lit;
+}
+
+/* A lit domain: per node the cosine series of ln Y, its first-order terms and the rest smoothed
+ * across the nodes by their classes' fits, its level (the mean of ln Y over the domain, the least
+ * noisy term) its own: the level falls by decades and bends, and a quadratic across the nodes put
+ * -8, -10 and -15 percents off.  A mean of logarithms of noisy values lies half their relative
+ * variance below the logarithm of their mean, so each node's logarithms are raised by half the mean
+ * square of what the smoothing took off them.  The colour, ln X/Y and ln Z/Y, has its rest smoothed
+ * by the rest's fit, its level and first-order terms each node's own
+ * (docs/decisions/2026-12-07-live-smooth-bias.md).  work: 2 n rows cols doubles. */
+static void smooth_lit_domain(fm_sky_live *live, deep_domain *d, double *work)
+{
+    const size_t per_node = (size_t)d->rows * (size_t)d->cols;
+    double *smoothed = work + (size_t)d->n * per_node;
+    d->coef = work;
+    domain_terms(live, d, d->lum, -1, smoothed);
     deep_fit fits[DEEP_CLASSES];
-    for (int class = 0; class < DEEP_CLASSES; class++)
+    for (int class = 1; class < DEEP_CLASSES; class++)
         fits[class] = least_score_fit(live, d, term_errors, class);
+    const int coloured = domain_coloured(live, d);
+    for (int ch = 0; ch < d->C && coloured; ch++) {
+        if (ch == d->lum)
+            continue;
+        domain_terms(live, d, ch, d->lum, smoothed);
+        for (int k = 0; k < d->n; k++) {
+            if (!twilight_deep(live->nodes[d->at[k]].sun_elevation_deg))
+                continue;
+            smoothed_node(live, d, fits, DEEP_REST, k, smoothed);
+            for (size_t v = 0; v < per_node; v++) {
+                float *px = ms_value(live, d, k, (int)(v / d->cols), (int)(v % d->cols));
+                px[ch] = (float)exp(smoothed[v]) * px[d->lum];
+            }
+        }
+    }
+    domain_terms(live, d, d->lum, -1, smoothed);
     for (int k = 0; k < d->n; k++) {
         if (!twilight_deep(live->nodes[d->at[k]].sun_elevation_deg))
             continue;
-        const int own_level = keeps_own_level(live, d, k);
-        for (int p = 0; p < d->rows; p++)
-            for (int m = 0; m < d->cols; m++) {
-                const int own = own_level && term_class(p, m) == 0;
-                double z = 0.0;
-                const int class = term_class(p, m);
-                if (own || !deep_weights(live, d->at, d->n, k, -1, fits[class], above_in_fit(live, d, k, class), h))
-                    z = *coef_at(d, d->coef, k, p, m);
-                else
-                    for (int j = 0; j < d->n; j++)
-                        z += h[j] * *coef_at(d, d->coef, j, p, m);
-                smoothed[p * d->cols + m] = z;
-            }
-        double l[64];
-        for (int m = 0; m < d->cols; m++) { /* back over the rows, then over the columns */
-            cosine_sum(&smoothed[m], d->rows, d->cols, l);
-            for (int r = 0; r < d->rows; r++)
-                smoothed[r * d->cols + m] = l[r];
+        smoothed_node(live, d, fits, 1, k, smoothed);
+        double taken = 0.0;
+        for (size_t v = 0; v < per_node; v++) {
+            const double z = smoothed[v] - log(ms_value(live, d, k, (int)(v / d->cols), (int)(v % d->cols))[d->lum]);
+            taken += z * z / (double)per_node;
         }
-        for (int r = 0; r < d->rows; r++) {
-            cosine_sum(&smoothed[r * d->cols], d->cols, 1, l);
-            for (int c = 0; c < d->cols; c++)
-                set_log_luminance(live, d, k, r, c, l[c]);
-        }
+        for (size_t v = 0; v < per_node; v++)
+            set_log_luminance(live, d, k, (int)(v / d->cols), (int)(v % d->cols), smoothed[v] + 0.5 * taken);
     }
 }
 

@@ -30,21 +30,24 @@ fm_status live_smooth_day(fm_sky_live *live, const unsigned char *fresh, double 
  * domain (the sky's rows, the ground's), a DCT-I over the columns (relative azimuth 0 to pi) and then
  * over the rows.  Each term is replaced by a weighted least-squares polynomial in the sun elevation
  * through that term at the nodes, weighted by a Gaussian in the elevation: one of LIVE_SMOOTH_DEEP_FITS
- * ({degree, width in degrees}), chosen per class of terms (the level, the two first-order terms, the
- * rest) as the one that predicts each inner deep node's terms best from the other nodes
- * (leave-one-out).  The level falls by decades and bends (a narrow quadratic), while the sky's shape
- * about it changes slowly with the sun and holds most of a node's noise in its many higher terms: a
- * wide mean or line across the nodes takes most of that noise, at the lowest node too, where a
- * quadratic's value keeps nearly all of its own.  The highest deep node keeps its own level (the
- * band's edge: the level bends there toward the nodes above faster than a quadratic follows; its
- * other terms are smoothed).  The nodes above deep twilight take part unchanged:
- * their noise is their own (another seed, another estimator of the same light); but their shape over
- * the sky is off the deep nodes' curve, and they take no part in the rest's fit but at the band's edge.  Every channel of a
- * value is scaled alike (the node's colour stays).  A domain with a value that is not positive at one
- * of the nodes is smoothed value by value (each value lit at every node by the fit chosen over them;
+ * ({degree, width in degrees}), chosen per class of terms (the two first-order terms, the rest) as
+ * the one that predicts each inner deep node's terms best from the other nodes (leave-one-out).  The
+ * sky's shape about its level changes slowly with the sun and holds most of a node's noise in its
+ * many higher terms: a wide mean or line across the nodes takes most of that noise, at the lowest
+ * node too, where a quadratic's value keeps nearly all of its own.  The level (the mean over the
+ * domain, the least noisy term) is each node's own: it falls by decades and bends, which no fit of
+ * LIVE_SMOOTH_DEEP_FITS follows within a percent.  The logarithms of each node are then raised by half the mean
+ * square of what the smoothing took off them (a mean of logarithms of noisy values lies half their
+ * relative variance below the logarithm of their mean).  The colour (ln X/Y and ln Z/Y, where every
+ * channel is positive) has its rest smoothed by the rest's fit, its level and first-order terms the
+ * node's own.  The nodes above deep twilight take part unchanged: their noise is their own (another
+ * seed, another estimator of the same light); but their shape over the sky is off the deep nodes'
+ * curve, and they take no part in the rest's fit but at the band's edge (the highest deep node).  A
+ * domain with a value that is not positive at one of the nodes is smoothed value by value (each
+ * value lit at every node by the fit chosen over them, its luminance, every channel scaled alike;
  * the others stay), and fewer than LIVE_SMOOTH_DEEP_MIN nodes leave the tables as they were
  * (docs/decisions/2026-12-07-live-deep-denoise.md, 2026-12-07-live-minus6.md,
- * 2026-12-07-live-deep-variance.md).  Returns
+ * 2026-12-07-live-deep-variance.md, 2026-12-07-live-smooth-bias.md).  Returns
  * FM_ERR_OUT_OF_MEMORY or FM_OK. */
 #define LIVE_SMOOTH_DEEP_FITS                                                                                   \
     {{2, 2.0}, {2, 3.0}, {2, 5.0}, {1, 5.0}, {1, 10.0}, {1, 20.0}, {0, 5.0}, {0, 10.0}, {0, 20.0}}
