@@ -760,9 +760,9 @@ static void deep_twilight_edge_keeps_its_level(void **state)
  * follows urban's (URBAN_LEVEL, its shape about it sky_log_y's), each value a mean of paths with a
  * relative noise of 15 % (in the value, not its logarithm), smoothed in 24 draws: each deep node's
  * sky comes back within 0.6 % of its level on average over the draws and within 0.25 % over the deep
- * nodes.  A quadratic through the level across the band's bend put -8 3.7 % high and -10 1.7 % low,
- * and the mean of the logarithms of noisy values lies half their relative variance (1.1 %) below the
- * logarithm of their mean (docs/decisions/2026-12-07-live-smooth-bias.md). */
+ * nodes.  A quadratic through the level across the band's bend put -8 3.6 % high and -10 1.7 % low,
+ * and the mean of the logarithms of noisy values lies half their relative variance (about 1 %) below
+ * the logarithm of their mean (docs/decisions/2026-12-07-live-smooth-bias.md). */
 static void deep_twilight_level_unbiased(void **state)
 {
     fm_sky_params p = test_params(10.0, 0.0);
