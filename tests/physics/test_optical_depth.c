@@ -5,6 +5,7 @@
 #include "atmosphere/atmosphere_file.h"
 #include "atmosphere/optical_depth.h"
 #include "atmosphere/sun_irradiance.h"
+#include "base/exp_array.h"
 #include "base/rng.h"
 #include "base/threads.h"
 #include "base/units.h"
@@ -274,6 +275,148 @@ static void few_depths_are_the_tables(void **state)
     assert_true(lit > 10000);
 }
 
+static fm_sky *urban_sunset(void);
+
+/* The sun table's lookup as it was before its corners were read once for both the bilinear depths
+ * and the thick-cell test, and before lookups were split in two (sun_irradiance_cell_at): the
+ * reference that the lookups must give bit for bit.  It reads nodes the lookup under test built. */
+static int old_locate(const sun_irradiance *t, const atmosphere *a, double r, double mu_s, double w[4], size_t idx[4])
+{
+    double tr;
+    int ir = table_rows_locate(&t->rows, a, r, &tr), dark = 0;
+    for (int row = 0; row < 2; row++) {
+        double lo = t->mu_lo[ir + row];
+        double x = mu_s <= lo ? 0.0 : sqrt((mu_s - lo) / (1.0 - lo));
+        double fm = (x > 1.0 ? 1.0 : x < 0.0 ? 0.0 : x) * (t->n_mu - 1);
+        int im = (int)fm;
+        if (im > t->n_mu - 2)
+            im = t->n_mu - 2;
+        double tm = mu_s <= lo ? -1.0 : fm - im, wr = row == 0 ? 1.0 - tr : tr;
+        dark |= tm < 0.0;
+        idx[2 * row] = ((size_t)(ir + row) * t->n_mu + im) * t->count;
+        idx[2 * row + 1] = idx[2 * row] + t->count;
+        w[2 * row] = tm < 0.0 ? 0.0 : wr * (1.0 - tm);
+        w[2 * row + 1] = tm < 0.0 ? 0.0 : wr * tm;
+    }
+    return dark;
+}
+
+static void old_interpolate(const float *v, const double w[4], const size_t idx[4], int K, double *d)
+{
+    for (int k = 0; k < K; k++)
+        d[k] = w[0] * v[idx[0] + k] + w[1] * v[idx[1] + k] + w[2] * v[idx[2] + k] + w[3] * v[idx[3] + k];
+}
+
+static int old_thick_cell(const sun_irradiance *t, const atmosphere *a, double r, double mu_s, const double w[4],
+                          const size_t idx[4], double *depth)
+{
+    const int K = t->count;
+    const float *v = t->normal;
+    double w_lo = w[0] + w[1], w_hi = w[2] + w[3];
+    if (!(w_lo > 0.0 && w_hi > 0.0))
+        return 0;
+    int row_up = (int)(idx[2] / ((size_t)t->n_mu * (size_t)K)), thick = 0, lit = 0;
+    if (!(mu_s > 0.1) && !t->dense_cell[row_up - 1])
+        return 0;
+    for (int k = 0; k < K; k++) {
+        double lo = (w[0] * v[idx[0] + k] + w[1] * v[idx[1] + k]) / w_lo;
+        double hi = (w[2] * v[idx[2] + k] + w[3] * v[idx[3] + k]) / w_hi;
+        thick |= fabs(lo - hi) > 0.05;
+        lit |= hi < 50.0;
+    }
+    if (!thick || !lit)
+        return 0;
+    double r_up = table_rows_radius(&t->rows, a, row_up);
+    if (!(r_up > r) || ray_hits_ground(a, r, mu_s))
+        return 0;
+    double s = -r * mu_s + sqrt(fmax(0.0, r * r * (mu_s * mu_s - 1.0) + r_up * r_up));
+    double mu_up = clamp_cosine((r * mu_s + s) / r_up), w_up[4], col[FM_MAX_SPECIES], piece[FM_MAX_WAVELENGTHS];
+    size_t idx_up[4];
+    if (old_locate(t, a, r_up, mu_up, w_up, idx_up))
+        return 0;
+    old_interpolate(v, w_up, idx_up, K, depth);
+    column_exact(a, r, mu_s, s, col);
+    atmosphere_optical_depths(a, col, piece);
+    for (int k = 0; k < K; k++)
+        depth[k] += piece[k];
+    return 1;
+}
+
+/* the old sun_irradiance_lookup_depth; 2 where it took the thick cell's exact piece */
+static int old_lookup_depth(const sun_irradiance *t, const atmosphere *a, double r, double mu_s, double *depth)
+{
+    double w[4];
+    size_t idx[4];
+    if (old_locate(t, a, r, mu_s, w, idx)) {
+        for (int k = 0; k < t->count; k++)
+            depth[k] = INFINITY;
+        return 0;
+    }
+    int thick = old_thick_cell(t, a, r, mu_s, w, idx, depth);
+    if (!thick)
+        old_interpolate(t->normal, w, idx, t->count, depth);
+    for (int k = 0; k < t->count; k++)
+        depth[k] = depth[k] < 200.0 ? depth[k] : INFINITY;
+    return 1 + thick;
+}
+
+/* The sun table's lookups (depths, transmittances, the few depths; whole or in two steps, cells
+ * located ahead of their reading) against the old lookup, bit for bit: urban haze at sunset, and an
+ * altostratus deck (thick cells at every sun), over altitudes and suns from below the horizon up. */
+static void sun_lookups_are_the_old_ones(void **state)
+{
+    fm_sky_params p = test_params(3.0, 0.0);
+    p.clouds = "altostratus";
+    fm_sky *skies[2] = {urban_sunset(), test_sky(&p)};
+    rng r = rng_for(20, 21, 22);
+    int lit = 0, thick = 0;
+    for (int s = 0; s < 2; s++) {
+        const atmosphere *a = &skies[s]->atm;
+        const sun_irradiance *t = &skies[s]->sun_table;
+        const int K = t->count;
+        int ks[SUN_FEW], nk = sun_irradiance_few_wavelengths(K, ks);
+        sun_cell ahead;
+        double r_ahead = 0.0, mu_ahead = 0.0;
+        for (int i = 0; i < 10000; i++) {
+            /* half the points in the lowest 6 km (haze and the deck), suns from -0.3 to 1 */
+            double z = i % 2 ? 6000.0 * rng_uniform(&r) : 100000.0 * pow(rng_uniform(&r), 2.0);
+            double rr = a->bottom_radius_m + z, mu = -0.3 + 1.3 * pow(rng_uniform(&r), 1.5);
+            double got[FM_MAX_WAVELENGTHS], want[FM_MAX_WAVELENGTHS], tr[FM_MAX_WAVELENGTHS];
+            int has = sun_irradiance_lookup_depth(t, a, &skies[s]->sun, rr, mu, got);
+            int old = old_lookup_depth(t, a, rr, mu, want);
+            assert_int_equal(has, old > 0);
+            assert_memory_equal(got, want, sizeof(double) * (size_t)K);
+            lit += has;
+            thick += old == 2;
+            sun_irradiance_lookup(t, a, &skies[s]->sun, rr, mu, got);
+            for (int k = 0; k < K; k++)
+                tr[k] = -want[k];
+            exp_array(tr, tr, K);
+            assert_memory_equal(got, tr, sizeof(double) * (size_t)K);
+            double few[SUN_FEW];
+            sun_irradiance_lookup_few_depths(t, a, &skies[s]->sun, rr, mu, few);
+            for (int j = 0; j < nk && old != 2; j++) /* the few are bilinear everywhere */
+                assert_memory_equal(&few[j], &want[ks[j]], sizeof(double));
+            /* in two steps, the next point's cell located before this one's is read */
+            sun_cell cell;
+            sun_irradiance_cell(t, a, rr, mu, &cell);
+            if (i > 0) {
+                double behind[FM_MAX_WAVELENGTHS], ref[FM_MAX_WAVELENGTHS];
+                int has_behind = sun_irradiance_cell_depths(t, a, &skies[s]->sun, &ahead, r_ahead, mu_ahead, behind);
+                assert_int_equal(has_behind, old_lookup_depth(t, a, r_ahead, mu_ahead, ref) > 0);
+                assert_memory_equal(behind, ref, sizeof(double) * (size_t)K);
+            }
+            ahead = cell;
+            r_ahead = rr;
+            mu_ahead = mu;
+        }
+    }
+    print_message("sun lookups against the old: %d lit, %d through a thick cell\n", lit, thick);
+    assert_true(lit > 10000 && thick > 500);
+    fm_sky_destroy(skies[0]);
+    fm_sky_destroy(skies[1]);
+}
+
 /* Delta tracking's majorant bounds the extinction everywhere, for every wavelength. */
 static void majorants_bound_the_medium(void **state)
 {
@@ -526,6 +669,7 @@ int main(void)
         cmocka_unit_test(sun_table_accuracy),
         cmocka_unit_test(sun_table_builds_what_it_reads),
         cmocka_unit_test(few_depths_are_the_tables),
+        cmocka_unit_test(sun_lookups_are_the_old_ones),
         cmocka_unit_test(majorants_bound_the_medium),
         cmocka_unit_test(majorant_depth_sums_the_shells),
         cmocka_unit_test(table_rows_hold_the_edges),

@@ -363,18 +363,35 @@ static int table_cell(const column_table *table, const atmosphere *atm, double r
 
 int column_table_lookup(const column_table *table, const atmosphere *atm, double r, double mu, double *columns)
 {
-    size_t node;
-    double tr, tm;
-    if (!table_cell(table, atm, r, mu, &node, &tr, &tm))
-        return 0;
+    column_cell cell;
+    column_table_cell(table, atm, r, mu, &cell);
+    if (cell.ok)
+        column_table_cell_columns(table, &cell, columns);
+    return cell.ok;
+}
+
+void column_table_cell(const column_table *table, const atmosphere *atm, double r, double mu, column_cell *cell)
+{
+    cell->ok = table_cell(table, atm, r, mu, &cell->node, &cell->tr, &cell->tm);
+    if (!cell->ok)
+        return;
+    const float *c00 = &table->columns[cell->node * table->species];
+    __builtin_prefetch(c00); /* each row's two nodes, side by side */
+    __builtin_prefetch(c00 + 2 * table->species - 1);
+    __builtin_prefetch(c00 + (size_t)table->n_mu * table->species);
+    __builtin_prefetch(c00 + (size_t)(table->n_mu + 2) * table->species - 1);
+}
+
+void column_table_cell_columns(const column_table *table, const column_cell *cell, double *columns)
+{
     const int S = table->species;
-    const float *c00 = &table->columns[node * S];
+    const double tr = cell->tr, tm = cell->tm;
+    const float *c00 = &table->columns[cell->node * S];
     const float *c01 = c00 + S;
     const float *c10 = c00 + (size_t)table->n_mu * S;
     const float *c11 = c10 + S;
     for (int c = 0; c < S; c++)
         columns[c] = (1 - tr) * ((1 - tm) * c00[c] + tm * c01[c]) + tr * ((1 - tm) * c10[c] + tm * c11[c]);
-    return 1;
 }
 
 fm_status depth_table_build(depth_table *t, const column_table *columns, const atmosphere *atm, int k, fm_error *err)

@@ -53,6 +53,15 @@ fm_status column_table_build(column_table *table, const atmosphere *atm, int n_r
 void column_table_free(column_table *table);
 /* Columns from (r, mu) to the top; returns 0 (and leaves columns unset) if the ray hits the ground. */
 int column_table_lookup(const column_table *table, const atmosphere *atm, double r, double mu, double *columns);
+/* column_table_lookup in two steps, for loops over many points: the cell of (r, mu) (ok 0 where the
+ * ray hits the ground), its nodes asked of memory ahead of their reading; then its columns, the same. */
+typedef struct column_cell {
+    size_t node;   /* the first node, i_r n_mu + i_mu */
+    double tr, tm; /* the bilinear weights of the next row and direction */
+    int ok;
+} column_cell;
+void column_table_cell(const column_table *table, const atmosphere *atm, double r, double mu, column_cell *cell);
+void column_table_cell_columns(const column_table *table, const column_cell *cell, double *columns);
 
 /* One wavelength's optical depth to the top (sum over species of sigma_t(k) x column) on a column
  * table's nodes, bilinear the same way: 1 / species of its memory.  The deep-twilight flights'

@@ -221,11 +221,17 @@ sun_row_place sun_irradiance_row_place(const sun_irradiance *table, const atmosp
 static int locate_at(const sun_irradiance *table, int ir, double tr, double mu_s, double w[4], size_t idx[4])
 {
     const int K = table->count;
-    /* the mu mapping depends on the row's radius: locate mu_s in each of the two rows */
+    /* the mu mapping depends on the row's radius: locate mu_s in each of the two rows, both rows'
+     * divisions and then both square roots, so that the two rows' chains overlap (0 below mu_lo) */
+    const double *mu_lo = table->mu_lo + ir;
+    double q[2], xs[2];
+    for (int row = 0; row < 2; row++)
+        q[row] = mu_s <= mu_lo[row] ? 0.0 : (mu_s - mu_lo[row]) / (1.0 - mu_lo[row]);
+    for (int row = 0; row < 2; row++)
+        xs[row] = sqrt(q[row]);
     int dark = 0;
     for (int row = 0; row < 2; row++) {
-        double lo = table->mu_lo[ir + row];
-        double x = mu_s <= lo ? 0.0 : sqrt((mu_s - lo) / (1.0 - lo));
+        double lo = mu_lo[row], x = xs[row];
         double fm = clamp_between(x, 0.0, 1.0) * (table->n_mu - 1);
         int im = (int)fm;
         if (im > table->n_mu - 2)
@@ -287,7 +293,7 @@ static void exp_of_depths(const float *v, const double w[4], const size_t idx[4]
 
 /* Across a cell whose rows' depths differ by more than this (inside a cloud), the depth is not
  * linear between the rows (it bends at the cloud's edges and with the radius mapping): there
- * depths_in_thick_cell takes the column to the row above exactly.  Clear air's cells differ by
+ * depths_through_thick_cell takes the column to the row above exactly.  Clear air's cells differ by
  * < 0.02 by day and keep the bilinear lookup. */
 #define THICK_CELL_DEPTH 0.05
 /* Deeper in than this at the row above (sunlight below e^-50), the bilinear depth is as good as any:
@@ -301,31 +307,45 @@ static void exp_of_depths(const float *v, const double w[4], const size_t idx[4]
  * (docs/decisions/2026-12-07-thick-cell-low-sun.md). */
 #define THICK_CELL_MIN_MU 0.1
 
-/* At (r, mu_s) in the cell whose corners are (w, idx): if the cell is thick, the depth as the exact
- * column along the sun's central direction up to the row above plus that row's depth where the ray
- * meets it (the disk's spread over so short a piece is negligible with the sun above about 2 degrees
- * or the sunlight above a few percent); returns 0 (nothing written)
- * for a thin cell or where the row above is dark. */
-static int depths_in_thick_cell(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
-                                double mu_s, const double w[4], const size_t idx[4], double *depth)
+/* Whether the cell whose corners are (w, idx) takes the thick-cell test at mu_s: weights on both
+ * rows, and the sun high enough or the cell dense (THICK_CELL_MIN_MU). */
+static int thick_test_applies(const sun_irradiance *table, double mu_s, const double w[4], const size_t idx[4])
 {
-    const int K = table->count;
-    const float *v = table->normal;
-    double w_lo = w[0] + w[1], w_hi = w[2] + w[3];
-    if (!(w_lo > 0.0 && w_hi > 0.0))
+    if (!(w[0] + w[1] > 0.0 && w[2] + w[3] > 0.0))
         return 0;
-    int row_up = (int)(idx[2] / ((size_t)table->n_mu * (size_t)K));
-    if (!(mu_s > THICK_CELL_MIN_MU) && !table->dense_cell[row_up - 1])
-        return 0;
+    size_t row_up = idx[2] / ((size_t)table->n_mu * (size_t)table->count);
+    return mu_s > THICK_CELL_MIN_MU || table->dense_cell[row_up - 1];
+}
+
+/* interpolate_depths, and in the same pass over the corners whether the cell is thick (its rows'
+ * depths differ by more than THICK_CELL_DEPTH at some wavelength) and lit at the row above (some
+ * depth below DIM_DEPTH).  Each row's depth is its corners' weighted sum over their weights; the
+ * lower row's sum is the first part of the bilinear one, as interpolate_depths adds them. */
+static void interpolate_and_test(const float *v, const double w[4], const size_t idx[4], int K, double *restrict d,
+                                 int *thick_out, int *lit_out)
+{
+    const float *restrict c0 = v + idx[0], *restrict c1 = v + idx[1];
+    const float *restrict c2 = v + idx[2], *restrict c3 = v + idx[3];
+    const double w_lo = w[0] + w[1], w_hi = w[2] + w[3];
     int thick = 0, lit = 0;
     for (int k = 0; k < K; k++) {
-        double lo = (w[0] * v[idx[0] + k] + w[1] * v[idx[1] + k]) / w_lo;
-        double hi = (w[2] * v[idx[2] + k] + w[3] * v[idx[3] + k]) / w_hi;
+        double lo_sum = w[0] * c0[k] + w[1] * c1[k], hi_2 = w[2] * c2[k], hi_3 = w[3] * c3[k];
+        d[k] = lo_sum + hi_2 + hi_3;
+        double lo = lo_sum / w_lo, hi = (hi_2 + hi_3) / w_hi;
         thick |= fabs(lo - hi) > THICK_CELL_DEPTH;
         lit |= hi < DIM_DEPTH;
     }
-    if (!thick || !lit)
-        return 0;
+    *thick_out = thick;
+    *lit_out = lit;
+}
+
+/* At (r, mu_s) in a thick cell whose upper row is row_up: the depth as the exact column along the
+ * sun's central direction up to that row plus the row's depth where the ray meets it (the disk's
+ * spread over so short a piece is negligible with the sun above about 2 degrees or the sunlight
+ * above a few percent); returns 0 (nothing written) where the row above is dark or not met. */
+static int depths_through_thick_cell(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
+                                     double r, double mu_s, int row_up, double *depth)
+{
     double r_up = table_rows_radius(&table->rows, atm, row_up);
     if (!(r_up > r) || ray_hits_ground(atm, r, mu_s))
         return 0;
@@ -334,28 +354,47 @@ static int depths_in_thick_cell(const sun_irradiance *table, const atmosphere *a
     size_t idx_up[4];
     if (locate(table, atm, sun, r_up, mu_up, w_up, idx_up))
         return 0;
-    interpolate_depths(v, w_up, idx_up, K, depth);
+    interpolate_depths(table->normal, w_up, idx_up, table->count, depth);
     column_exact(atm, r, mu_s, t, col);
     atmosphere_optical_depths(atm, col, piece);
-    for (int k = 0; k < K; k++)
+    for (int k = 0; k < table->count; k++)
         depth[k] += piece[k];
     return 1;
+}
+
+/* The depths at (r, mu_s) in the lit cell whose corners are (w, idx): bilinear, or through a thick
+ * cell exactly (depths_through_thick_cell). */
+static void cell_depths(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
+                        double mu_s, const double w[4], const size_t idx[4], double *depth)
+{
+    const int K = table->count;
+    if (!thick_test_applies(table, mu_s, w, idx)) {
+        interpolate_depths(table->normal, w, idx, K, depth);
+        return;
+    }
+    int thick, lit;
+    interpolate_and_test(table->normal, w, idx, K, depth, &thick, &lit);
+    if (thick && lit)
+        depths_through_thick_cell(table, atm, sun, r, mu_s, (int)(idx[2] / ((size_t)table->n_mu * (size_t)K)), depth);
 }
 
 void sun_irradiance_lookup(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun, double r,
                            double mu_s, double *normal)
 {
+    sun_cell cell;
+    sun_irradiance_cell(table, atm, r, mu_s, &cell);
+    sun_irradiance_cell_transmittances(table, atm, sun, &cell, r, mu_s, normal);
+}
+
+void sun_irradiance_cell_transmittances(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
+                                        const sun_cell *cell, double r, double mu_s, double *normal)
+{
     const int K = table->count;
-    double w[4];
-    size_t idx[4];
-    if (locate(table, atm, sun, r, mu_s, w, idx)) {
+    if (cell->dark) {
         spectral_fill(normal, 0.0, K);
         return;
     }
-    if (!depths_in_thick_cell(table, atm, sun, r, mu_s, w, idx, normal)) {
-        exp_of_depths(table->normal, w, idx, K, normal);
-        return;
-    }
+    cell_depths(table, atm, sun, r, mu_s, cell->w, cell->idx, normal);
     for (int k = 0; k < K; k++)
         normal[k] = -depth_or_dark(normal[k]);
     exp_array(normal, normal, K);
@@ -388,15 +427,42 @@ int sun_irradiance_lookup_depth(const sun_irradiance *table, const atmosphere *a
 int sun_irradiance_lookup_depth_at(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
                                    sun_row_place place, double r, double mu_s, double *depth)
 {
-    double w[4];
-    size_t idx[4];
+    sun_cell cell;
+    sun_irradiance_cell_at(table, place, mu_s, &cell);
+    return sun_irradiance_cell_depths(table, atm, sun, &cell, r, mu_s, depth);
+}
+
+/* The cache lines of a node's K floats. */
+static void prefetch_node(const float *node, int K)
+{
+    for (int k = 0; k < K; k += 16)
+        __builtin_prefetch(node + k);
+    __builtin_prefetch(node + K - 1);
+}
+
+void sun_irradiance_cell_at(const sun_irradiance *table, sun_row_place place, double mu_s, sun_cell *cell)
+{
+    cell->dark = locate_at(table, place.row, place.t, mu_s, cell->w, cell->idx);
+    if (cell->dark)
+        return;
+    for (int c = 0; c < 4; c += 2) /* a row's two nodes lie side by side */
+        prefetch_node(table->normal + cell->idx[c], 2 * table->count);
+}
+
+void sun_irradiance_cell(const sun_irradiance *table, const atmosphere *atm, double r, double mu_s, sun_cell *cell)
+{
+    sun_irradiance_cell_at(table, sun_irradiance_row_place(table, atm, r), mu_s, cell);
+}
+
+int sun_irradiance_cell_depths(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
+                               const sun_cell *cell, double r, double mu_s, double *depth)
+{
     const int K = table->count;
-    if (locate_at(table, place.row, place.t, mu_s, w, idx)) {
+    if (cell->dark) {
         spectral_fill(depth, INFINITY, K);
         return 0;
     }
-    if (!depths_in_thick_cell(table, atm, sun, r, mu_s, w, idx, depth))
-        interpolate_depths(table->normal, w, idx, K, depth);
+    cell_depths(table, atm, sun, r, mu_s, cell->w, cell->idx, depth);
     for (int k = 0; k < K; k++)
         depth[k] = depth_or_dark(depth[k]);
     return 1;
@@ -416,15 +482,31 @@ int sun_irradiance_lookup_some_depths(const sun_irradiance *table, const atmosph
 int sun_irradiance_lookup_few_depths(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
                                      double r, double mu_s, double *depth)
 {
-    double w[4];
-    size_t idx[4];
-    int dark = locate(table, atm, sun, r, mu_s, w, idx);
-    size_t few[4];
+    sun_cell cell;
+    sun_irradiance_few_cell(table, atm, r, mu_s, &cell);
+    return sun_irradiance_few_cell_depths(table, &cell, depth);
+}
+
+void sun_irradiance_few_cell(const sun_irradiance *table, const atmosphere *atm, double r, double mu_s, sun_cell *cell)
+{
+    double tr;
+    int ir = table_rows_locate(&table->rows, atm, r, &tr);
+    cell->dark = locate_at(table, ir, tr, mu_s, cell->w, cell->idx);
     for (int c = 0; c < 4; c++) /* the corners' nodes in the compact copy */
-        few[c] = idx[c] / (size_t)table->count * SUN_FEW;
+        cell->idx[c] = cell->idx[c] / (size_t)table->count * SUN_FEW;
+    if (cell->dark)
+        return;
+    for (int c = 0; c < 4; c += 2) { /* a row's two nodes lie side by side */
+        __builtin_prefetch(table->few + cell->idx[c]);
+        __builtin_prefetch(table->few + cell->idx[c] + 2 * SUN_FEW - 1);
+    }
+}
+
+int sun_irradiance_few_cell_depths(const sun_irradiance *table, const sun_cell *cell, double *depth)
+{
     for (int j = 0; j < table->few_count; j++)
-        depth[j] = dark ? INFINITY : depth_or_dark(interpolate_depth(table->few, w, few, j));
-    return !dark;
+        depth[j] = cell->dark ? INFINITY : depth_or_dark(interpolate_depth(table->few, cell->w, cell->idx, j));
+    return !cell->dark;
 }
 
 int sun_in_umbra(const atmosphere *atm, const sun_disk *sun, double r, double mu_s)

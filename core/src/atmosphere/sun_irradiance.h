@@ -88,6 +88,22 @@ sun_row_place sun_irradiance_row_place(const sun_irradiance *table, const atmosp
 int sun_irradiance_lookup_depth_at(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
                                    sun_row_place place, double r, double mu_s, double *depth);
 
+/* sun_irradiance_lookup_depth_at in two steps, for loops over many points: the point's cell (its
+ * nodes built, and asked of memory ahead of their reading), then its depths, the same. */
+typedef struct sun_cell {
+    double w[4];   /* the corners' bilinear weights */
+    size_t idx[4]; /* and their offsets in normal */
+    int dark;      /* in the Earth's shadow */
+} sun_cell;
+void sun_irradiance_cell_at(const sun_irradiance *table, sun_row_place place, double mu_s, sun_cell *cell);
+int sun_irradiance_cell_depths(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
+                               const sun_cell *cell, double r, double mu_s, double *depth);
+/* The cell of (r, mu_s), as sun_irradiance_cell_at of its row place; and sun_irradiance_lookup from
+ * a cell: lookup(r, mu_s) is the two, the same. */
+void sun_irradiance_cell(const sun_irradiance *table, const atmosphere *atm, double r, double mu_s, sun_cell *cell);
+void sun_irradiance_cell_transmittances(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
+                                        const sun_cell *cell, double r, double mu_s, double *normal);
+
 /* The optical depths for the n grid wavelengths ks[0..n-1] only (depth[i] for ks[i]; infinite where
  * Tbar is 0); returns 0 in the Earth's shadow. */
 int sun_irradiance_lookup_some_depths(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
@@ -97,6 +113,12 @@ int sun_irradiance_lookup_some_depths(const sun_irradiance *table, const atmosph
  * same values, from the compact copy. */
 int sun_irradiance_lookup_few_depths(const sun_irradiance *table, const atmosphere *atm, const sun_disk *sun,
                                      double r, double mu_s, double *depth);
+
+/* sun_irradiance_lookup_few_depths in two steps, as sun_irradiance_cell_at and _cell_depths: the
+ * cell of (r, mu_s), whose offsets are then the compact copy's, then the few depths, the same. */
+void sun_irradiance_few_cell(const sun_irradiance *table, const atmosphere *atm, double r, double mu_s,
+                             sun_cell *cell);
+int sun_irradiance_few_cell_depths(const sun_irradiance *table, const sun_cell *cell, double *depth);
 
 /* Whether the whole disk is below the horizon of radius r (the umbra): the table is 0 there, and
  * wherever this holds at the lower of the two table rows around r. */

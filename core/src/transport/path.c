@@ -395,8 +395,12 @@ static void add_sunlight(tracer *tr, const path_state *p, vec3 x, int along)
     for (int s = along ? 1 : 0; s < path_sun_count(ctx); s++) {
         const vec3 sun_dir = path_sun(ctx, s);
         spectral tbar, phase;
-        sun_irradiance_lookup(ctx->sun_table, tr->atm, ctx->sun, rad, v3_dot(x, sun_dir) / rad, tbar);
+        /* the table's nodes asked of memory first, read after the phase */
+        const double mu_s = v3_dot(x, sun_dir) / rad;
+        sun_cell cell;
+        sun_irradiance_cell(ctx->sun_table, tr->atm, rad, mu_s, &cell);
         medium_phase(tr->atm, p->medium.n, v3_dot(p->d, sun_dir), phase, NULL);
+        sun_irradiance_cell_transmittances(ctx->sun_table, tr->atm, ctx->sun, &cell, rad, mu_s, tbar);
         spectral_add_product5(light_sink(tr, p->order, s), throughput_scale(tr, p), p->q, p->w, phase,
                               tr->atm->grid.solar_irradiance, tbar, tr->K);
     }

@@ -138,15 +138,26 @@ void single_scatter_ray_radiance(const single_scatter_ray *ray, const path_conte
             scatter[c][k] = atm->species[c].sigma_s[k] * value[k];
     }
     double sun_depth[FM_MAX_WAVELENGTHS], coef[FM_MAX_WAVELENGTHS];
+    /* with the ray's own table, each point's cell is located one point ahead, its nodes on their
+     * way from memory while the point before is summed */
+    const int placed = ray->sun_table == ctx->sun_table;
+    sun_cell cells[2];
+    if (placed && ray->n > 0)
+        sun_irradiance_cell_at(ctx->sun_table, ray->sun_row[0], (origin_sun + ray->point[0] * cos_sun) / ray->point[2],
+                               &cells[0]);
     for (int i = 0; i < ray->n; i++) {
         const double *pt = ray->point + (size_t)i * stride;
         double t = pt[0], wgt = pt[1], rad = pt[2];
         const double *n = pt + 3, *view_depth = pt + 3 + C;
         /* sunlight in, transmittance out: one exp of the two optical depths (none in the Earth's shadow) */
         const double mu_s = (origin_sun + t * cos_sun) / rad;
-        if (!(ray->sun_table == ctx->sun_table
-                  ? sun_irradiance_lookup_depth_at(ctx->sun_table, atm, ctx->sun, ray->sun_row[i], rad, mu_s, sun_depth)
-                  : sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, mu_s, sun_depth)))
+        if (placed && i + 1 < ray->n) {
+            const double *next = pt + stride;
+            sun_irradiance_cell_at(ctx->sun_table, ray->sun_row[i + 1], (origin_sun + next[0] * cos_sun) / next[2],
+                                   &cells[(i + 1) & 1]);
+        }
+        if (!(placed ? sun_irradiance_cell_depths(ctx->sun_table, atm, ctx->sun, &cells[i & 1], rad, mu_s, sun_depth)
+                     : sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, mu_s, sun_depth)))
             continue;
         spectral_fill(coef, 0.0, K);
         for (int c = 0; c < atm->scattering_count; c++)

@@ -88,9 +88,16 @@ void segment_columns_init(segment_columns *sc, const path_context *ctx, const ra
     sc->ok = column_table_lookup(ctx->columns, ctx->atm, r0, sc->reversed ? -mu0 : mu0, sc->start);
 }
 
-/* The columns to t: in cloud or fog by quadrature when `exact`, else from the table there too (a
- * density's proxy, which need not be exact, at a fraction of the cost). */
-static void columns_at(const segment_columns *sc, double t, int exact, double *col)
+/* The cell of the column table at distance t along the segment (t > 0; sc->ok). */
+static void column_cell_at(const segment_columns *sc, double t, column_cell *cell)
+{
+    const ray_segment *seg = sc->seg;
+    double rad = ray_segment_radius(seg, t), mu = (t + seg->s0) / rad;
+    column_table_cell(sc->ctx->columns, sc->ctx->atm, rad, sc->reversed ? -mu : mu, cell);
+}
+
+/* The columns to t from the table's cell there (cell->ok 0: none, or the table not to be read). */
+static void columns_in(const segment_columns *sc, double t, const column_cell *cell, double *col)
 {
     const atmosphere *atm = sc->ctx->atm;
     const ray_segment *seg = sc->seg;
@@ -99,8 +106,9 @@ static void columns_at(const segment_columns *sc, double t, int exact, double *c
             col[c] = 0.0;
         return;
     }
-    double rad = ray_segment_radius(seg, t), mu = (t + seg->s0) / rad, here[FM_MAX_SPECIES];
-    if (sc->ok && !(exact && sc->dense) && column_table_lookup(sc->ctx->columns, atm, rad, sc->reversed ? -mu : mu, here)) {
+    if (cell->ok) {
+        double here[FM_MAX_SPECIES];
+        column_table_cell_columns(sc->ctx->columns, cell, here);
         /* a ternary, not fmax: glibc's fmax is a call per species (its NaN rules) */
         for (int c = 0; c < atm->species_count; c++) {
             double d = sc->reversed ? here[c] - sc->start[c] : sc->start[c] - here[c];
@@ -112,6 +120,16 @@ static void columns_at(const segment_columns *sc, double t, int exact, double *c
      * disagree */
     double r0 = v3_length(seg->origin);
     column_quadrature(atm, r0, seg->s0 / r0, t, col);
+}
+
+/* The columns to t: in cloud or fog by quadrature when `exact`, else from the table there too (a
+ * density's proxy, which need not be exact, at a fraction of the cost). */
+static void columns_at(const segment_columns *sc, double t, int exact, double *col)
+{
+    column_cell cell = {.ok = 0};
+    if (t != 0.0 && sc->ok && !(exact && sc->dense))
+        column_cell_at(sc, t, &cell);
+    columns_in(sc, t, &cell, col);
 }
 
 void segment_columns_at(const segment_columns *sc, double t, double *col) { columns_at(sc, t, 1, col); }
@@ -224,13 +242,24 @@ static void proxy_init(lit_proxy *p, const path_context *ctx, const ray_segment 
     /* per cell end and wavelength: sigma_s, and the optical depth from the sun to there and on to the
      * segment's origin, whose exps are then taken all at once in vector lanes */
     double ds[SUN_FEW], sigma_at[PROXY_CELLS + 1][SUN_FEW] = {{0}}, light[PROXY_CELLS + 1][SUN_FEW] = {{0}};
+    /* every cell end's place in the sun table first, so that their nodes come from memory together */
+    double t_at[PROXY_CELLS + 1], rad_at[PROXY_CELLS + 1];
+    sun_cell cells[PROXY_CELLS + 1];
+    column_cell column_cells[PROXY_CELLS + 1];
     for (int j = 0; j <= p->cells; j++) {
-        double t = lit_to_t(p->cell * j, u0, u1), rad = ray_segment_radius(seg, t);
+        double t = t_at[j] = lit_to_t(p->cell * j, u0, u1), rad = rad_at[j] = ray_segment_radius(seg, t);
         vec3 x = v3_madd(seg->origin, seg->dir, t);
-        if (!sun_irradiance_lookup_few_depths(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, ds) ||
+        sun_irradiance_few_cell(ctx->sun_table, atm, rad, v3_dot(x, ctx->sun_dir) / rad, &cells[j]);
+        column_cells[j].ok = 0; /* as columns_at, not `exact` */
+        if (!cells[j].dark && t != 0.0 && sc->ok)
+            column_cell_at(sc, t, &column_cells[j]);
+    }
+    for (int j = 0; j <= p->cells; j++) {
+        double t = t_at[j], rad = rad_at[j];
+        if (!sun_irradiance_few_cell_depths(ctx->sun_table, &cells[j], ds) ||
             (isinf(ds[0]) && isinf(ds[nk - 1]) && isinf(ds[nk / 2])))
             continue;
-        columns_at(sc, t, 0, col);
+        columns_in(sc, t, &column_cells[j], col);
         atmosphere_densities(atm, rad, n);
         for (int i = 0; i < nk; i++) {
             double sigma = 0.0;
@@ -263,15 +292,27 @@ static void add_lit_air(const path_context *ctx, const ray_segment *seg, const s
      * sample first meets the species (an aerosol layer is absent from most samples) */
     double phase[FM_MAX_SPECIES][FM_MAX_WAVELENGTHS];
     int have_phase[FM_MAX_SPECIES] = {0};
+    /* the samples' places first, so that their nodes of the sun table come from memory together */
+    double density_at[SUN_SAMPLES], t_at[SUN_SAMPLES], rad_at[SUN_SAMPLES], mu_at[SUN_SAMPLES];
+    sun_cell cells[SUN_SAMPLES];
+    column_cell column_cells[SUN_SAMPLES];
     for (int i = 0; i < SUN_SAMPLES; i++) {
-        double density, l = proxy_sample(p, (i + rng_uniform(r)) / SUN_SAMPLES, &density);
-        double t = lit_to_t(l, u0, u1), rad = ray_segment_radius(seg, t);
+        double l = proxy_sample(p, (i + rng_uniform(r)) / SUN_SAMPLES, &density_at[i]);
+        double t = t_at[i] = lit_to_t(l, u0, u1), rad = rad_at[i] = ray_segment_radius(seg, t);
         vec3 x = v3_madd(seg->origin, seg->dir, t);
+        mu_at[i] = v3_dot(x, ctx->sun_dir) / rad;
+        sun_irradiance_cell_at(ctx->sun_table, sun_irradiance_row_place(ctx->sun_table, atm, rad), mu_at[i], &cells[i]);
+        column_cells[i].ok = 0; /* as segment_columns_at (`exact`) */
+        if (!cells[i].dark && t != 0.0 && sc->ok && !sc->dense)
+            column_cell_at(sc, t, &column_cells[i]);
+    }
+    for (int i = 0; i < SUN_SAMPLES; i++) {
+        double density = density_at[i], t = t_at[i], rad = rad_at[i];
         double depth[FM_MAX_WAVELENGTHS]; /* the sunlight's, then the path's to here added */
-        if (!sun_irradiance_lookup_depth(ctx->sun_table, atm, ctx->sun, rad, v3_dot(x, ctx->sun_dir) / rad, depth))
+        if (!sun_irradiance_cell_depths(ctx->sun_table, atm, ctx->sun, &cells[i], rad, mu_at[i], depth))
             continue;
         double inv_pdf = 1.0 / density / SUN_SAMPLES;
-        segment_columns_at(sc, t, col);
+        columns_in(sc, t, &column_cells[i], col);
         atmosphere_densities(atm, rad, n);
         double scatter[FM_MAX_WAVELENGTHS] = {0}; /* sigma_s p over the species, 1/(m sr) */
         for (int c = 0; c < atm->scattering_count; c++) {
