@@ -6,6 +6,7 @@
 #include "base/param_range.h"
 #include "base/platform.h"
 #include "base/status.h"
+#include "base/text.h"
 #include "base/units.h"
 #include "render/aureole_fill.h"
 #include "render/fog_table.h"
@@ -80,6 +81,22 @@ fm_status live_sky_params(const fm_sky_params *params, fm_sky_params *out, fm_er
 
 static int band_nodes(const fm_sky_live *live);
 
+/* Copies of the caller's strings (names, paths) in place of them: the live sky outlives the request
+ * that made it (serve's cache), and its sky, its later builds and its saved key read them. */
+static int own_strings(fm_sky_live *live)
+{
+    fm_sky_params *p = &live->params;
+    const char **field[LIVE_STRINGS] = {&p->biome, &p->clouds, &p->atmosphere_file, &p->presets_dir, &p->cache_dir};
+    for (int i = 0; i < LIVE_STRINGS; i++) {
+        if (!*field[i])
+            continue;
+        if (!(live->strings[i] = text_copy(*field[i])))
+            return -1;
+        *field[i] = live->strings[i];
+    }
+    return 0;
+}
+
 fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *err)
 {
     *out = NULL;
@@ -89,7 +106,10 @@ fm_status live_alloc(const fm_sky_params *params, fm_sky_live **out, fm_error *e
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
     }
     atomic_init(&live->band_pending, 0);
+    fm_sky_live_key(params, live->key);
     fm_status s = live_sky_params(params, &live->params, err);
+    if (!s && own_strings(live))
+        s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory");
     if (!s)
         s = fm_sky_create(&live->params, &live->sky, err);
     if (!s && !(live->nodes = calloc(NODES, sizeof *live->nodes)))
@@ -869,6 +889,8 @@ void fm_sky_live_destroy(fm_sky_live *live)
         ms_table_free(&live->raw[k]);
     free(live->raw);
     fm_sky_destroy(live->sky);
+    for (int i = 0; i < LIVE_STRINGS; i++)
+        free(live->strings[i]);
     pthread_mutex_destroy(&live->lock);
     free(live);
 }

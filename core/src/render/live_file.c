@@ -222,9 +222,7 @@ fm_status fm_sky_live_save(const fm_sky_live *live, const char *path, fm_error *
     pthread_mutex_lock(lock);
     payload_write(live, body);
     pthread_mutex_unlock(lock);
-    char key[33];
-    fm_sky_live_key(&live->params, key);
-    fm_status s = sealed_file_write(path, &LIVE_FORMAT, key, body, n, err);
+    fm_status s = sealed_file_write(path, &LIVE_FORMAT, live->key, body, n, err);
     free(body);
     return s;
 }

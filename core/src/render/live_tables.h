@@ -38,9 +38,15 @@ typedef struct live_node {
     aureole aureole;    /* single scattering around the sun (aureole.h) */
 } live_node;
 
+/* fm_sky_params' strings (biome, clouds, atmosphere_file, presets_dir, cache_dir) */
+#define LIVE_STRINGS 5
+
 struct fm_sky_live {
     fm_sky *sky;          /* the atmosphere; its sun is set per render on a copy */
-    fm_sky_params params; /* as given to create, the sun and time resolved away (live_sky_params) */
+    fm_sky_params params; /* as given to create, the sun and time resolved away (live_sky_params); its
+                           * strings are `strings`, the live sky's own copies (the sky's point there too) */
+    char *strings[LIVE_STRINGS];
+    char key[33]; /* fm_sky_live_key at create, what a saved file carries: the files it hashes as they were */
     quality_settings q;   /* the tables' (live.c) */
     fm_quality quality;   /* the level and sample scale the maps record */
     double sample_scale;
