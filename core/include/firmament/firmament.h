@@ -198,6 +198,8 @@ fm_status fm_cloud_names(const char *presets_dir, char *out, size_t size, fm_err
 
 typedef struct fm_sky fm_sky;
 
+/* The sky keeps params' strings (biome, clouds, file and folder paths) by pointer: they must outlive
+ * it.  fm_sky_live_create copies them (a live sky outlives the request that made it). */
 fm_status fm_sky_create(const fm_sky_params *params, fm_sky **out, fm_error *err);
 void fm_sky_destroy(fm_sky *sky); /* accepts NULL */
 const fm_sky_params *fm_sky_get_params(const fm_sky *sky);
