@@ -712,18 +712,20 @@ static double sky_level(const sky_grid *g, int C)
     return num / den;
 }
 
-/* The highest deep twilight node (-6) keeps its own level through the smoothing across the sun
- * elevation: a sky whose level follows urban's (URBAN_LEVEL, its shape about it sky_log_y's) comes
- * back at -6 with its level within 0.05 %, where a quadratic across the band's edge put it 1.4 %
- * high (urban's maps at -6 were 1.25 +- 0.23 % bright over the sky, eight builds). */
-static void deep_twilight_edge_keeps_its_level(void **state)
+/* The made-up urban sky at sun e (its level URBAN_LEVEL[k], its shape about it sky_log_y's), value v. */
+static double urban_value(double e, int k, int v, int rows, int cols)
 {
-    fm_sky_params p = test_params(10.0, 0.0);
-    fm_sky_live *live = live_for(&p, 1.0, 0.0);
+    const double shape = sky_log_y(e, v / cols, rows, v % cols, cols) - (-3.0 + 0.9 * e + 0.01 * e * e);
+    return exp(URBAN_LEVEL[k] + shape);
+}
+
+/* The made-up urban band into the nodes at URBAN_LEVEL_DEG (marked in fresh), the ground 0, each value
+ * times 1 + noise x a normal draw (draw: which of them), as a mean of paths would be. */
+static void fill_urban_band(fm_sky_live *live, unsigned char *fresh, double noise, int draw)
+{
     const int C = live->channels, rows = live->nodes[0].ms.rows_sky, cols = live->nodes[0].ms.cols;
     const int levels = (int)(sizeof URBAN_LEVEL / sizeof URBAN_LEVEL[0]);
-    unsigned char *fresh = calloc((size_t)live->count, 1);
-    for (int i = 0; i < live->count; i++) {
+    for (int i = 0; i < live->count && i < 64; i++) {
         const double e = live->nodes[i].sun_elevation_deg;
         int k = 0;
         while (k < levels && URBAN_LEVEL_DEG[k] != e)
@@ -732,14 +734,27 @@ static void deep_twilight_edge_keeps_its_level(void **state)
             continue;
         fresh[i] = 1;
         float *px = live->nodes[i].ms.values;
-        memset(px, 0, sizeof(float) * (size_t)sky_grid_nodes(&live->nodes[i].ms) * (size_t)C); /* the ground: 0 */
+        memset(px, 0, sizeof(float) * (size_t)sky_grid_nodes(&live->nodes[i].ms) * (size_t)C);
         for (int v = 0; v < rows * cols; v++) {
-            const double shape = sky_log_y(e, v / cols, rows, v % cols, cols) - (-3.0 + 0.9 * e + 0.01 * e * e);
-            const double y = exp(URBAN_LEVEL[k] + shape);
+            const double y = urban_value(e, k, v, rows, cols) *
+                             (noise > 0.0 ? fmax(0.05, 1.0 + noise * normal_of(i + 64 * draw, (size_t)v)) : 1.0);
             for (int c = 0; c < C; c++)
                 px[v * C + c] = (float)y;
         }
     }
+}
+
+/* The highest deep twilight node (-6) keeps its own level through the smoothing across the sun
+ * elevation: a sky whose level follows urban's (URBAN_LEVEL, its shape about it sky_log_y's) comes
+ * back at -6 with its level within 0.05 %, where a quadratic across the band's edge put it 1.4 %
+ * high (urban's maps at -6 were 1.25 +- 0.23 % bright over the sky, eight builds). */
+static void deep_twilight_edge_keeps_its_level(void **state)
+{
+    fm_sky_params p = test_params(10.0, 0.0);
+    fm_sky_live *live = live_for(&p, 1.0, 0.0);
+    const int C = live->channels;
+    unsigned char *fresh = calloc((size_t)live->count, 1);
+    fill_urban_band(live, fresh, 0.0, 0);
     double before[64];
     for (int i = 0; i < live->count && i < 64; i++)
         before[i] = fresh[i] ? sky_level(&live->nodes[i].ms, C) : 0.0;
@@ -768,39 +783,20 @@ static void deep_twilight_level_unbiased(void **state)
     fm_sky_params p = test_params(10.0, 0.0);
     fm_sky_live *live = live_for(&p, 1.0, 0.0);
     const int C = live->channels, rows = live->nodes[0].ms.rows_sky, cols = live->nodes[0].ms.cols;
-    const int levels = (int)(sizeof URBAN_LEVEL / sizeof URBAN_LEVEL[0]), draws = 24;
+    const int draws = 24;
     unsigned char *fresh = calloc((size_t)live->count, 1);
     double bias[64] = {0};
     for (int draw = 0; draw < draws; draw++) {
-        for (int i = 0; i < live->count && i < 64; i++) {
-            const double e = live->nodes[i].sun_elevation_deg;
-            int k = 0;
-            while (k < levels && URBAN_LEVEL_DEG[k] != e)
-                k++;
-            if (k == levels)
-                continue;
-            fresh[i] = 1;
-            float *px = live->nodes[i].ms.values;
-            memset(px, 0, sizeof(float) * (size_t)sky_grid_nodes(&live->nodes[i].ms) * (size_t)C); /* the ground: 0 */
-            for (int v = 0; v < rows * cols; v++) {
-                const double shape = sky_log_y(e, v / cols, rows, v % cols, cols) - (-3.0 + 0.9 * e + 0.01 * e * e);
-                const double y = exp(URBAN_LEVEL[k] + shape) *
-                                 fmax(0.05, 1.0 + 0.15 * normal_of(i + 64 * draw, (size_t)v));
-                for (int c = 0; c < C; c++)
-                    px[v * C + c] = (float)y;
-            }
-        }
+        fill_urban_band(live, fresh, 0.15, draw);
         assert_int_equal(live_smooth_deep_twilight(live, fresh), FM_OK);
         for (int i = 0; i < live->count && i < 64; i++) {
             const double e = live->nodes[i].sun_elevation_deg;
             if (!fresh[i] || !twilight_deep(e))
                 continue;
             const int k = i; /* URBAN_LEVEL_DEG is the grid from its lowest node up */
-            for (int v = 0; v < rows * cols; v++) {
-                const double shape = sky_log_y(e, v / cols, rows, v % cols, cols) - (-3.0 + 0.9 * e + 0.01 * e * e);
-                bias[i] += (live->nodes[i].ms.values[v * C + (C == 3)] / exp(URBAN_LEVEL[k] + shape) - 1.0) /
+            for (int v = 0; v < rows * cols; v++)
+                bias[i] += (live->nodes[i].ms.values[v * C + (C == 3)] / urban_value(e, k, v, rows, cols) - 1.0) /
                            ((double)rows * cols * draws);
-            }
         }
     }
     double worst = 0.0, mean = 0.0;
