@@ -27,6 +27,7 @@
 #include "render/ms_table.h"
 #include "render/render.h"
 #include "transport/single_scatter.h"
+#include "transport/sky_guide.h"
 #include "transport/sky_path.h"
 #include "transport/twilight.h"
 
@@ -198,6 +199,73 @@ static void top_guide_unbiased(void **state)
     fm_sky_destroy(sky);
 }
 
+/* Deep twilight: the sky guide's levels inside the layer's upper part see the sunlit band over its
+ * top through the layer's air above them (twilight.c, sky_guide_build.c), as a vertex there does.
+ * The band lies far beyond the layer and the layer itself is in the Earth's shadow, so between a
+ * level LEVEL_DEPTH_NEAR_M below the top and one LEVEL_DEPTH_FAR_M below it the band's radiance
+ * toward the sun's azimuth differs by the Beer-Lambert transmittance of the layer between them:
+ * exp(-sigma (z2 - z1) / sin e), sigma the layer's mean extinction (its optical depth over its
+ * thickness).  Checked on the ratio of the guide's densities at two elevations (which leaves out
+ * each level's normalisation and the band's own shape), each row's transmittance averaged over the
+ * row's span of sin e as the guide's cells are: the log of that double ratio within
+ * LEVEL_TOLERANCE of Beer-Lambert's. */
+#define LEVEL_DEPTH_NEAR_M 50.0
+#define LEVEL_DEPTH_FAR_M 250.0
+#define LEVEL_TOLERANCE 0.02
+
+static const sky_guide_level *level_at(const sky_guide *g, double radius)
+{
+    for (int l = 0; l < g->levels; l++)
+        if (g->level[l].offset == 0 && fabs(g->level[l].radius - radius) < 1.0)
+            return &g->level[l];
+    return NULL;
+}
+
+/* The row of level l holding elevation e, and the mean over its span of sin e of exp(-tau / sin e). */
+static int row_transmittance(const sky_guide_level *l, double e, double tau, double *t)
+{
+    int i = 0;
+    while (i < SKY_GUIDE_ROWS - 1 && l->edge_sin[i + 1] <= sin(e))
+        i++;
+    enum { STEPS = 200 };
+    *t = 0.0;
+    for (int j = 0; j < STEPS; j++) {
+        const double s = l->edge_sin[i] + (l->edge_sin[i + 1] - l->edge_sin[i]) * (j + 0.5) / STEPS;
+        *t += exp(-tau / s) / STEPS;
+    }
+    return i;
+}
+
+static void top_levels_through_the_layer(void **state)
+{
+    (void)state;
+    fm_sky *sky = dusk_sky(TOP_GUIDE_SUN_DEG, 0.0);
+    column_tables t;
+    column_tables_start(sky, 0, 1, &t);
+    assert_non_null(t.tw);
+    assert_int_equal(sky->composition.cloud_count, 1);
+    const double sigma = sky->composition.cloud[0].tau550 / sky->composition.cloud[0].thickness_m;
+    const double top = sky->atm.bottom_radius_m + sky->composition.cloud[0].base_m + sky->composition.cloud[0].thickness_m;
+    const sky_guide_level *near = level_at(&t.tw->guide, top - LEVEL_DEPTH_NEAR_M);
+    const sky_guide_level *far = level_at(&t.tw->guide, top - LEVEL_DEPTH_FAR_M);
+    assert_non_null(near);
+    assert_non_null(far);
+    const double ea = 6.0 * FM_DEG, eb = 15.0 * FM_DEG, dtau = sigma * (LEVEL_DEPTH_FAR_M - LEVEL_DEPTH_NEAR_M);
+    double ta1, tb1, ta2, tb2;
+    /* the near level's depth into the layer cancels in the double ratio; the far one's extra is dtau */
+    const int ra = row_transmittance(near, ea, 0.0, &ta1), rb = row_transmittance(near, eb, 0.0, &tb1);
+    assert_int_equal(row_transmittance(far, ea, dtau, &ta2), ra);
+    assert_int_equal(row_transmittance(far, eb, dtau, &tb2), rb);
+    const double expected = log(ta2 / tb2) - log(ta1 / tb1);
+    const double measured = log(far->pdf[ra][0] / far->pdf[rb][0]) - log(near->pdf[ra][0] / near->pdf[rb][0]);
+    print_message("cirrostratus, sun %g: the guide's levels %.0f and %.0f m below the top, the band at 6 against 15 "
+                  "degrees up: log ratio %.3f, Beer-Lambert %.3f\n",
+                  TOP_GUIDE_SUN_DEG, LEVEL_DEPTH_NEAR_M, LEVEL_DEPTH_FAR_M, measured, expected);
+    assert_true(fabs(measured - expected) < LEVEL_TOLERANCE * fabs(expected));
+    column_tables_free(&t);
+    fm_sky_destroy(sky);
+}
+
 /* Deep twilight's second pass (ms_table.c) runs while the sky nodes' relative standard error, as
  * each node's own paths estimate it (ms_table_sky_node_noise), is above its target: under this
  * layer at sun -6 that is about twice the target after the first pass, so the pass takes its most
@@ -314,6 +382,10 @@ int main(int argc, char **argv)
         variance_by_order(atof(argv[2]), atoi(argv[3]), argc == 5 ? (uint64_t)atoll(argv[4]) : 0);
         return 0;
     }
+    if (argc == 2 && !strcmp(argv[1], "levels")) {
+        const struct CMUnitTest alone[] = {cmocka_unit_test(top_levels_through_the_layer)};
+        return cmocka_run_group_tests(alone, NULL, NULL);
+    }
     if (argc == 2 && !strcmp(argv[1], "noise")) {
         const struct CMUnitTest alone[] = {cmocka_unit_test(node_noise_as_measured)};
         return cmocka_run_group_tests(alone, NULL, NULL);
@@ -324,6 +396,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(nodes_of_two_seeds),
         cmocka_unit_test(table_against_the_reference),
         cmocka_unit_test(top_guide_unbiased),
+        cmocka_unit_test(top_levels_through_the_layer),
         cmocka_unit_test(node_noise_as_measured),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -374,7 +374,7 @@ static void order2_guide_matches_single_scattering_guide(void **state)
     *single_only = *tw;
     path_context single = sky_path_context(sky, 1, 1);
     int usable;
-    assert_int_equal(sky_guide_build(&single_only->guide, &single, sky->observer, SKY_GUIDE_MAX_OFFSETS, 2, NULL, 0.0,
+    assert_int_equal(sky_guide_build(&single_only->guide, &single, sky->observer, SKY_GUIDE_MAX_OFFSETS, 2, NULL, NULL, 0,
                                      NULL, &usable),
                      FM_OK);
     assert_true(usable);

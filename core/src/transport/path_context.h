@@ -18,6 +18,13 @@ struct sky_guide;
  * the haze, which the paths reach by climbing). */
 enum { SEGMENT_SUNLIGHT_NONE, SEGMENT_SUNLIGHT_UMBRA, SEGMENT_SUNLIGHT_ALL, SEGMENT_SUNLIGHT_RISING };
 
+/* Deep twilight under a thin cloud layer: from its top this deep down (m) a vertex still sees the
+ * sunlit band 2-5 degrees above the horizon toward the sun over the layer (a ray 3 degrees up
+ * crosses an optical depth of 2.5 of cirrostratus from 300 m below its top), the light that the
+ * phase function finds only by chance; the sky guide has levels in this band (twilight.c)
+ * (docs/decisions/2026-12-07-cirrus-dusk-estimator.md, 2026-12-08-cirrus-band-guide.md). */
+#define CLOUD_TOP_BAND_M 300.0
+
 typedef struct path_context {
     const atmosphere *atm;
     const sun_disk *sun;
@@ -49,8 +56,8 @@ typedef struct path_context {
      * as FM_DENSE_SIGMA_PER_M (path_cloud_sigma). */
     double cloud_sigma_per_m;
     /* Deep twilight under a thin cloud layer (twilight.c): the layer's top (m from the Earth's
-     * centre; 0 for none) where the sky guide has a level, and the guide's share of the directions
-     * at a vertex in the layer's upper part (path_direction.c). */
+     * centre; 0 for none) where the sky guide has levels, and the guide's share of the directions
+     * at a vertex within CLOUD_TOP_BAND_M of it (path_direction.c). */
     double cloud_top_radius_m;
     double cloud_top_guide_fraction;
     /* Deep twilight: segments place their next interaction by shadow_flight (shadow_flight.h)

@@ -71,20 +71,15 @@ static double sun_guide_share(const path_context *ctx, vec3 sun_dir, vec3 x, int
     return ctx->sun_guide_fraction * exp(GUIDE_FULL_DEPTH - depth);
 }
 
-/* Deep twilight under a thin cloud layer: from its top this deep down (m) a vertex still sees the
- * sunlit band 2-5 degrees above the horizon toward the sun over the layer (a ray 3 degrees up
- * crosses an optical depth of 2.5 of cirrostratus from 300 m below its top), the light that the
- * phase function finds only by chance: there the sky guide, whose level at the layer's top sees
- * that band, takes path_context.cloud_top_guide_fraction of the directions
- * (docs/decisions/2026-12-07-cirrus-dusk-estimator.md). */
-#define CLOUD_TOP_BAND_M 300.0
-
 /* Twilight's guides (the sky guide, the sun guide in the Earth's shadow) take no share of the
  * directions at a vertex in cloud or fog (path_cloud_sigma: a thin layer too): the light they aim at
- * is beyond the layer, and the next vertex a free path away.  With them, a direction drawn from the phase function
- * weighs p / ((1 - a - b) p + ...), up to 1 / (1 - a - b) = 4, at each vertex: the second moment of
- * a path's weight grows by that factor per vertex of the forward peak, and over the tens of vertices
- * of a path in fog a rare path carried a map's light (docs/decisions/2026-12-07-fog-reference.md). */
+ * is beyond the layer, and the next vertex a free path away.  With them, a direction drawn from the
+ * phase function weighs p / ((1 - a - b) p + ...), up to 1 / (1 - a - b) = 4, at each vertex: the
+ * second moment of a path's weight grows by that factor per vertex of the forward peak, and over the
+ * tens of vertices of a path in fog a rare path carried a map's light
+ * (docs/decisions/2026-12-07-fog-reference.md).  The exception: in deep twilight a thin layer's
+ * vertices within CLOUD_TOP_BAND_M of its top (path_context.h), where the sky guide's levels see the
+ * sunlit band through the layer's air above them, take cloud_top_guide_fraction. */
 static double sky_guide_share(const path_context *ctx, vec3 x, double sigma_s)
 {
     if (!ctx->sky_guide)

@@ -32,8 +32,10 @@
 
 #define SKY_GUIDE_ALTITUDES 7
 #define SKY_GUIDE_MAX_OFFSETS 6
-/* and one more per offset at a thin cloud layer's top in deep twilight (sky_guide_build.h) */
-#define SKY_GUIDE_LEVELS ((SKY_GUIDE_ALTITUDES + 1) * SKY_GUIDE_MAX_OFFSETS)
+/* and at most this many more per offset at a thin cloud layer's top in deep twilight
+ * (sky_guide_build.h) */
+#define SKY_GUIDE_EXTRA_LEVELS 4
+#define SKY_GUIDE_LEVELS ((SKY_GUIDE_ALTITUDES + SKY_GUIDE_EXTRA_LEVELS) * SKY_GUIDE_MAX_OFFSETS)
 #define SKY_GUIDE_ROWS_UP 40   /* elevation bins from the level's horizon to the zenith */
 #define SKY_GUIDE_ROWS_DOWN 20 /* and from the nadir to the horizon */
 #define SKY_GUIDE_ROWS (SKY_GUIDE_ROWS_UP + SKY_GUIDE_ROWS_DOWN)
@@ -44,6 +46,7 @@ typedef struct sky_guide_level {
     double horizon;                                     /* rad: elevation of its horizon (<= 0) */
     int offset;                                         /* index of its distance toward the sun */
     int usable;                                         /* 0: this level's sky is black */
+    int single_only;                                    /* 1: single scattering alone (sky_guide_extra) */
     double edge_sin[SKY_GUIDE_ROWS + 1];                /* sin(elevation) of the row edges, ascending */
     double cdf_row[SKY_GUIDE_ROWS + 1];                 /* marginal over rows */
     double cdf_col[SKY_GUIDE_ROWS][SKY_GUIDE_COLS + 1]; /* per row, over columns */

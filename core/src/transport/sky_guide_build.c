@@ -57,7 +57,7 @@ static void build_rows(void *ctx, int64_t begin, int64_t end, int thread)
             vec3 d = sun_frame_direction(&f, sin(e), phi);
             single_scatter_ray_radiance(&ray, job->single, d, L);
             double y = spectral_grid_luminance(&atm->grid, L);
-            if (job->flights)
+            if (job->flights && !g->single_only)
                 y += shadow_flight_order2(job->flights, job->single, position, d);
             g->pdf[i][c] = g->pdf[i][SKY_GUIDE_COLS - 1 - c] = fmax(y, 0.0) * omega;
         }
@@ -92,9 +92,10 @@ static int normalise_level(sky_guide_level *g)
 }
 
 /* Appends an empty level at this radius and offset, its rows' edges laid from its horizon. */
-static void add_level(sky_guide *g, const atmosphere *atm, double radius, int offset)
+static void add_level(sky_guide *g, const atmosphere *atm, double radius, int offset, int single_only)
 {
     sky_guide_level *l = &g->level[g->levels++];
+    l->single_only = single_only;
     l->radius = radius;
     l->offset = offset;
     l->horizon = -acos(fmin(1.0, atm->bottom_radius_m / l->radius));
@@ -103,8 +104,8 @@ static void add_level(sky_guide *g, const atmosphere *atm, double radius, int of
 }
 
 fm_status sky_guide_build(sky_guide *g, const path_context *single, vec3 observer, int offsets, int threads,
-                          const shadow_flight_table *flights, double top_radius, const atomic_int *cancel,
-                          int *usable)
+                          const shadow_flight_table *flights, const sky_guide_extra *extra, int extras,
+                          const atomic_int *cancel, int *usable)
 {
     const atmosphere *atm = single->atm;
     double r0 = v3_length(observer);
@@ -115,9 +116,10 @@ fm_status sky_guide_build(sky_guide *g, const path_context *single, vec3 observe
     g->align_horizons = 1;
     for (int o = 0; o < g->offsets; o++) {
         for (int i = 0; i < SKY_GUIDE_ALTITUDES && r0 + level_km[i] * FM_KM < atm->top_radius_m; i++)
-            add_level(g, atm, r0 + level_km[i] * FM_KM, o);
-        if (top_radius > atm->bottom_radius_m && top_radius < atm->top_radius_m)
-            add_level(g, atm, top_radius, o);
+            add_level(g, atm, r0 + level_km[i] * FM_KM, o, 0);
+        for (int e = 0; e < extras && e < SKY_GUIDE_EXTRA_LEVELS; e++)
+            if (extra[e].radius > atm->bottom_radius_m && extra[e].radius < atm->top_radius_m)
+                add_level(g, atm, extra[e].radius, o, extra[e].single_only);
     }
     build_job job = {g, single, sun_frame_at(observer, single->sun_dir), 0, flights};
     *usable = 0;

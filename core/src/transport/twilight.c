@@ -34,11 +34,15 @@
 #define SPLIT_UNTIL_DEG -21.0
 
 /* Deep twilight under a thin cloud layer: the sky guide's share of the directions at a vertex in the
- * layer's upper part (path_direction.c), toward the sunlit band seen over its top; its level there
- * lies this far above the top (m), above the layer's edge node (cloud_layer.c) where the air is clear
- * (docs/decisions/2026-12-07-cirrus-dusk-estimator.md). */
+ * layer's upper part (CLOUD_TOP_BAND_M, path_direction.c), toward the sunlit band seen over its top;
+ * one level lies this far above the top (m), above the layer's edge node (cloud_layer.c) where the
+ * air is clear, for the air's vertices above it, and CLOUD_TOP_INSIDE_LEVELS more at the middles of
+ * as many slices of the band, each seeing the band through the layer's air above it
+ * (docs/decisions/2026-12-07-cirrus-dusk-estimator.md, 2026-12-08-cirrus-band-guide.md). */
 #define CLOUD_TOP_GUIDE_FRACTION 0.25
 #define CLOUD_TOP_LEVEL_M 100.0
+#define CLOUD_TOP_INSIDE_LEVELS 3
+_Static_assert(CLOUD_TOP_INSIDE_LEVELS + 1 <= SKY_GUIDE_EXTRA_LEVELS, "the sky guide's room for levels");
 
 /* The top (m from the Earth's centre) of the highest thin cloud layer, one whose mean extinction at
  * 550 nm (sky_cloud_sigma550_per_m) is below FM_DENSE_SIGMA_PER_M, or 0 for none. */
@@ -69,14 +73,20 @@ fm_status twilight_sampling_create(const fm_sky *sky, int guide_offsets, const s
     tw->split = tw->deep && sun_elevation > SPLIT_UNTIL_DEG * FM_DEG;
     tw->vertex_split_weight = 0.0;
     tw->cloud_top_radius = tw->deep ? thin_cloud_top(sky) : 0.0;
+    int usable = 0, extras = 0;
+    sky_guide_extra extra[SKY_GUIDE_EXTRA_LEVELS];
+    if (tw->cloud_top_radius > 0.0) {
+        extra[extras++] = (sky_guide_extra){tw->cloud_top_radius + CLOUD_TOP_LEVEL_M, 0};
+        for (int j = 0; j < CLOUD_TOP_INSIDE_LEVELS; j++)
+            extra[extras++] =
+                (sky_guide_extra){tw->cloud_top_radius - (j + 0.5) * CLOUD_TOP_BAND_M / CLOUD_TOP_INSIDE_LEVELS, 1};
+    }
     /* the flights' table first: in deep twilight the sky guide adds the light of order 2 from it */
-    int usable = 0;
     fm_status s = tw->deep ? shadow_flight_build(&tw->flights, &single, sky->observer, shared, threads, cancel) : FM_OK;
     if (!s)
         s = sky_guide_build(&tw->guide, &single, sky->observer, tw->deep ? guide_offsets : 1, threads,
                             tw->deep ? &tw->flights : NULL,
-                            tw->cloud_top_radius > 0.0 ? tw->cloud_top_radius + CLOUD_TOP_LEVEL_M : 0.0, cancel,
-                            &usable);
+                            extra, extras, cancel, &usable);
     if (s || !usable) {
         free(tw); /* a black sky (deep night): nothing to guide toward */
         return s;
