@@ -278,12 +278,40 @@ static void few_depths_are_the_tables(void **state)
 static fm_sky *urban_sunset(void);
 
 /* The sun table's lookup as it was before its corners were read once for both the bilinear depths
- * and the thick-cell test, and before lookups were split in two (sun_irradiance_cell_at): the
- * reference that the lookups must give bit for bit.  It reads nodes the lookup under test built. */
-static int old_locate(const sun_irradiance *t, const atmosphere *a, double r, double mu_s, double w[4], size_t idx[4])
+ * and the thick-cell test, before lookups were split in two (sun_irradiance_cell_at), and before the
+ * rows' and the directions' fractions were taken by reciprocals (table_rows.per_step, per_horizon,
+ * sun_irradiance.per_mu_span): the reference, with divisions.  It reads nodes the lookup under test
+ * built.  A reciprocal's product is within 2 ulp of the quotient (1/b rounded, then the product
+ * rounded), so the lookups' weights may differ from these by the bound `slack` carries, and each
+ * depth by that times its corners' magnitudes (old_interpolate). */
+#define ULP_HALF 0x1p-53
+
+/* table_rows_locate with divisions; *slack bounds |t - t_reciprocal|: x within 2 half-ulps (x <= 1)
+ * moves t by 2u / step, t's own roundings by 2u more (u = 2^-53) */
+static int old_rows_locate(const table_rows *rows, const atmosphere *a, double r, double *t, double *slack)
 {
-    double tr;
-    int ir = table_rows_locate(&t->rows, a, r, &tr), dark = 0;
+    double rb = a->bottom_radius_m, rho2 = r * r - rb * rb;
+    double x = rho2 > 0.0 ? sqrt(rho2) / rows->horizon_m : 0.0;
+    x = x > 0.0 ? (x < 1.0 ? x : 1.0) : 0.0;
+    int j = (int)(x * rows->cells);
+    int i = rows->first[j < rows->cells ? j : rows->cells - 1];
+    while (i + 2 < rows->count && rows->x[i + 1] <= x)
+        i++;
+    if (i > rows->count - 2)
+        i = rows->count - 2;
+    double step = rows->x[i + 1] - rows->x[i];
+    *t = (x - rows->x[i]) / step;
+    *slack = 4.0 * ULP_HALF * (1.0 + 1.0 / step);
+    return i;
+}
+
+/* *slack bounds the weights' difference: mu's fraction q within 3u, its square root x within 3u
+ * (x <= 1), the node fraction tm = x (n_mu - 1) - im within 3u (n_mu - 1) + 2u */
+static int old_locate(const sun_irradiance *t, const atmosphere *a, double r, double mu_s, double w[4], size_t idx[4],
+                      double *slack)
+{
+    double tr, slack_r;
+    int ir = old_rows_locate(&t->rows, a, r, &tr, &slack_r), dark = 0;
     for (int row = 0; row < 2; row++) {
         double lo = t->mu_lo[ir + row];
         double x = mu_s <= lo ? 0.0 : sqrt((mu_s - lo) / (1.0 - lo));
@@ -298,17 +326,24 @@ static int old_locate(const sun_irradiance *t, const atmosphere *a, double r, do
         w[2 * row] = tm < 0.0 ? 0.0 : wr * (1.0 - tm);
         w[2 * row + 1] = tm < 0.0 ? 0.0 : wr * tm;
     }
+    *slack = slack_r + ULP_HALF * (3.0 * (t->n_mu - 1) + 4.0);
     return dark;
 }
 
-static void old_interpolate(const float *v, const double w[4], const size_t idx[4], int K, double *d)
+/* the bilinear depths and, in slack_d, their bound: the weights' slack times the corners' sum of
+ * magnitudes, plus 4u of the depth for the sum's own roundings */
+static void old_interpolate(const float *v, const double w[4], const size_t idx[4], int K, double slack, double *d,
+                            double *slack_d)
 {
-    for (int k = 0; k < K; k++)
+    for (int k = 0; k < K; k++) {
         d[k] = w[0] * v[idx[0] + k] + w[1] * v[idx[1] + k] + w[2] * v[idx[2] + k] + w[3] * v[idx[3] + k];
+        double mass = fabs(v[idx[0] + k]) + fabs(v[idx[1] + k]) + fabs(v[idx[2] + k]) + fabs(v[idx[3] + k]);
+        slack_d[k] = slack * mass + 4.0 * ULP_HALF * fabs(d[k]);
+    }
 }
 
 static int old_thick_cell(const sun_irradiance *t, const atmosphere *a, double r, double mu_s, const double w[4],
-                          const size_t idx[4], double *depth)
+                          const size_t idx[4], double *depth, double *slack_d)
 {
     const int K = t->count;
     const float *v = t->normal;
@@ -331,45 +366,75 @@ static int old_thick_cell(const sun_irradiance *t, const atmosphere *a, double r
         return 0;
     double s = -r * mu_s + sqrt(fmax(0.0, r * r * (mu_s * mu_s - 1.0) + r_up * r_up));
     double mu_up = clamp_cosine((r * mu_s + s) / r_up), w_up[4], col[FM_MAX_SPECIES], piece[FM_MAX_WAVELENGTHS];
+    double slack;
     size_t idx_up[4];
-    if (old_locate(t, a, r_up, mu_up, w_up, idx_up))
+    if (old_locate(t, a, r_up, mu_up, w_up, idx_up, &slack))
         return 0;
-    old_interpolate(v, w_up, idx_up, K, depth);
+    old_interpolate(v, w_up, idx_up, K, slack, depth, slack_d);
     column_exact(a, r, mu_s, s, col);
     atmosphere_optical_depths(a, col, piece);
-    for (int k = 0; k < K; k++)
+    for (int k = 0; k < K; k++) {
         depth[k] += piece[k];
+        slack_d[k] += 2.0 * ULP_HALF * fabs(depth[k]);
+    }
     return 1;
 }
 
-/* the old sun_irradiance_lookup_depth; 2 where it took the thick cell's exact piece */
-static int old_lookup_depth(const sun_irradiance *t, const atmosphere *a, double r, double mu_s, double *depth)
+/* the old sun_irradiance_lookup_depth, the bound of each depth's difference from the lookup's in
+ * slack_d; 2 where it took the thick cell's exact piece */
+static int old_lookup_depth(const sun_irradiance *t, const atmosphere *a, double r, double mu_s, double *depth,
+                            double *slack_d)
 {
-    double w[4];
+    double w[4], slack;
     size_t idx[4];
-    if (old_locate(t, a, r, mu_s, w, idx)) {
-        for (int k = 0; k < t->count; k++)
+    if (old_locate(t, a, r, mu_s, w, idx, &slack)) {
+        for (int k = 0; k < t->count; k++) {
             depth[k] = INFINITY;
+            slack_d[k] = 0.0;
+        }
         return 0;
     }
-    int thick = old_thick_cell(t, a, r, mu_s, w, idx, depth);
+    int thick = old_thick_cell(t, a, r, mu_s, w, idx, depth, slack_d);
     if (!thick)
-        old_interpolate(t->normal, w, idx, t->count, depth);
+        old_interpolate(t->normal, w, idx, t->count, slack, depth, slack_d);
     for (int k = 0; k < t->count; k++)
         depth[k] = depth[k] < 200.0 ? depth[k] : INFINITY;
     return 1 + thick;
 }
 
+/* Depths against the old lookup's within its bound; the largest share of the bound used goes to
+ * *used.  Infinite (dark) from 200 up: within the bound of 200 either may be dark, the other
+ * finite (a transmittance of e^-200 against 0). */
+static void depths_within(const double *got, const double *want, const double *slack_d, int K, double *used)
+{
+    for (int k = 0; k < K; k++) {
+        if (isinf(want[k]) || isinf(got[k])) {
+            double finite = isinf(want[k]) ? got[k] : want[k];
+            if (!(isinf(finite) || finite >= 200.0 - slack_d[k]))
+                fail_msg("sun lookup %.17g, the old %.17g (k %d)", got[k], want[k], k);
+            continue;
+        }
+        double diff = fabs(got[k] - want[k]);
+        if (!(diff <= slack_d[k]))
+            fail_msg("sun lookup %.17g, the old %.17g: %.3g apart, bound %.3g", got[k], want[k], diff, slack_d[k]);
+        if (slack_d[k] > 0.0)
+            *used = fmax(*used, diff / slack_d[k]);
+    }
+}
+
 /* The sun table's lookups (depths, transmittances, the few depths; whole or in two steps, cells
- * located ahead of their reading) against the old lookup, bit for bit: urban haze at sunset, and an
- * altostratus deck (thick cells at every sun), over altitudes and suns from below the horizon up. */
+ * located ahead of their reading) against the old lookup within the reciprocals' bound: urban haze
+ * at sunset, and an altostratus deck (thick cells at every sun), over altitudes and suns from below
+ * the horizon up.  The transmittances are exp_array of the lookup's depths and the few depths the
+ * full lookup's, bit for bit. */
 static void sun_lookups_are_the_old_ones(void **state)
 {
     fm_sky_params p = test_params(3.0, 0.0);
     p.clouds = "altostratus";
     fm_sky *skies[2] = {urban_sunset(), test_sky(&p)};
     rng r = rng_for(20, 21, 22);
-    int lit = 0, thick = 0;
+    int lit = 0, thick = 0, moved = 0;
+    double used = 0.0;
     for (int s = 0; s < 2; s++) {
         const atmosphere *a = &skies[s]->atm;
         const sun_irradiance *t = &skies[s]->sun_table;
@@ -381,37 +446,41 @@ static void sun_lookups_are_the_old_ones(void **state)
             /* half the points in the lowest 6 km (haze and the deck), suns from -0.3 to 1 */
             double z = i % 2 ? 6000.0 * rng_uniform(&r) : 100000.0 * pow(rng_uniform(&r), 2.0);
             double rr = a->bottom_radius_m + z, mu = -0.3 + 1.3 * pow(rng_uniform(&r), 1.5);
-            double got[FM_MAX_WAVELENGTHS], want[FM_MAX_WAVELENGTHS], tr[FM_MAX_WAVELENGTHS];
-            int has = sun_irradiance_lookup_depth(t, a, &skies[s]->sun, rr, mu, got);
-            int old = old_lookup_depth(t, a, rr, mu, want);
+            double got[FM_MAX_WAVELENGTHS], want[FM_MAX_WAVELENGTHS], slack_d[FM_MAX_WAVELENGTHS];
+            double tr[FM_MAX_WAVELENGTHS], depth[FM_MAX_WAVELENGTHS];
+            int has = sun_irradiance_lookup_depth(t, a, &skies[s]->sun, rr, mu, depth);
+            int old = old_lookup_depth(t, a, rr, mu, want, slack_d);
             assert_int_equal(has, old > 0);
-            assert_memory_equal(got, want, sizeof(double) * (size_t)K);
+            depths_within(depth, want, slack_d, K, &used);
+            moved += memcmp(depth, want, sizeof(double) * (size_t)K) != 0;
             lit += has;
             thick += old == 2;
             sun_irradiance_lookup(t, a, &skies[s]->sun, rr, mu, got);
             for (int k = 0; k < K; k++)
-                tr[k] = -want[k];
+                tr[k] = -depth[k];
             exp_array(tr, tr, K);
             assert_memory_equal(got, tr, sizeof(double) * (size_t)K);
             double few[SUN_FEW];
             sun_irradiance_lookup_few_depths(t, a, &skies[s]->sun, rr, mu, few);
             for (int j = 0; j < nk && old != 2; j++) /* the few are bilinear everywhere */
-                assert_memory_equal(&few[j], &want[ks[j]], sizeof(double));
+                assert_memory_equal(&few[j], &depth[ks[j]], sizeof(double));
             /* in two steps, the next point's cell located before this one's is read */
             sun_cell cell;
             sun_irradiance_cell(t, a, rr, mu, &cell);
             if (i > 0) {
-                double behind[FM_MAX_WAVELENGTHS], ref[FM_MAX_WAVELENGTHS];
+                double behind[FM_MAX_WAVELENGTHS], ref[FM_MAX_WAVELENGTHS], ref_slack[FM_MAX_WAVELENGTHS];
                 int has_behind = sun_irradiance_cell_depths(t, a, &skies[s]->sun, &ahead, r_ahead, mu_ahead, behind);
-                assert_int_equal(has_behind, old_lookup_depth(t, a, r_ahead, mu_ahead, ref) > 0);
-                assert_memory_equal(behind, ref, sizeof(double) * (size_t)K);
+                assert_int_equal(has_behind, old_lookup_depth(t, a, r_ahead, mu_ahead, ref, ref_slack) > 0);
+                depths_within(behind, ref, ref_slack, K, &used);
             }
             ahead = cell;
             r_ahead = rr;
             mu_ahead = mu;
         }
     }
-    print_message("sun lookups against the old: %d lit, %d through a thick cell\n", lit, thick);
+    print_message("sun lookups against the old: %d lit, %d through a thick cell, %d not to the bit, worst %.2f of "
+                  "the bound\n",
+                  lit, thick, moved, used);
     assert_true(lit > 5000 && thick > 500);
     fm_sky_destroy(skies[0]);
     fm_sky_destroy(skies[1]);

@@ -350,7 +350,7 @@ static int table_cell(const column_table *table, const atmosphere *atm, double r
     r = clamp_between(r, atm->bottom_radius_m, atm->top_radius_m);
     double rb = atm->bottom_radius_m, H = table->rows.horizon_m;
     double rho = safe_sqrt(r * r - rb * rb); /* one sqrt for both coordinates */
-    int ir = table_rows_locate_x(&table->rows, rho / H, tr);
+    int ir = table_rows_locate_x(&table->rows, rho * table->rows.per_horizon, tr);
     double xmu = table_xmu(atm, H, r, rho, mu);
     double fm = clamp_between(xmu, 0.0, 1.0) * (table->n_mu - 1);
     int im = (int)fm;

@@ -178,14 +178,17 @@ fm_status sun_irradiance_build(sun_irradiance *table, const atmosphere *atm, con
     table->few = malloc((size_t)rows * (size_t)n_mu * SUN_FEW * sizeof(float));
     table->few_count = sun_irradiance_few_wavelengths(table->count, table->few_k);
     table->mu_lo = malloc((size_t)rows * sizeof(double));
+    table->per_mu_span = malloc((size_t)rows * sizeof(double));
     table->block_state = calloc((size_t)rows * (size_t)table->blocks_per_row, sizeof(atomic_uchar));
     table->dense_cell = malloc((size_t)rows);
-    if (!table->normal || !table->horizontal || !table->few || !table->mu_lo || !table->block_state || !table->dense_cell) {
+    if (!table->normal || !table->horizontal || !table->few || !table->mu_lo || !table->per_mu_span || !table->block_state || !table->dense_cell) {
         sun_irradiance_free(table);
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the sun irradiance table");
     }
-    for (int i = 0; i < rows; i++)
+    for (int i = 0; i < rows; i++) {
         table->mu_lo[i] = mu_low(atm, sun, table_rows_radius(&table->rows, atm, i));
+        table->per_mu_span[i] = 1.0 / (1.0 - table->mu_lo[i]);
+    }
     for (int i = 0; i + 1 < rows; i++)
         table->dense_cell[i] = cell_is_dense(atm, table_rows_radius(&table->rows, atm, i),
                                              table_rows_radius(&table->rows, atm, i + 1));
@@ -199,11 +202,12 @@ void sun_irradiance_free(sun_irradiance *table)
     free(table->horizontal);
     free(table->few);
     free(table->mu_lo);
+    free(table->per_mu_span);
     free((void *)table->block_state);
     free(table->dense_cell);
     table->dense_cell = NULL;
     table->normal = table->horizontal = table->few = NULL;
-    table->mu_lo = NULL;
+    table->mu_lo = table->per_mu_span = NULL;
     table->block_state = NULL;
     table_rows_free(&table->rows);
 }
@@ -222,11 +226,12 @@ static int locate_at(const sun_irradiance *table, int ir, double tr, double mu_s
 {
     const int K = table->count;
     /* the mu mapping depends on the row's radius: locate mu_s in each of the two rows, both rows'
-     * divisions and then both square roots, so that the two rows' chains overlap (0 below mu_lo) */
-    const double *mu_lo = table->mu_lo + ir;
+     * quotients (within 2 ulp, by the row's reciprocal) and then both square roots, so that the two
+     * rows' chains overlap (0 below mu_lo) */
+    const double *mu_lo = table->mu_lo + ir, *per_span = table->per_mu_span + ir;
     double q[2], xs[2];
     for (int row = 0; row < 2; row++)
-        q[row] = mu_s <= mu_lo[row] ? 0.0 : (mu_s - mu_lo[row]) / (1.0 - mu_lo[row]);
+        q[row] = mu_s <= mu_lo[row] ? 0.0 : (mu_s - mu_lo[row]) * per_span[row];
     for (int row = 0; row < 2; row++)
         xs[row] = sqrt(q[row]);
     int dark = 0;

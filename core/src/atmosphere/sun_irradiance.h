@@ -41,6 +41,7 @@ typedef struct sun_irradiance {
     float *few;        /* [i_r][i_mu][j] normal's values at the few wavelengths (SUN_FEW), j of few_count */
     int few_k[SUN_FEW], few_count;
     double *mu_lo;     /* [i_r] mu_lo of the row's radius (lookups need it for two rows each time) */
+    double *per_mu_span; /* [i_r] 1 / (1 - mu_lo): a lookup multiplies, it does not divide */
     unsigned char *dense_cell; /* [i_r] whether the cell from row i_r up holds cloud or fog */
     /* what the nodes are built from, and each block's state (empty, being built, ready) */
     const atmosphere *atm;

@@ -49,9 +49,11 @@ fm_status table_rows_init(table_rows *rows, const atmosphere *atm, int uniform_c
     double rb = atm->bottom_radius_m;
     rows->horizon_m = top_horizon_distance(atm);
     rows->cells = uniform_count - 1;
+    rows->per_horizon = 1.0 / rows->horizon_m;
     rows->x = malloc(sizeof(double) * (size_t)(uniform_count + n_extra));
+    rows->per_step = malloc(sizeof(double) * (size_t)(uniform_count + n_extra));
     rows->first = malloc(sizeof(int) * (size_t)rows->cells);
-    if (!rows->x || !rows->first) {
+    if (!rows->x || !rows->per_step || !rows->first) {
         table_rows_free(rows);
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the tables' rows");
     }
@@ -71,6 +73,8 @@ fm_status table_rows_init(table_rows *rows, const atmosphere *atm, int uniform_c
         if (rows->x[i] > rows->x[m - 1])
             rows->x[m++] = rows->x[i];
     rows->count = m;
+    for (int i = 0; i + 1 < m; i++)
+        rows->per_step[i] = 1.0 / (rows->x[i + 1] - rows->x[i]);
     for (int j = 0, i = 0; j < rows->cells; j++) {
         double start = (double)j / rows->cells;
         while (i + 1 < m && rows->x[i + 1] <= start)
@@ -83,8 +87,9 @@ fm_status table_rows_init(table_rows *rows, const atmosphere *atm, int uniform_c
 void table_rows_free(table_rows *rows)
 {
     free(rows->x);
+    free(rows->per_step);
     free(rows->first);
-    rows->x = NULL;
+    rows->x = rows->per_step = NULL;
     rows->first = NULL;
 }
 

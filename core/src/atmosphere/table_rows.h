@@ -17,7 +17,9 @@ typedef struct table_rows {
     int count;        /* rows */
     int cells;        /* uniform steps of x_r over [0, 1] in the index below */
     double horizon_m; /* H = sqrt(rt^2 - rb^2) */
+    double per_horizon; /* 1 / horizon_m */
     double *x;        /* [count] ascending x_r of each row, x[0] = 0, x[count - 1] = 1 */
+    double *per_step; /* [count - 1] 1 / (x[i + 1] - x[i]): a lookup multiplies, it does not divide */
     int *first;       /* [cells] the last row at or below the start of each step */
 } table_rows;
 
@@ -44,7 +46,8 @@ static inline int table_rows_locate_x(const table_rows *rows, double x, double *
         i++;
     if (i > rows->count - 2)
         i = rows->count - 2;
-    *t = (x - rows->x[i]) / (rows->x[i + 1] - rows->x[i]);
+    double t_i = (x - rows->x[i]) * rows->per_step[i]; /* within 2 ulp of the quotient */
+    *t = t_i < 1.0 ? t_i : 1.0;
     return i;
 }
 
@@ -53,7 +56,7 @@ static inline int table_rows_locate(const table_rows *rows, const atmosphere *at
 {
     double rb = atm->bottom_radius_m;
     double rho2 = r * r - rb * rb;
-    return table_rows_locate_x(rows, rho2 > 0.0 ? sqrt(rho2) / rows->horizon_m : 0.0, t);
+    return table_rows_locate_x(rows, rho2 > 0.0 ? sqrt(rho2) * rows->per_horizon : 0.0, t);
 }
 
 #endif

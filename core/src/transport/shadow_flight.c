@@ -1,5 +1,6 @@
 #include "transport/shadow_flight.h"
 
+#include "base/exp_array.h"
 #include "base/units.h"
 #include "spectrum/spectral.h"
 #include "transport/sunlit_segment.h"
@@ -38,9 +39,8 @@ double shadow_flight_light(const shadow_flight_table *t, double r, double mu_s)
  * integral (docs/decisions/2026-12-06-sampling-densities.md). */
 #define ORDER2_POINTS 16
 
-/* sigma_s T at the middle wavelength (the depth table's) at distance t along the segment of sd, T
- * from the segment's origin: the light scattered there out of a unit beam from the origin. */
-static double scattered_here(const segment_depth *sd, double t)
+/* sigma_s at the middle wavelength (the depth table's) at distance t along the segment of sd */
+static double scattering_here(const segment_depth *sd, double t)
 {
     const atmosphere *atm = sd->ctx->atm;
     const int k = sd->ctx->mid_depth->k;
@@ -48,7 +48,14 @@ static double scattered_here(const segment_depth *sd, double t)
     atmosphere_densities(atm, ray_segment_radius(sd->seg, t), n);
     for (int c = 0; c < atm->scattering_count; c++)
         sigma += atm->species[c].sigma_s[k] * n[c];
-    return sigma * exp(-segment_depth_at(sd, t));
+    return sigma;
+}
+
+/* sigma_s T at the middle wavelength at distance t along the segment of sd, T from the segment's
+ * origin: the light scattered there out of a unit beam from the origin. */
+static double scattered_here(const segment_depth *sd, double t)
+{
+    return scattering_here(sd, t) * exp(-segment_depth_at(sd, t));
 }
 
 /* sigma_s T I at the middle wavelength, integrated along seg from its origin (trapezoids on `points`
@@ -93,6 +100,17 @@ double shadow_flight_light_and_ambient(const shadow_flight_table *t, double r, d
 #define GROUND_MIN 0.05  /* bounds of the probability of reaching the ground */
 #define GROUND_MAX 0.7
 
+/* scattered_here at n <= CELLS + 1 distances t, the exps in vector lanes (exp_array.h) */
+static void scattered_at(const segment_depth *sd, const double *t, int n, double *out)
+{
+    double x[CELLS + 1];
+    for (int j = 0; j < n; j++)
+        x[j] = -segment_depth_at(sd, t[j]);
+    exp_array(x, x, n);
+    for (int j = 0; j < n; j++)
+        out[j] = scattering_here(sd, t[j]) * x[j];
+}
+
 /* Cell ends: crowded at the segment's origin (optically thick air near a low vertex) and, when the
  * segment passes its lowest point (densest air) inside, with a cell end there. */
 static void cell_ends(const ray_segment *seg, double *t)
@@ -125,10 +143,10 @@ int shadow_flight(const path_context *ctx, const shadow_flight_table *table, con
     segment_depth_init(&sd, ctx, seg);
     double t[CELLS + 1], guided[CELLS + 1], physical[CELLS + 1], col[FM_MAX_SPECIES], n[FM_MAX_SPECIES];
     cell_ends(seg, t);
+    scattered_at(&sd, t, CELLS + 1, physical);
     for (int j = 0; j <= CELLS; j++) {
         double rad = ray_segment_radius(seg, t[j]);
         vec3 x = v3_madd(seg->origin, seg->dir, t[j]);
-        physical[j] = scattered_here(&sd, t[j]);
         guided[j] = physical[j] * shadow_flight_light(table, rad, v3_dot(x, ctx->sun_dir) / rad);
     }
     double mass_g[CELLS], mass_p[CELLS], sum_g = 0.0, sum_p = 0.0;

@@ -111,7 +111,9 @@ fm_status single_scatter_ray_init(single_scatter_ray *ray, const path_context *c
         for (int c = 0; c < C; c++)
             col_start[c] += part[c];
     }
-    atmosphere_optical_depths(atm, col_start, ray->ground_depth);
+    atmosphere_optical_depths(atm, col_start, ray->ground_transmittance);
+    for (int k = 0; k < atm->grid.count && ray->hits_ground; k++) /* once per ray, not per direction */
+        ray->ground_transmittance[k] = exp(-ray->ground_transmittance[k]);
     return FM_OK;
 }
 
@@ -181,8 +183,7 @@ void single_scatter_ray_radiance(const single_scatter_ray *ray, const path_conte
         if (ctx->ground_diffuse)
             ground_irradiance_lookup(ctx->ground_diffuse, mu_s, diffuse);
         for (int k = 0; k < K; k++) {
-            double tv = exp(-ray->ground_depth[k]);
-            L[k] += tv * atm->ground_albedo[k] / FM_PI * (E0[k] * thor[k] + diffuse[k]);
+            L[k] += ray->ground_transmittance[k] * atm->ground_albedo[k] / FM_PI * (E0[k] * thor[k] + diffuse[k]);
         }
     }
 }

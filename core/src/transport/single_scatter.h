@@ -26,7 +26,7 @@ typedef struct single_scatter_ray {
     double *point;    /* [n][3 + C + K]: t (m), weight (m), radius (m), densities, view optical depths */
     const sun_irradiance *sun_table; /* the path context's at init (NULL: none) */
     sun_row_place *sun_row; /* [n]: the radius's place in sun_table, for its lookup per direction */
-    double ground_depth[FM_MAX_WAVELENGTHS]; /* view optical depth to the ground */
+    double ground_transmittance[FM_MAX_WAVELENGTHS]; /* exp(-view optical depth) to the ground, once per ray */
 } single_scatter_ray;
 
 /* Fills the view ray's part for the ray from origin along dir with `points` Gauss-Legendre nodes
