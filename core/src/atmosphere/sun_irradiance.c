@@ -181,7 +181,8 @@ fm_status sun_irradiance_build(sun_irradiance *table, const atmosphere *atm, con
     table->per_mu_span = malloc((size_t)rows * sizeof(double));
     table->block_state = calloc((size_t)rows * (size_t)table->blocks_per_row, sizeof(atomic_uchar));
     table->dense_cell = malloc((size_t)rows);
-    if (!table->normal || !table->horizontal || !table->few || !table->mu_lo || !table->per_mu_span || !table->block_state || !table->dense_cell) {
+    if (!table->normal || !table->horizontal || !table->few || !table->mu_lo || !table->per_mu_span ||
+        !table->block_state || !table->dense_cell) {
         sun_irradiance_free(table);
         return fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the sun irradiance table");
     }

@@ -53,9 +53,6 @@ static fm_status check_inputs(int K, int n, const double *theta_rad, const doubl
     return FM_OK;
 }
 
-/* u = (sin(theta / 2))^(1/2) = ((1 - cos_theta) / 2)^(1/4) runs from 0 (forward) to 1 (backward)
- * and is nearly linear in the index of aerosol grids (theta_j ~ j^2, aerosol_optics.h). */
-
 static int searched_bin(const phase_table *t, double cos_theta)
 {
     /* largest j <= n-2 with mu_j >= cos_theta (mu descending, mu_0 = 1) */
@@ -170,7 +167,9 @@ void phase_table_destroy(phase_table *t)
 int phase_table_bin(const phase_table *t, double cos_theta)
 {
     const int n = t->angle_count, steps = 2 * n - 2;
-    /* in floats: the start only, which the loops below move to the exact bin whatever it is */
+    /* u = (sin(theta / 2))^(1/2) = ((1 - cos_theta) / 2)^(1/4) runs from 0 (forward) to 1 (backward)
+     * and is nearly linear in the index of aerosol grids (theta_j ~ j^2, aerosol_optics.h); in floats:
+     * it only starts the search, which the loops below move to the exact bin from any start */
     float u = sqrtf(sqrtf((float)(0.5 * (1.0 - clamp_cosine(cos_theta)))));
     int j = t->first_bin[u > 0.0 ? (u < 1.0 ? (int)(u * steps) : steps) : 0];
     while (j > 0 && !(t->mu[j] >= cos_theta))
