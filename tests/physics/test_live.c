@@ -866,6 +866,64 @@ static void deep_twilight_shape_without_the_twilight_nodes(void **state)
     fm_sky_live_destroy(live);
 }
 
+/* The map between the grid's two lowest nodes (-20, -17.5) follows a sky whose logarithm bends there:
+ * made-up tables (no paths) whose ln Y is, at every sky and ground value, the parabola through urban's
+ * measured levels at -20, -17.5 and -15 (URBAN_LEVEL, bending by -0.08 over 2.5 degrees) plus a shape
+ * over the sky; the map at -19 against one whose every node holds the tables of -19 itself (which no
+ * interpolation changes) within 0.1 %.  A secant slope at the end node leaves the curve 0.6 % low
+ * there (docs/decisions/2026-12-08-live-deep-interp.md). */
+static double urban_parabola(double e)
+{
+    const double x0 = URBAN_LEVEL_DEG[0], x1 = URBAN_LEVEL_DEG[1], x2 = URBAN_LEVEL_DEG[2];
+    const double y0 = URBAN_LEVEL[0], y1 = URBAN_LEVEL[1], y2 = URBAN_LEVEL[2];
+    return y0 * (e - x1) * (e - x2) / ((x0 - x1) * (x0 - x2)) + y1 * (e - x0) * (e - x2) / ((x1 - x0) * (x1 - x2)) +
+           y2 * (e - x0) * (e - x1) / ((x2 - x0) * (x2 - x1));
+}
+
+static void fill_parabola(fm_sky_live *live, int at_node, double e_fixed)
+{
+    const int C = live->channels, rows = live->nodes[0].ms.rows_sky, cols = live->nodes[0].ms.cols;
+    for (int i = 0; i < live->count; i++) {
+        const double e = at_node ? live->nodes[i].sun_elevation_deg : e_fixed;
+        live_node *node = &live->nodes[i];
+        for (size_t k = 0; k < (size_t)sky_grid_nodes(&node->ss) * (size_t)C; k++) /* no single scattering */
+            node->ss.values[k] = logf(FM_GRID_FLOOR);
+        for (size_t k = 0; k < aureole_floats(&node->aureole); k++)
+            node->aureole.values[k] = logf(FM_GRID_FLOOR);
+        float *px = node->ms.values;
+        for (int v = 0; v < sky_grid_nodes(&live->nodes[i].ms); v++) {
+            const double shape = 0.5 * cos(FM_PI * (v % cols) / (cols - 1)) - 0.3 * (double)(v / cols) / (rows - 1);
+            for (int c = 0; c < C; c++)
+                px[v * C + c] = (float)exp(urban_parabola(e) + shape);
+        }
+    }
+}
+
+static void deep_twilight_bend_between_the_lowest_nodes(void **state)
+{
+    fm_sky_params p = test_params(10.0, 0.0);
+    fm_sky_live *live = live_for(&p, 1.0, 0.0), *fixed = live_for(&p, 1.0, 0.0);
+    const double e = -19.0;
+    fill_parabola(live, 1, 0.0);
+    fill_parabola(fixed, 0, e);
+    fm_image *got = live_map(live, e, 180.0, 32), *want = live_map(fixed, e, 180.0, 32);
+    double sum = 0.0;
+    long n = 0;
+    for (size_t i = 0; i < (size_t)got->width * got->height; i++)
+        if (want->pixels[3 * i + 1] > 0.0f) {
+            sum += got->pixels[3 * i + 1] / want->pixels[3 * i + 1] - 1.0;
+            n++;
+        }
+    assert_true(n > 0);
+    print_message("deep twilight map at sun %g between the grid's lowest nodes: %+.3f %% against its own tables\n", e,
+                  100.0 * sum / n);
+    check_abs(sum / n, 0.0, 1e-3, "the map between the grid's lowest nodes, mean error");
+    fm_image_destroy(got);
+    fm_image_destroy(want);
+    fm_sky_live_destroy(live);
+    fm_sky_live_destroy(fixed);
+}
+
 /* A file beside the test's temporary folder; the caller frees it. */
 static char *temp_path(const char *name)
 {
@@ -1334,6 +1392,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(deep_twilight_edge_keeps_its_level),
         cmocka_unit_test(deep_twilight_level_unbiased),
         cmocka_unit_test(deep_twilight_shape_without_the_twilight_nodes),
+        cmocka_unit_test(deep_twilight_bend_between_the_lowest_nodes),
         cmocka_unit_test(file_round_trip_and_refusals),
         cmocka_unit_test(deep_twilight_band_on_first_use),
         cmocka_unit_test(twilight_band_refined_by_rounds),
