@@ -567,18 +567,16 @@ static double end_slope(double y0, double y1, double y2, double h1, double h2)
     return fabs(d) > 3.0 * fabs(s1) ? 3.0 * s1 : d;
 }
 
-/* The monotone cubic Hermite interpolant through y[0..3] (at the nodes of g) at g's place; a node
- * without an outer neighbour takes end_slope over the interval and the node beyond it, or the
- * secant where there is none. */
+/* The monotone cubic Hermite interpolant through y[0..3] (at the nodes of g) at g's place; the
+ * grid's lowest node takes end_slope, any other node without an outer neighbour (the grid's top,
+ * where the sun passes the zenith; one beside an unlit value) its secant. */
 static double hermite(const grid_place *g, const double y[4])
 {
     const double h = g->x[2] - g->x[1], s = (y[2] - y[1]) / h, t = g->t;
-    double d1 = g->lo   ? limited_slope(y[0], y[1], y[2], g->x[1] - g->x[0], h)
-                : g->hi ? end_slope(y[1], y[2], y[3], h, g->x[3] - g->x[2])
-                        : s;
-    double d2 = g->hi   ? limited_slope(y[1], y[2], y[3], h, g->x[3] - g->x[2])
-                : g->lo ? -end_slope(y[2], y[1], y[0], h, g->x[1] - g->x[0])
-                        : s;
+    double d1 = g->lo                ? limited_slope(y[0], y[1], y[2], g->x[1] - g->x[0], h)
+                : g->i == 0 && g->hi ? end_slope(y[1], y[2], y[3], h, g->x[3] - g->x[2])
+                                     : s;
+    double d2 = g->hi ? limited_slope(y[1], y[2], y[3], h, g->x[3] - g->x[2]) : s;
     double t2 = t * t, t3 = t2 * t;
     return (2 * t3 - 3 * t2 + 1) * y[1] + (t3 - 2 * t2 + t) * h * d1 + (3 * t2 - 2 * t3) * y[2] + (t3 - t2) * h * d2;
 }
