@@ -14,6 +14,7 @@
 #include "render/ms_table.h"
 #include "render/render.h"
 #include "transport/shadow_flight_build.h"
+#include "transport/sky_grid_refine.h"
 #include "transport/twilight.h"
 #include "sky.h"
 
@@ -58,6 +59,12 @@ static double deep_path_share(double sun_elevation_deg)
  * with the sun: half the paths, whose noise the smoothing takes back (the same decision record). */
 #define HIGH_SUN_DEG 13.0
 #define HIGH_SUN_PATH_SCALE 0.5
+/* Maps (and the nodes' ground irradiance) read the multiple-scattering table through a cubic between
+ * its nodes (sky_grid_refine.h): the preview's coarse table read bilinearly made deep twilight's
+ * clear sky about 1 % bright (docs/decisions/2026-12-08-live-deep-bright.md).  Fog's finer table
+ * (fog_table_size) is read as it is. */
+#define MS_REFINE 8
+static int ms_refine(const fm_sky_live *live) { return fog_table_sky(live->sky) ? 1 : MS_REFINE; }
 
 fm_status live_sky_params(const fm_sky_params *params, fm_sky_params *out, fm_error *err)
 {
@@ -215,6 +222,7 @@ static fm_status node_begin(const fm_sky_live *live, live_node *node, const shad
     job->channels = live->channels;
     job->fine_fog_table = 1;
     job->shared_flights = flights;
+    job->ms_refine = ms_refine(live);
     job->q = live->q;
     if (node->sun_elevation_deg >= HIGH_SUN_DEG)
         job->q.ms_paths = (int)fmax(1.0, round(job->q.ms_paths * HIGH_SUN_PATH_SCALE));
@@ -815,7 +823,7 @@ fm_status fm_sky_live_render(fm_sky_live *live, double sun_elevation_deg, double
     render_quality_fit_footprint(&job.q, &job.cam, &rp);
     const grid_place g = place_on_grid(live, sun_elevation_deg);
     const live_node *a = &live->nodes[g.i], *b = &live->nodes[g.i + 1];
-    sky_grid ms = {0};
+    sky_grid ms = {0}, fine = {0};
     aureole au = {0};
     if (sky_grid_init(&job.ss, a->ss.horizon_elevation, a->ss.rows_sky, a->ss.rows_ground, a->ss.cols,
                       live->channels, 1) ||
@@ -827,10 +835,15 @@ fm_status fm_sky_live_render(fm_sky_live *live, double sun_elevation_deg, double
         job.aureole = &au;
         job.aureole_frame = aureole_frame_of(asin(clamp_cosine(sky->sun_dir.z)));
         job.img->paths_per_node = g.t < 0.5 ? a->paths_per_node : b->paths_per_node;
-        s = render_fast_pixels(&job, &ms, err);
+        const int refine = ms_refine(live);
+        if (refine > 1 && sky_grid_refine(&ms, refine, &fine))
+            s = fm_fail(err, FM_ERR_OUT_OF_MEMORY, "out of memory for the live sky's tables");
+        else
+            s = render_fast_pixels(&job, refine > 1 ? &fine : &ms, err);
     }
     sky_grid_free(&job.ss);
     sky_grid_free(&ms);
+    sky_grid_free(&fine);
     aureole_free(&au);
     s = render_finish(&job, s, out, err);
     free(sky);

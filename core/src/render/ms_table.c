@@ -6,6 +6,7 @@
 #include "render/render_job.h"
 #include "transport/next_order_shape.h"
 #include "transport/sky_grid_fit.h"
+#include "transport/sky_grid_refine.h"
 
 #include <assert.h>
 #include <math.h>
@@ -353,11 +354,46 @@ fm_status ms_table_fill_shared(render_job *const *jobs, int count)
  * ground between the observer and the air), from many more paths than the ground's own:
  * docs/decisions/2026-12-06-ground-from-table.md.  The raw nodes, not the fit: the sum is linear in
  * them and no fit is needed to make it smooth. */
+/* The sky nodes' spectra (the sums over the paths) read through sky_grid_refine by `factor`, into
+ * E: the integral of the refined table (the ground rows stay 0: not integrated). */
+static fm_status refined_irradiance(const ms_table *t, int K, int factor, double *E)
+{
+    sky_grid coarse, fine = {0};
+    if (sky_grid_init(&coarse, t->grid.horizon_elevation, t->grid.rows_sky, t->grid.rows_ground, t->grid.cols, K, 0))
+        return FM_ERR_OUT_OF_MEMORY;
+    const int n = t->grid.rows_sky * t->grid.cols;
+    for (size_t i = 0; i < (size_t)n * (size_t)K; i++)
+        coarse.values[i] = (float)(t->sum[i] / t->paths);
+    fm_status s = sky_grid_refine(&coarse, factor, &fine);
+    sky_grid_free(&coarse);
+    const int m = fine.rows_sky * fine.cols;
+    double *w = s ? NULL : malloc(sizeof(double) * (size_t)m);
+    if (!s && !w)
+        s = FM_ERR_OUT_OF_MEMORY;
+    if (!s) {
+        sky_grid_irradiance_weights(&fine, w);
+        for (int i = 0; i < m; i++)
+            for (int k = 0; k < K; k++)
+                E[k] += w[i] * fine.values[(size_t)i * K + k];
+    }
+    free(w);
+    sky_grid_free(&fine);
+    return s;
+}
+
 fm_status ms_table_add_to_ground(render_job *job)
 {
     const ms_table *t = job->ms;
     const int K = job->sky->atm.grid.count, n = t->grid.rows_sky * t->grid.cols;
-    double *w = malloc(sizeof(double) * (size_t)n), E[FM_MAX_WAVELENGTHS] = {0};
+    double E[FM_MAX_WAVELENGTHS] = {0};
+    if (job->ms_refine > 1) {
+        fm_status s = refined_irradiance(t, K, job->ms_refine, E);
+        if (s)
+            return s;
+        ground_irradiance_add(&job->ground, E);
+        return FM_OK;
+    }
+    double *w = malloc(sizeof(double) * (size_t)n);
     if (!w)
         return FM_ERR_OUT_OF_MEMORY;
     sky_grid_irradiance_weights(&t->grid, w);

@@ -50,6 +50,9 @@ typedef struct render_job {
     int one_pass;                      /* the multiple-scattering table takes the quality's paths alone, no
                                         * deep twilight pass (ms_table.c): the skies above fog, whose
                                         * noise the fog averages over their whole sky */
+    int ms_refine;                     /* > 1: the ground's irradiance from the table read through
+                                        * sky_grid_refine by this factor (the live sky's nodes, whose
+                                        * maps read it so too: live.c) */
     fm_image *img;
     atomic_int no_memory; /* a worker could not allocate */
 } render_job;
