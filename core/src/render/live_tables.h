@@ -15,7 +15,7 @@
 
 /* Part of every key: a change of what the tables hold or how they are laid out makes old files
  * another atmosphere's. */
-#define LIVE_TABLE_VERSION 21
+#define LIVE_TABLE_VERSION 22
 
 /* How far apart the seeds of builds with other `seed`s lie: more than the nodes, so that no node's
  * seed is another build's. */
