@@ -349,11 +349,6 @@ fm_status ms_table_fill_shared(render_job *const *jobs, int count)
     return s;
 }
 
-/* Observer on the ground: the diffuse irradiance of orders >= 2 there is the integral of the
- * table's sky half times cos(zenith), since its upward nodes estimate exactly that radiance (no
- * ground between the observer and the air), from many more paths than the ground's own:
- * docs/decisions/2026-12-06-ground-from-table.md.  The raw nodes, not the fit: the sum is linear in
- * them and no fit is needed to make it smooth. */
 /* The sky nodes' spectra (the sums over the paths) read through sky_grid_refine by `factor`, into
  * E: the integral of the refined table (the ground rows stay 0: not integrated). */
 static fm_status refined_irradiance(const ms_table *t, int K, int factor, double *E)
@@ -381,6 +376,11 @@ static fm_status refined_irradiance(const ms_table *t, int K, int factor, double
     return s;
 }
 
+/* Observer on the ground: the diffuse irradiance of orders >= 2 there is the integral of the
+ * table's sky half times cos(zenith), since its upward nodes estimate exactly that radiance (no
+ * ground between the observer and the air), from many more paths than the ground's own:
+ * docs/decisions/2026-12-06-ground-from-table.md.  The raw nodes, not the fit: the sum is linear in
+ * them and no fit is needed to make it smooth. */
 fm_status ms_table_add_to_ground(render_job *job)
 {
     const ms_table *t = job->ms;
